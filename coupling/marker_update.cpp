@@ -1,0 +1,39 @@
+#include "coupling/marker_update.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "coupling/interpolate.hpp"
+
+namespace sphib {
+
+MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, double V, const Mat2& u_new,
+                                   const Mat2& U_n, double dt, const MarkerUpdateParams& prm, long step,
+                                   Mat2& X, Mat2& X_n, Mat2& U) {
+  X_n = X;
+  interpolate_velocity(grid, W, V, u_new, X_n, U);  // U^{n+1}(X^n), Eq. (62)
+  X = X_n + dt * U;                                 // Eq. (58)
+  MarkerUpdateResult res;
+  for (int I = 0; I <= prm.max_iter; ++I) {
+    interpolate_velocity(grid, W, V, u_new, X, U);  // U^{n+1}(X^[I]), Eq. (63)
+    // g(X) = X - X^n - dt/2 (U^n(X^n) + U^{n+1}(X)), Eq. (59)
+    double g_max = 0.0;
+    for (int k = 0; k < X.rows(); ++k) {
+      const double gx = X(k, 0) - X_n(k, 0) - 0.5 * dt * (U_n(k, 0) + U(k, 0));
+      const double gy = X(k, 1) - X_n(k, 1) - 0.5 * dt * (U_n(k, 1) + U(k, 1));
+      g_max = std::max(g_max, std::hypot(gx, gy));
+    }
+    res.iterations = I;
+    res.residual = g_max;
+    if (!std::isfinite(g_max)) break;
+    if (g_max <= prm.eps) return res;
+    X = X_n + 0.5 * dt * (U_n + U);  // fixed-point iteration X^[I+1] = X^[I] - g(X^[I])
+  }
+  std::ostringstream m;
+  m << "marker update did not converge at step " << step << ": max |g| = " << res.residual << " after "
+    << res.iterations << " iterations (tolerance " << prm.eps << ")";
+  throw std::runtime_error(m.str());
+}
+
+}  // namespace sphib

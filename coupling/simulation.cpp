@@ -1,0 +1,108 @@
+#include "coupling/simulation.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+#include "coupling/interpolate.hpp"
+#include "coupling/spread.hpp"
+
+namespace sphib {
+
+namespace {
+
+double max_h_star(const SimulationParams& p) {
+  double h = 0.0;
+  for (const auto& m : p.membranes) h = std::max(h, m.h_star);
+  return h;
+}
+
+// A membrane must lie inside the domain and keep its spreading support 2h* and the fluid's
+// interpolation support 2h off every wall.
+void check_membrane(const Domain& d, const MembraneSetup& s, double h, int index) {
+  std::ostringstream m;
+  m << "membrane " << index << ": ";
+  if (!(s.h_star > 0)) { m << "h_star must be positive (got " << s.h_star << ")"; throw std::invalid_argument(m.str()); }
+  if (s.membrane.nb() < 4) { m << "needs at least 4 markers (got " << s.membrane.nb() << ")"; throw std::invalid_argument(m.str()); }
+  if (!s.membrane.X.allFinite()) { m << "marker positions are not finite"; throw std::invalid_argument(m.str()); }
+  const double reach = std::max(2.0 * s.h_star, 2.0 * h);
+  const double xmin = s.membrane.X.col(0).minCoeff(), xmax = s.membrane.X.col(0).maxCoeff();
+  const double ymin = s.membrane.X.col(1).minCoeff(), ymax = s.membrane.X.col(1).maxCoeff();
+  auto refuse = [&](const char* side, double gap) {
+    m << "lies within " << gap << " of the " << side << " (needs at least max(2h*, 2h) = " << reach << ")";
+    throw std::invalid_argument(m.str());
+  };
+  if (!d.periodic_x) {
+    if (xmin - d.x0 < reach) refuse("wall x = x0", xmin - d.x0);
+    if (d.x1 - xmax < reach) refuse("wall x = x1", d.x1 - xmax);
+  }
+  if (!d.periodic_y) {
+    if (ymin - d.y0 < reach) refuse("wall y = y0", ymin - d.y0);
+    if (d.y1 - ymax < reach) refuse("wall y = y1", d.y1 - ymax);
+  }
+}
+
+}  // namespace
+
+MembraneState::MembraneState(const MembraneSetup& s)
+    : m(s.membrane), h_star(s.h_star), fixed(s.fixed), W_star(s.h_star), hooke(s.membrane.nb(), s.membrane.L0),
+      f(Mat2::Zero(s.membrane.nb(), 2)), U_n(f), U(f), X_n(s.membrane.X), T(Vec::Zero(s.membrane.nb())) {}
+
+Simulation::Simulation(const SimulationParams& params)
+    : prm_(params), fluid_(params.fluid),
+      grid_(Eigen::Vector2d(params.fluid.domain.x0, params.fluid.domain.y0),
+            Eigen::Vector2d(params.fluid.domain.x1, params.fluid.domain.y1), params.fluid.domain.periodic_x,
+            params.fluid.domain.periodic_y, std::max(2.0 * fluid_.h(), 2.0 * max_h_star(params))) {
+  const int N = fluid_.size();
+  for (size_t k = 0; k < prm_.membranes.size(); ++k) {
+    check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_.h(), static_cast<int>(k));
+    mem_.emplace_back(prm_.membranes[k]);
+  }
+  grid_.build(fluid_.lattice().x);
+  F_body_ = Mat2::Zero(N, 2);
+  F_ = F_body_;
+  if (!prm_.body_force_field) {
+    F_body_.col(0).setConstant(prm_.body_force.x());
+    F_body_.col(1).setConstant(prm_.body_force.y());
+  }
+  k_force_ = prof_.phase("membrane force (Eqs. 47-50)");
+  k_spread_ = prof_.phase("spreading (Eq. 53)");
+  k_interp_ = prof_.phase("interpolation u^n(X^n) (Eq. 63)");
+  k_markers_ = prof_.phase("marker update (Eqs. 56-60)");
+}
+
+void Simulation::body_force(double t) {
+  if (!prm_.body_force_field) return;
+  const Mat2& x = fluid_.lattice().x;
+  for (int i = 0; i < x.rows(); ++i) F_body_.row(i) = prm_.body_force_field(x(i, 0), x(i, 1), t).transpose();
+}
+
+void Simulation::step() {
+  const double dt = fluid_.params().dt, V = fluid_.lattice().volume;
+  body_force(time());  // F^n: external body force at t_n
+  F_ = F_body_;
+  for (auto& s : mem_) {
+    {  // f_k^n = d(T tau)/ds from the periodic spline through X^n (Eqs. 47-50)
+      ScopedTimer t(prof_, k_force_);
+      s.hooke.compute(s.m.X, s.m.T0, s.f, s.T);
+    }
+    {  // F_i += sum_k f_k W(x_i - X_k, h*) ds (Eq. 53)
+      ScopedTimer t(prof_, k_spread_);
+      spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F_);
+    }
+    if (!s.fixed) {  // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
+      ScopedTimer t(prof_, k_interp_);
+      interpolate_velocity(grid_, fluid_.kernel(), V, fluid_.u(), s.m.X, s.U_n);
+    }
+  }
+  fluid_.step(F_);  // PMIII with prefactored systems: u^n -> u*, phi^{n+1}, u^{n+1}, p^{n+1/2}
+  for (auto& s : mem_) {
+    if (s.fixed) continue;
+    ScopedTimer t(prof_, k_markers_);
+    // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) by fixed-point iteration (Eqs. 56-60)
+    s.last = advance_markers(grid_, fluid_.kernel(), V, fluid_.u(), s.U_n, dt, prm_.markers, fluid_.steps(), s.m.X,
+                             s.X_n, s.U);
+  }
+}
+
+}  // namespace sphib

@@ -1,0 +1,66 @@
+#pragma once
+// The immersed-boundary simulation: a Fluid, its Membranes and the coupling between them.
+// One IB step (see step()): force from the spline of X^n -> spread with h* -> PMIII -> markers.
+#include <functional>
+#include <vector>
+
+#include "coupling/marker_update.hpp"
+#include "fluid/projection.hpp"
+#include "membrane/hookean.hpp"
+
+namespace sphib {
+
+struct MembraneSetup {
+  Membrane membrane;      // markers, rest length L0, T0
+  double h_star = 0.05;   // spreading kernel's smoothing length h* (support 2h*)
+  bool fixed = false;     // markers held in place (Section 5.2.1)
+};
+
+struct SimulationParams {
+  FluidParams fluid;
+  Eigen::Vector2d body_force = Eigen::Vector2d::Zero();  // per unit volume, constant in space and time
+  // Optional body force field F(x, y, t) per unit volume; replaces body_force when set.
+  std::function<Eigen::Vector2d(double, double, double)> body_force_field;
+  std::vector<MembraneSetup> membranes;
+  MarkerUpdateParams markers;
+};
+
+struct MembraneState {
+  MembraneState(const MembraneSetup& s);
+  Membrane m;
+  double h_star;
+  bool fixed;
+  CubicSplineKernel W_star;
+  HookeanForce hooke;
+  Mat2 f, U_n, U, X_n;  // force density, u^n(X^n), u^{n+1}(X^{n+1}), workspace
+  Vec T;                // tension at the markers
+  MarkerUpdateResult last;
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const SimulationParams& params);
+
+  void step();  // one IB time step, t_n -> t_{n+1}
+
+  Fluid& fluid() { return fluid_; }
+  const Fluid& fluid() const { return fluid_; }
+  const std::vector<MembraneState>& membranes() const { return mem_; }
+  const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
+  double time() const { return fluid_.time(); }
+  long steps() const { return fluid_.steps(); }
+  Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+
+ private:
+  void body_force(double t);
+
+  SimulationParams prm_;
+  Fluid fluid_;
+  std::vector<MembraneState> mem_;
+  CellGrid grid_;  // over the fixed particles, for marker neighbourhoods (O(Nb) per query set)
+  Mat2 F_body_, F_;
+  Profile prof_;
+  int k_force_, k_spread_, k_interp_, k_markers_;
+};
+
+}  // namespace sphib

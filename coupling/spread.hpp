@@ -1,0 +1,15 @@
+#pragma once
+// Membrane force -> fluid force field, Eq. (53):  F_i = sum_k f_k W(x_i - X_k, h*) ds,
+// with f_k the force density per unit rest arclength and ds = L0 / Nb the rest marker spacing.
+// The kernel radius h* is the membrane's own, independent of the fluid's h.
+#include "fluid/kernel.hpp"
+#include "fluid/neighbours.hpp"
+
+namespace sphib {
+
+// Adds the spread force of one membrane into F (N x 2). grid holds the fluid particles and has
+// cells of at least 2 h*. Cost O(Nb * particles per kernel support).
+void spread_force(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, const Mat2& f,
+                  double ds, Mat2& F);
+
+}  // namespace sphib

@@ -1,0 +1,71 @@
+#include "fluid/boundary.hpp"
+
+#include <cmath>
+
+namespace sphib {
+
+namespace {
+// Mirror of coordinate c across the wall at w.
+double mirror(double c, double w) { return 2.0 * w - c; }
+}  // namespace
+
+Images make_images(const Lattice& L, double reach) {
+  const Domain& d = L.domain;
+  Images im;
+  std::vector<double> xs, ys;
+  auto add = [&](int p, double x, double y, int wall, double sign) {
+    im.parent.push_back(p);
+    im.wall.push_back(wall);
+    im.v_sign.push_back(sign);
+    xs.push_back(x);
+    ys.push_back(y);
+  };
+  for (int p = 0; p < L.size(); ++p) {
+    const double x = L.x(p, 0), y = L.x(p, 1);
+    // Walls this particle is within `reach` of, with the mirrored coordinate.
+    int xw = -1, yw = -1;
+    double xm = 0, ym = 0;
+    if (!d.periodic_x) {
+      if (x - d.x0 < reach) { xw = Left; xm = mirror(x, d.x0); }
+      else if (d.x1 - x < reach) { xw = Right; xm = mirror(x, d.x1); }
+    }
+    if (!d.periodic_y) {
+      if (y - d.y0 < reach) { yw = Bottom; ym = mirror(y, d.y0); }
+      else if (d.y1 - y < reach) { yw = Top; ym = mirror(y, d.y1); }
+    }
+    // A particle close to both opposite walls of a narrow channel also needs the far mirror.
+    if (!d.periodic_x && xw == Left && d.x1 - x < reach) add(p, mirror(x, d.x1), y, Right, -1.0);
+    if (!d.periodic_y && yw == Bottom && d.y1 - y < reach) add(p, x, mirror(y, d.y1), Top, -1.0);
+    if (xw >= 0) add(p, xm, y, xw, -1.0);
+    if (yw >= 0) add(p, x, ym, yw, -1.0);
+    if (xw >= 0 && yw >= 0) add(p, xm, ym, -1, +1.0);  // corner: point reflection
+  }
+  im.x.resize(static_cast<int>(xs.size()), 2);
+  for (int k = 0; k < im.size(); ++k) {
+    im.x(k, 0) = xs[k];
+    im.x(k, 1) = ys[k];
+  }
+  return im;
+}
+
+void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
+                            Mat2& offset) {
+  for (int k = 0; k < im.size(); ++k) {
+    const int w = im.wall[k];
+    if (w < 0) {  // corner image: u_img = u_p (see header)
+      offset(k, 0) = 0.0;
+      offset(k, 1) = 0.0;
+      continue;
+    }
+    Eigen::Vector2d g = d.wall_velocity[w];  // u_b
+    if (grad_phi) {
+      // tangential correction dt/rho (tau . grad phi~) tau with phi~ = phi^n (Kim & Moin), Eq. (42)
+      const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall
+      g[t] += dt_over_rho * (*grad_phi)(im.parent[k], t);
+    }
+    offset(k, 0) = 2.0 * g[0];  // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i
+    offset(k, 1) = 2.0 * g[1];
+  }
+}
+
+}  // namespace sphib

@@ -1,0 +1,165 @@
+#include "fluid/linear_solver.hpp"
+
+#include <cholmod.h>
+#include <umfpack.h>
+
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace sphib {
+
+namespace {
+
+using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+[[noreturn]] void fail(const SolverInfo& info, const std::string& what) {
+  std::ostringstream m;
+  m << "linear solver: system '" << info.system << "' (n = " << info.n << ", nnz = " << info.nnz_A
+    << ", " << info.method << "): " << what;
+  throw std::runtime_error(m.str());
+}
+
+class CholmodSolver final : public LinearSolver {
+ public:
+  CholmodSolver(const std::string& system, const SpMat& A, SolverKind kind) {
+    cholmod_start(&c_);
+    c_.print = 0;
+    c_.error_handler = nullptr;
+    c_.supernodal = kind == SolverKind::CholmodSupernodal  ? CHOLMOD_SUPERNODAL
+                    : kind == SolverKind::CholmodSimplicial ? CHOLMOD_SIMPLICIAL
+                                                             : CHOLMOD_AUTO;
+    info_.system = system;
+    info_.n = static_cast<int>(A.rows());
+    info_.nnz_A = A.nonZeros();
+    info_.method = "CHOLMOD";
+    lower_ = ColMat(A).triangularView<Eigen::Lower>();
+    lower_.makeCompressed();
+    cholmod_sparse S{};
+    S.nrow = S.ncol = A.rows();
+    S.nzmax = lower_.nonZeros();
+    S.p = lower_.outerIndexPtr();
+    S.i = lower_.innerIndexPtr();
+    S.x = lower_.valuePtr();
+    S.stype = -1;  // symmetric, lower triangle stored
+    S.itype = CHOLMOD_INT;
+    S.xtype = CHOLMOD_REAL;
+    S.dtype = CHOLMOD_DOUBLE;
+    S.sorted = 1;
+    S.packed = 1;
+    auto t0 = Clock::now();
+    L_ = cholmod_analyze(&S, &c_);
+    if (!L_) fail(info_, "CHOLMOD analysis failed");
+    info_.analyse_seconds = since(t0);
+    t0 = Clock::now();
+    cholmod_factorize(&S, L_, &c_);
+    info_.factor_seconds = since(t0);
+    if (c_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
+      std::ostringstream m;
+      m << "matrix is not positive definite (CHOLMOD stopped at column " << L_->minor << ")";
+      fail(info_, m.str());
+    }
+    if (c_.status < CHOLMOD_OK) fail(info_, "CHOLMOD factorisation failed");
+    info_.method = L_->is_super ? "CHOLMOD supernodal LL'" : (L_->is_ll ? "CHOLMOD simplicial LL'"
+                                                                       : "CHOLMOD simplicial LDL'");
+    info_.nnz_factor = static_cast<long>(c_.lnz);
+  }
+  ~CholmodSolver() override {
+    if (X_) cholmod_free_dense(&X_, &c_);
+    if (Y_) cholmod_free_dense(&Y_, &c_);
+    if (E_) cholmod_free_dense(&E_, &c_);
+    cholmod_free_factor(&L_, &c_);
+    cholmod_finish(&c_);
+  }
+  void solve(const double* B, double* X, int k) override {
+    cholmod_dense b{};
+    b.nrow = info_.n;
+    b.ncol = k;
+    b.nzmax = static_cast<size_t>(info_.n) * k;
+    b.d = info_.n;
+    b.x = const_cast<double*>(B);
+    b.xtype = CHOLMOD_REAL;
+    b.dtype = CHOLMOD_DOUBLE;
+    if (!cholmod_solve2(CHOLMOD_A, L_, &b, nullptr, &X_, nullptr, &Y_, &E_, &c_)) fail(info_, "solve failed");
+    const double* x = static_cast<const double*>(X_->x);
+    std::copy(x, x + static_cast<size_t>(info_.n) * k, X);
+  }
+
+ private:
+  cholmod_common c_{};
+  cholmod_factor* L_ = nullptr;
+  cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
+  ColMat lower_;
+};
+
+class UmfpackSolver final : public LinearSolver {
+ public:
+  UmfpackSolver(const std::string& system, const SpMat& A) : A_(A) {
+    A_.makeCompressed();
+    info_.system = system;
+    info_.method = "UMFPACK LU";
+    info_.n = static_cast<int>(A.rows());
+    info_.nnz_A = A.nonZeros();
+    umfpack_di_defaults(control_);
+    void* symbolic = nullptr;
+    auto t0 = Clock::now();
+    int st = umfpack_di_symbolic(info_.n, info_.n, A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(),
+                                 &symbolic, control_, nullptr);
+    if (st != UMFPACK_OK) fail(info_, "UMFPACK symbolic analysis failed (status " + std::to_string(st) + ")");
+    info_.analyse_seconds = since(t0);
+    t0 = Clock::now();
+    st = umfpack_di_numeric(A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(), symbolic, &numeric_,
+                            control_, nullptr);
+    umfpack_di_free_symbolic(&symbolic);
+    info_.factor_seconds = since(t0);
+    if (st == UMFPACK_WARNING_singular_matrix) fail(info_, "matrix is singular");
+    if (st != UMFPACK_OK) fail(info_, "UMFPACK factorisation failed (status " + std::to_string(st) + ")");
+    int lnz = 0, unz = 0, nr = 0, nc = 0, nzud = 0;
+    umfpack_di_get_lunz(&lnz, &unz, &nr, &nc, &nzud, numeric_);
+    info_.nnz_factor = static_cast<long>(lnz) + unz;
+    Wi_.resize(info_.n);
+    W_.resize(5 * static_cast<size_t>(info_.n));
+  }
+  ~UmfpackSolver() override { umfpack_di_free_numeric(&numeric_); }
+  void solve(const double* B, double* X, int k) override {
+    for (int c = 0; c < k; ++c) {
+      const size_t o = static_cast<size_t>(c) * info_.n;
+      const int st = umfpack_di_wsolve(UMFPACK_A, A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(), X + o,
+                                       B + o, numeric_, control_, nullptr, Wi_.data(), W_.data());
+      if (st != UMFPACK_OK) fail(info_, "UMFPACK solve failed (status " + std::to_string(st) + ")");
+    }
+  }
+
+ private:
+  ColMat A_;
+  void* numeric_ = nullptr;
+  double control_[UMFPACK_CONTROL];
+  std::vector<int> Wi_;
+  std::vector<double> W_;
+};
+
+}  // namespace
+
+std::string SolverInfo::describe() const {
+  std::ostringstream m;
+  m << system << ": " << method << ", n = " << n << ", nnz(A) = " << nnz_A << ", nnz(factor) = " << nnz_factor
+    << " (fill " << fill() << "x), analysis " << analyse_seconds << " s, factorisation " << factor_seconds << " s";
+  return m.str();
+}
+
+bool is_symmetric(const SpMat& A, double rel_tol) {
+  if (A.rows() != A.cols()) return false;
+  const SpMat At = A.transpose();
+  return (A - At).norm() <= rel_tol * A.norm();
+}
+
+std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A, SolverKind kind) {
+  if (kind == SolverKind::Umfpack || (kind == SolverKind::Auto && !is_symmetric(A)))
+    return std::make_unique<UmfpackSolver>(system, A);
+  return std::make_unique<CholmodSolver>(system, A, kind);
+}
+
+}  // namespace sphib

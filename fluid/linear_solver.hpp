@@ -1,0 +1,45 @@
+#pragma once
+// One small interface for the linear systems of a step: factorise once, solve often.
+// Contract: a LinearSolver is built from a matrix (analysed and factorised there, once), then
+// solve(B, X, k) solves A X = B for k right-hand sides without allocating after the first call.
+// CHOLMOD takes symmetric positive definite systems, UMFPACK any other.
+#include <memory>
+#include <string>
+
+#include "fluid/types.hpp"
+
+namespace sphib {
+
+enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack };
+
+struct SolverInfo {
+  std::string system;   // which system ("Crank-Nicolson", "Poisson")
+  std::string method;   // which factorisation it got
+  int n = 0;
+  long nnz_A = 0;       // stored non-zeros of A (both triangles)
+  long nnz_factor = 0;  // non-zeros of L (CHOLMOD) or L + U (UMFPACK)
+  double fill() const { return nnz_A ? static_cast<double>(nnz_factor) / nnz_A : 0.0; }
+  double analyse_seconds = 0, factor_seconds = 0;
+  std::string describe() const;  // one line for the run log
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Solves A X = B; B and X are n x k column-major arrays.
+  virtual void solve(const double* B, double* X, int k) = 0;
+  const SolverInfo& info() const { return info_; }
+
+ protected:
+  SolverInfo info_;
+};
+
+// Auto: CHOLMOD (supernodal or simplicial, CHOLMOD's own choice) when A is symmetric,
+// UMFPACK otherwise. Failures (not positive definite, singular) throw std::runtime_error
+// naming the system and its size.
+std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A,
+                                        SolverKind kind = SolverKind::Auto);
+
+bool is_symmetric(const SpMat& A, double rel_tol = 1e-12);
+
+}  // namespace sphib

@@ -1,0 +1,89 @@
+#include "fluid/neighbours.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+namespace sphib {
+
+CellGrid::CellGrid(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, bool px, bool py, double min_cell)
+    : lo_(lo), period_(hi - lo) {
+  periodic_[0] = px;
+  periodic_[1] = py;
+  for (int a = 0; a < 2; ++a) {
+    nc_[a] = std::max(1, static_cast<int>(std::floor(period_[a] / min_cell)));
+    h_[a] = period_[a] / nc_[a];  // >= min_cell; along a periodic axis cells tile the period exactly
+  }
+}
+
+void CellGrid::build(const Mat2& points) {
+  pts_ = &points;
+  const int n = static_cast<int>(points.rows());
+  const int ncell = nc_[0] * nc_[1];
+  start_.assign(ncell + 1, 0);
+  cell_.resize(n);
+  items_.resize(n);
+  for (int j = 0; j < n; ++j) {
+    cell_[j] = cell_of(points(j, 0), 0) + nc_[0] * cell_of(points(j, 1), 1);
+    ++start_[cell_[j] + 1];
+  }
+  for (int c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
+  std::vector<int>& fill = cell_;  // reuse: counting sort, stable in j
+  std::vector<int> next(start_.begin(), start_.end() - 1);
+  for (int j = 0; j < n; ++j) items_[next[fill[j]]++] = j;
+}
+
+PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
+  const Domain& d = L.domain;
+  if (d.periodic_x && !(support < 0.5 * d.Lx())) {
+    std::ostringstream m;
+    m << "kernel support 2h = " << support << " must be below half the periodic length Lx = " << d.Lx();
+    throw std::invalid_argument(m.str());
+  }
+  if (d.periodic_y && !(support < 0.5 * d.Ly())) {
+    std::ostringstream m;
+    m << "kernel support 2h = " << support << " must be below half the periodic length Ly = " << d.Ly();
+    throw std::invalid_argument(m.str());
+  }
+  const int N = L.size(), M = static_cast<int>(image_x.rows());
+  Mat2 all(N + M, 2);
+  all.topRows(N) = L.x;
+  if (M) all.bottomRows(M) = image_x;
+  // Bounded axes: the box grows by the support so images get cells of their own.
+  Eigen::Vector2d lo(d.x0, d.y0), hi(d.x1, d.y1);
+  if (!d.periodic_x) { lo[0] -= support; hi[0] += support; }
+  if (!d.periodic_y) { lo[1] -= support; hi[1] += support; }
+  CellGrid grid(lo, hi, d.periodic_x, d.periodic_y, support);
+  grid.build(all);
+
+  PairList P;
+  P.offset.resize(N + 1);
+  P.offset[0] = 0;
+  for (int i = 0; i < N; ++i) {
+    const int begin = P.size();
+    grid.for_each_near(L.x(i, 0), L.x(i, 1), support, [&](int j, double dx, double dy, double r) {
+      if (j == i) return;
+      P.j.push_back(j);
+      P.rx.push_back(dx);
+      P.ry.push_back(dy);
+      P.r.push_back(r);
+    });
+    // Sort each particle's pairs by j: a deterministic order, and a cache-friendly assembly.
+    std::vector<int> idx(P.size() - begin);
+    for (size_t k = 0; k < idx.size(); ++k) idx[k] = begin + static_cast<int>(k);
+    std::sort(idx.begin(), idx.end(), [&](int a, int b) { return P.j[a] < P.j[b]; });
+    auto permute = [&](auto& v) {
+      std::vector<std::decay_t<decltype(v[0])>> tmp(idx.size());
+      for (size_t k = 0; k < idx.size(); ++k) tmp[k] = v[idx[k]];
+      std::copy(tmp.begin(), tmp.end(), v.begin() + begin);
+    };
+    permute(P.j);
+    permute(P.rx);
+    permute(P.ry);
+    permute(P.r);
+    P.offset[i + 1] = P.size();
+  }
+  return P;
+}
+
+}  // namespace sphib

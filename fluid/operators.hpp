@@ -1,0 +1,40 @@
+#pragma once
+// SPH operators on the fixed lattice as sparse matrices, assembled once (Eqs. 27-34).
+// All use F_ij = (1/r) dW/dr and the particle volume V = m/rho (uniform density):
+//   Laplacian (Morris form, Eqs. 28/31):   (lap f)_i  = sum_j 2 V (f_i - f_j) F_ij
+//   gradient / divergence (Eqs. 27/30):    (grad f)_i = sum_j V (f_i + f_j) (x_i - x_j) F_ij
+// A neighbour j that is an image carries f_j = sign_j f_parent + c_j (boundary.hpp), so each
+// operator on a field with images is a pair (A, B):  Op f = A f + B c.
+// A is square over particles; note that an image still couples particle i to the image's
+// parent p, so image terms move into A(i, p) rather than dropping out.
+#include "fluid/boundary.hpp"
+#include "fluid/kernel.hpp"
+#include "fluid/neighbours.hpp"
+
+namespace sphib {
+
+struct ImageOp {
+  SpMat A;  // N x N, on the particle values
+  SpMat B;  // N x M, on the image offsets c (zero columns for scalar images)
+};
+
+struct Operators {
+  ImageOp lap_u;            // velocity Laplacian, images by Eq. (42)
+  ImageOp grad_ux, grad_uy;  // x and y derivative of a velocity component (Eqs. 30, 40)
+  SpMat lap_phi;            // Laplacian of phi, images phi_i' = phi_i (Eq. 31)
+  SpMat grad_phix, grad_phiy;  // gradient of phi (Eqs. 27, 34)
+};
+
+struct OperatorRequest {
+  bool velocity_gradient = true;  // divergence of u* (always needed by the projection)
+};
+
+enum class ImageRule { Velocity, Scalar };
+
+// One operator: coefficient a_k of pair k, "difference" f_i - f_j or "sum" f_i + f_j.
+ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rule, const double* a,
+                       bool difference);
+
+Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W);
+
+}  // namespace sphib

@@ -1,0 +1,185 @@
+#include "fluid/projection.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace sphib {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void check_params(const FluidParams& p) {
+  auto positive = [](double v, const char* key) {
+    if (!(v > 0) || !std::isfinite(v)) {
+      std::ostringstream m;
+      m << "fluid: " << key << " must be positive and finite (got " << v << ")";
+      throw std::invalid_argument(m.str());
+    }
+  };
+  positive(p.rho, "fluid.rho");
+  positive(p.mu, "fluid.mu");
+  positive(p.dt, "time.dt");
+  positive(p.h_over_dx, "kernel.h_over_dx");
+}
+}  // namespace
+
+Fluid::Fluid(const FluidParams& params)
+    : prm_(params), lat_(make_lattice(params.domain, params.nx, params.ny)),
+      W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)) {
+  check_params(prm_);
+  const int N = lat_.size();
+
+  // Neighbours: images and the pair list, once.
+  auto t0 = Clock::now();
+  im_ = make_images(lat_, W_.support());
+  pairs_ = find_pairs(lat_, im_.x, W_.support());
+  setup_.emplace_back("neighbours", since(t0));
+
+  // Operators, once (Eqs. 27-34). The convection gradient is the divergence's, so Stokes flow
+  // assembles nothing more; without convection grad_u is used only for the divergence.
+  t0 = Clock::now();
+  op_ = build_operators(pairs_, lat_, im_, W_);
+  const double a = 0.5 * nu() * prm_.dt;  // Crank-Nicolson factor nu dt / 2 (Eq. 28)
+  SpMat I(N, N);
+  I.setIdentity();
+  const SpMat A_cn = I - a * op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28)
+  // Poisson (Eq. 32) as the SPD system -lap phi = -(rho/dt) div u*. Its null space is the constants
+  // (periodic and homogeneous Neumann sides); gauge: phi = 0 at particle `pin_` (row and column
+  // replaced by the identity) after projecting the right-hand side onto zero mean, which is the range
+  // of the symmetric singular matrix, then phi shifted to zero mean.
+  poisson_A_ = -op_.lap_phi;
+  for (int k = poisson_A_.outerIndexPtr()[pin_]; k < poisson_A_.outerIndexPtr()[pin_ + 1]; ++k)
+    poisson_A_.valuePtr()[k] = poisson_A_.innerIndexPtr()[k] == pin_ ? 1.0 : 0.0;
+  for (int i = 0; i < N; ++i)
+    for (SpMat::InnerIterator it(poisson_A_, i); it; ++it)
+      if (it.col() == pin_ && i != pin_) it.valueRef() = 0.0;
+  poisson_A_.prune(0.0);
+  setup_.emplace_back("assembly", since(t0));
+
+  t0 = Clock::now();
+  cn_ = factorize("Crank-Nicolson", A_cn, prm_.cn_solver);
+  poisson_ = factorize("Poisson", poisson_A_, prm_.poisson_solver);
+  setup_.emplace_back("factorisation", since(t0));
+
+  const int M = im_.size();
+  u_ = Mat2::Zero(N, 2);
+  u_star_ = rhs_ = conv_ = conv_old_ = grad_phi_ = Mat2::Zero(N, 2);
+  c_wall_ = c_star_ = c_sum_ = Mat2::Zero(M, 2);
+  image_velocity_offsets(im_, lat_.domain, nullptr, 0.0, c_wall_);  // 2 u_b: images of u^n
+  phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
+
+  k_images_ = prof_.phase("images (Eq. 42)");
+  k_conv_ = prof_.phase("convection (Eqs. 39-41)");
+  k_rhs_ = prof_.phase("viscous rhs (Eq. 28)");
+  k_solve_cn_ = prof_.phase("solve Crank-Nicolson");
+  k_div_ = prof_.phase("divergence rhs (Eq. 32)");
+  k_solve_poisson_ = prof_.phase("solve Poisson");
+  k_project_ = prof_.phase("projection (Eq. 34)");
+  k_pressure_ = prof_.phase("pressure (Eq. 35)");
+}
+
+void Fluid::set_velocity(const Mat2& u0) {
+  if (u0.rows() != u_.rows()) throw std::invalid_argument("fluid: initial velocity has the wrong size");
+  u_ = u0;
+  first_ = true;
+}
+
+void Fluid::step(const Mat2& F) {
+  const double dt = prm_.dt, rho = prm_.rho, a = 0.5 * nu() * dt;
+  const Operators& op = op_;
+  {
+    ScopedTimer tm(prof_, k_images_);
+    // Eq. (42): images of u* carry 2 (u_b + dt/rho [grad phi~]_tau) - u*, with phi~ = phi^n.
+    image_velocity_offsets(im_, lat_.domain, &grad_phi_, dt / rho, c_star_);
+    c_sum_ = c_wall_ + c_star_;
+  }
+  if (prm_.convection) {
+    ScopedTimer tm(prof_, k_conv_);
+    // Eqs. (40)-(41): (u.grad)u_i = u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values)
+    rhs_.noalias() = op.grad_ux.A * u_;
+    rhs_.noalias() += op.grad_ux.B * c_wall_;
+    conv_ = rhs_.array().colwise() * u_.col(0).array();
+    rhs_.noalias() = op.grad_uy.A * u_;
+    rhs_.noalias() += op.grad_uy.B * c_wall_;
+    conv_.array() += rhs_.array().colwise() * u_.col(1).array();
+    if (first_) conv_old_ = conv_;  // first step: Euler, (u.grad u)^{-1} = (u.grad u)^0
+    // Eq. (39): AB2, 3/2 N^n - 1/2 N^{n-1}; conv_old_ keeps N^n for the next step
+    rhs_ = 1.5 * conv_ - 0.5 * conv_old_;
+    conv_old_.swap(conv_);
+    conv_.swap(rhs_);  // conv_ = AB2 combination
+  }
+  {
+    ScopedTimer tm(prof_, k_rhs_);
+    // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
+    rhs_.noalias() = op.lap_u.A * u_;
+    rhs_.noalias() += op.lap_u.B * c_sum_;
+    rhs_ *= a;
+    rhs_ += u_;
+    rhs_ += (dt / rho) * F;
+    if (prm_.convection) rhs_ -= dt * conv_;
+  }
+  {
+    ScopedTimer tm(prof_, k_solve_cn_);
+    cn_->solve(rhs_.data(), u_star_.data(), 2);  // u and v: two right-hand sides, one factorisation
+  }
+  {
+    ScopedTimer tm(prof_, k_div_);
+    // Eq. (30): div u* with images of u* (offsets c*); Eq. (32): -lap phi = -(rho/dt) div u*
+    div_.noalias() = op.grad_ux.A * u_star_.col(0);
+    div_.noalias() += op.grad_uy.A * u_star_.col(1);
+    div_.noalias() += op.grad_ux.B * c_star_.col(0);
+    div_.noalias() += op.grad_uy.B * c_star_.col(1);
+    b_phi_ = (-rho / dt) * div_;
+    b_phi_.array() -= b_phi_.mean();  // onto the range of the singular operator (gauge, see constructor)
+    b_phi_[pin_] = 0.0;
+  }
+  {
+    ScopedTimer tm(prof_, k_solve_poisson_);
+    poisson_->solve(b_phi_.data(), phi_.data(), 1);
+    phi_.array() -= phi_.mean();
+  }
+  {
+    ScopedTimer tm(prof_, k_project_);
+    // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
+    grad_phi_.col(0).noalias() = op.grad_phix * phi_;
+    grad_phi_.col(1).noalias() = op.grad_phiy * phi_;
+    u_ = u_star_ - (dt / rho) * grad_phi_;
+  }
+  if (prm_.pressure) {
+    ScopedTimer tm(prof_, k_pressure_);
+    // Eq. (35): p^{n+1/2} = phi^{n+1} - (nu dt / 2) lap phi^{n+1}  (zero mean, as phi)
+    p_.noalias() = op.lap_phi * phi_;
+    p_ = phi_ - a * p_;
+  }
+  first_ = false;
+  t_ += dt;
+  ++n_;
+}
+
+double Fluid::max_abs_divergence() const {
+  Vec d = op_.grad_ux.A * u_.col(0) + op_.grad_uy.A * u_.col(1) + op_.grad_ux.B * c_wall_.col(0) +
+          op_.grad_uy.B * c_wall_.col(1);
+  return d.cwiseAbs().maxCoeff();
+}
+
+double Fluid::kinetic_energy() const { return 0.5 * prm_.rho * lat_.volume * u_.squaredNorm(); }
+
+double Fluid::poisson_residual() const {
+  const double nb = b_phi_.norm();
+  Vec phi_pinned = phi_.array() - phi_[pin_];
+  Vec r = poisson_A_ * phi_pinned - b_phi_;
+  return nb > 0 ? r.norm() / nb : r.norm();
+}
+
+std::vector<SolverInfo> Fluid::solver_info() const { return {cn_->info(), poisson_->info()}; }
+
+double Fluid::setup_seconds(const std::string& what) const {
+  for (const auto& [k, s] : setup_)
+    if (k == what) return s;
+  return 0.0;
+}
+
+}  // namespace sphib
