@@ -1,0 +1,355 @@
+#include "io/hdf5_writer.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "io/atomic_file.hpp"
+
+namespace sphib {
+
+static_assert(std::is_same<hid_t, std::int64_t>::value, "Hdf5Writer stores hid_t as int64_t");
+
+namespace {
+
+using RowMat2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+// Keeps the deepest (most specific) description on HDF5's error stack, e.g. the errno text.
+herr_t keep_deepest(unsigned, const H5E_error2_t* e, void* out) {
+  if (!e || !e->desc || !*e->desc) return 0;
+  std::string& s = *static_cast<std::string*>(out);
+  s = e->desc;
+  for (char& c : s)
+    if (c == '\n') c = ' ';  // HDF5 puts a ctime() line break inside write errors
+  return 0;
+}
+
+[[noreturn]] void fail(const std::string& file, const std::string& op) {
+  std::string cause;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, keep_deepest, &cause);
+  H5Eclear2(H5E_DEFAULT);
+  throw std::runtime_error("Hdf5Writer: " + op + " failed for '" + file + "'" +
+                           (cause.empty() ? "" : ": " + cause));
+}
+
+void check(herr_t rc, const std::string& file, const std::string& op) {
+  if (rc < 0) fail(file, op);
+}
+
+// Owns one HDF5 identifier; the constructor checks it.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*closer)(hid_t), const std::string& file, const std::string& op)
+      : id_(id), closer_(closer) {
+    if (id_ < 0) fail(file, op);
+  }
+  Handle(Handle&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
+  ~Handle() {
+    if (id_ >= 0) closer_(id_);
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle& operator=(Handle&&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*closer_)(hid_t);
+};
+
+// Variable-length UTF-8 string type (h5py reads it as str).
+Handle string_type(const std::string& file) {
+  Handle t(H5Tcopy(H5T_C_S1), H5Tclose, file, "H5Tcopy");
+  check(H5Tset_size(t, H5T_VARIABLE), file, "H5Tset_size");
+  check(H5Tset_cset(t, H5T_CSET_UTF8), file, "H5Tset_cset");
+  return t;
+}
+
+void write_attr(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type,
+                hid_t space, const void* data, const std::string& file) {
+  const std::string op = "attribute '" + name + "'";
+  Handle a(H5Acreate2(loc, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+           file, "H5Acreate2 of " + op);
+  check(H5Awrite(a, mem_type, data), file, "H5Awrite of " + op);
+}
+
+void attr_double(hid_t loc, const std::string& name, double v, const std::string& file) {
+  Handle s(H5Screate(H5S_SCALAR), H5Sclose, file, "H5Screate");
+  write_attr(loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s, &v, file);
+}
+
+void attr_int(hid_t loc, const std::string& name, int v, const std::string& file) {
+  Handle s(H5Screate(H5S_SCALAR), H5Sclose, file, "H5Screate");
+  write_attr(loc, name, H5T_STD_I32LE, H5T_NATIVE_INT, s, &v, file);
+}
+
+void attr_string(hid_t loc, const std::string& name, const std::string& v,
+                 const std::string& file) {
+  Handle s(H5Screate(H5S_SCALAR), H5Sclose, file, "H5Screate");
+  Handle t = string_type(file);
+  const char* p = v.c_str();
+  write_attr(loc, name, t, t, s, &p, file);
+}
+
+void attr_strings(hid_t loc, const std::string& name, const std::vector<std::string>& v,
+                  const std::string& file) {
+  const hsize_t n = v.size();
+  Handle s(H5Screate_simple(1, &n, nullptr), H5Sclose, file, "H5Screate_simple");
+  Handle t = string_type(file);
+  std::vector<const char*> p;
+  for (const auto& x : v) p.push_back(x.c_str());
+  write_attr(loc, name, t, t, s, p.data(), file);
+}
+
+// Contiguous dataset of `dims`, filled from `data` (row-major, may be null when empty).
+void dataset(hid_t loc, const std::string& name, std::vector<hsize_t> dims, hid_t file_type,
+             hid_t mem_type, const void* data, const std::string& file) {
+  const std::string op = "dataset '" + name + "'";
+  Handle s(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, file,
+           "H5Screate_simple of " + op);
+  Handle d(H5Dcreate2(loc, name.c_str(), file_type, s, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Dclose, file, "H5Dcreate2 of " + op);
+  hsize_t count = 1;
+  for (hsize_t n : dims) count *= n;
+  if (count > 0) check(H5Dwrite(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file,
+                       "H5Dwrite of " + op);
+}
+
+void doubles(hid_t loc, const std::string& name, std::vector<hsize_t> dims, const double* data,
+             const std::string& file) {
+  dataset(loc, name, std::move(dims), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data, file);
+}
+
+void ints(hid_t loc, const std::string& name, std::vector<hsize_t> dims, const int* data,
+          const std::string& file) {
+  dataset(loc, name, std::move(dims), H5T_STD_I32LE, H5T_NATIVE_INT, data, file);
+}
+
+Handle create_group(hid_t loc, const std::string& name, const std::string& file) {
+  return Handle(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                file, "H5Gcreate2 of group '" + name + "'");
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string r;
+  for (char c : s) {
+    switch (c) {
+      case '&': r += "&amp;"; break;
+      case '<': r += "&lt;"; break;
+      case '>': r += "&gt;"; break;
+      case '"': r += "&quot;"; break;
+      case '\'': r += "&apos;"; break;
+      default: r += c;
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+Hdf5Writer::Hdf5Writer(std::string path, const RunAttributes& attrs)
+    : path_(std::move(path)), part_(part_path(path_)) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+  file_ = H5Fcreate(part_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) fail(part_, "H5Fcreate");
+  try {
+    for (const auto& [name, value] : attrs.text) attr_string(file_, name, value, part_);
+    for (const auto& [name, value] : attrs.numbers) attr_double(file_, name, value, part_);
+    create_group(file_, "snapshots", part_);
+    check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+  } catch (...) {
+    H5Fclose(file_);
+    std::remove(part_.c_str());
+    throw;
+  }
+}
+
+Hdf5Writer::~Hdf5Writer() {
+  try {
+    close();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sphib: %s\n", e.what());
+  }
+}
+
+std::string Hdf5Writer::xdmf_path() const {
+  return std::filesystem::path(path_).replace_extension(".xdmf").string();
+}
+
+void Hdf5Writer::require_open(const char* what) const {
+  if (file_ < 0) throw std::logic_error(std::string("Hdf5Writer: ") + what + " after close() of '" +
+                                        path_ + "'");
+}
+
+void Hdf5Writer::write_snapshot(
+    int step, double t, const Mat2& x,
+    const std::vector<std::pair<std::string, const Vec*>>& particle_scalars,
+    const std::vector<MembraneSnapshot>& membranes) {
+  require_open("write_snapshot");
+  const long n = static_cast<long>(x.rows());
+  SnapshotInfo info{"", t, n, {}, {}};
+  for (const auto& [name, v] : particle_scalars) {  // validate everything before writing
+    if (name.empty() || name == "x" || name == "y" || name.rfind("membrane_", 0) == 0 ||
+        name.find('/') != std::string::npos ||
+        std::find(info.scalars.begin(), info.scalars.end(), name) != info.scalars.end())
+      throw std::invalid_argument("Hdf5Writer: bad particle scalar name '" + name + "'");
+    if (!v || v->size() != n)
+      throw std::invalid_argument("Hdf5Writer: particle scalar '" + name + "' has " +
+                                  std::to_string(v ? v->size() : 0) + " values for " +
+                                  std::to_string(n) + " particles");
+    info.scalars.push_back(name);
+  }
+  for (std::size_t k = 0; k < membranes.size(); ++k) {
+    const MembraneSnapshot& m = membranes[k];
+    if (!m.X || !m.f || !m.T || m.f->rows() != m.X->rows() || m.T->size() != m.X->rows())
+      throw std::invalid_argument("Hdf5Writer: membrane " + std::to_string(k) +
+                                  ": X, f, T missing or of different lengths");
+    info.nb.push_back(static_cast<long>(m.X->rows()));
+  }
+
+  char name[32];
+  std::snprintf(name, sizeof name, "/snapshots/%06d", next_index_);
+  info.group = name;
+  Handle g = create_group(file_, info.group, part_);
+  ++next_index_;  // a snapshot that fails half-way keeps its index but stays out of the XDMF
+  attr_double(g, "time", t, part_);
+  attr_int(g, "step", step, part_);
+  const hsize_t N = static_cast<hsize_t>(n);
+  doubles(g, "x", {N}, x.col(0).data(), part_);  // Mat2 is column-major: columns are contiguous
+  doubles(g, "y", {N}, x.col(1).data(), part_);
+  for (const auto& [sname, v] : particle_scalars) doubles(g, sname, {N}, v->data(), part_);
+
+  for (std::size_t k = 0; k < membranes.size(); ++k) {
+    const MembraneSnapshot& m = membranes[k];
+    const hsize_t nb = static_cast<hsize_t>(info.nb[k]);
+    Handle mg = create_group(g, "membrane_" + std::to_string(k), part_);
+    const RowMat2 X = *m.X, f = *m.f;  // HDF5 is row-major
+    doubles(mg, "X", {nb, 2}, X.data(), part_);
+    doubles(mg, "f", {nb, 2}, f.data(), part_);
+    doubles(mg, "T", {nb}, m.T->data(), part_);
+    std::vector<int> conn(nb + 1);
+    for (hsize_t i = 0; i < nb; ++i) conn[i] = static_cast<int>(i);
+    conn[nb] = 0;  // closes the polyline
+    ints(mg, "conn", {1, nb + 1}, conn.data(), part_);
+    std::vector<double> f3(3 * nb, 0.0);
+    for (hsize_t i = 0; i < nb; ++i) f3[3 * i] = f(i, 0), f3[3 * i + 1] = f(i, 1);
+    doubles(mg, "f3", {nb, 3}, f3.data(), part_);
+  }
+  check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+  snapshots_.push_back(std::move(info));
+}
+
+void Hdf5Writer::write_series(const std::string& name, const std::vector<std::string>& columns,
+                              const std::vector<std::vector<double>>& rows) {
+  require_open("write_series");
+  if (name.empty() || name.find('/') != std::string::npos)
+    throw std::invalid_argument("Hdf5Writer: bad series name '" + name + "'");
+  const hsize_t nc = columns.size();
+  std::vector<double> data;
+  data.reserve(rows.size() * nc);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (rows[r].size() != nc)
+      throw std::invalid_argument("Hdf5Writer: series '" + name + "' row " + std::to_string(r) +
+                                  " has " + std::to_string(rows[r].size()) + " values for " +
+                                  std::to_string(nc) + " columns");
+    data.insert(data.end(), rows[r].begin(), rows[r].end());
+  }
+  const htri_t exists = H5Lexists(file_, "diagnostics", H5P_DEFAULT);
+  if (exists < 0) fail(part_, "H5Lexists of group 'diagnostics'");
+  if (!exists) create_group(file_, "diagnostics", part_);
+  const std::string dname = "/diagnostics/" + name;
+  doubles(file_, dname, {static_cast<hsize_t>(rows.size()), nc}, data.data(), part_);
+  Handle d(H5Dopen2(file_, dname.c_str(), H5P_DEFAULT), H5Dclose, part_, "H5Dopen2 of " + dname);
+  attr_strings(d, "columns", columns, part_);
+  check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+}
+
+void Hdf5Writer::close() {
+  if (file_ < 0) return;
+  const hid_t file = file_;
+  file_ = -1;  // never retried: a failed close leaves only the .part file
+  try {
+    std::set<long> counts;  // one Polyvertex connectivity per particle count
+    for (const auto& s : snapshots_) counts.insert(s.n);
+    if (!counts.empty()) {
+      Handle g = create_group(file, "xdmf", part_);
+      for (long n : counts) {
+        std::vector<int> ids(static_cast<std::size_t>(n));
+        for (long i = 0; i < n; ++i) ids[i] = static_cast<int>(i);
+        ints(g, "vertices_" + std::to_string(n), {static_cast<hsize_t>(n), 1}, ids.data(), part_);
+      }
+    }
+  } catch (...) {
+    H5Fclose(file);
+    throw;
+  }
+  check(H5Fclose(file), part_, "H5Fclose");
+  commit_part(part_, path_);
+  write_file_atomic(xdmf_path(), xdmf_text());
+}
+
+// XDMF 2 (read by ParaView's XDMF readers): a temporal collection of spatial collections.
+std::string Hdf5Writer::xdmf_text() const {
+  const std::string h5 = xml_escape(std::filesystem::path(path_).filename().string());
+  std::ostringstream o;
+  o.precision(17);
+  auto item = [&](const std::string& dims, const std::string& type, int prec,
+                  const std::string& where) {
+    o << "<DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\""
+      << prec << "\" Format=\"HDF\">" << h5 << ":" << xml_escape(where) << "</DataItem>";
+  };
+  o << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+    << "<Xdmf Version=\"2.0\">\n <Domain>\n"
+    << "  <Grid Name=\"run\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const SnapshotInfo& s : snapshots_) {
+    const std::string n = std::to_string(s.n);
+    o << "   <Grid Name=\"" << s.group.substr(s.group.rfind('/') + 1)
+      << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+      << "    <Time Value=\"" << s.t << "\"/>\n"
+      << "    <Grid Name=\"particles\" GridType=\"Uniform\">\n"
+      << "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+      << "\" NodesPerElement=\"1\">\n      ";
+    item(n + " 1", "Int", 4, "/xdmf/vertices_" + n);
+    o << "\n     </Topology>\n     <Geometry GeometryType=\"X_Y\">\n      ";
+    item(n, "Float", 8, s.group + "/x");
+    o << "\n      ";
+    item(n, "Float", 8, s.group + "/y");
+    o << "\n     </Geometry>\n";
+    for (const std::string& a : s.scalars) {
+      o << "     <Attribute Name=\"" << xml_escape(a)
+        << "\" AttributeType=\"Scalar\" Center=\"Node\">\n      ";
+      item(n, "Float", 8, s.group + "/" + a);
+      o << "\n     </Attribute>\n";
+    }
+    o << "    </Grid>\n";
+    for (std::size_t k = 0; k < s.nb.size(); ++k) {
+      const std::string m = "membrane_" + std::to_string(k);
+      const std::string g = s.group + "/" + m + "/";
+      const std::string nb = std::to_string(s.nb[k]), nb1 = std::to_string(s.nb[k] + 1);
+      o << "    <Grid Name=\"" << m << "\" GridType=\"Uniform\">\n"
+        << "     <Topology TopologyType=\"Polyline\" NumberOfElements=\"1\" NodesPerElement=\""
+        << nb1 << "\">\n      ";
+      item("1 " + nb1, "Int", 4, g + "conn");
+      o << "\n     </Topology>\n     <Geometry GeometryType=\"XY\">\n      ";
+      item(nb + " 2", "Float", 8, g + "X");
+      o << "\n     </Geometry>\n"
+        << "     <Attribute Name=\"f\" AttributeType=\"Vector\" Center=\"Node\">\n      ";
+      item(nb + " 3", "Float", 8, g + "f3");
+      o << "\n     </Attribute>\n"
+        << "     <Attribute Name=\"T\" AttributeType=\"Scalar\" Center=\"Node\">\n      ";
+      item(nb, "Float", 8, g + "T");
+      o << "\n     </Attribute>\n    </Grid>\n";
+    }
+    o << "   </Grid>\n";
+  }
+  o << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  return o.str();
+}
+
+}  // namespace sphib

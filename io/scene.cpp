@@ -1,0 +1,425 @@
+#include "io/scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "membrane/geometry.hpp"
+
+namespace sphib {
+
+namespace {
+
+std::string fmt_num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Reads typed values by dotted key, records which keys were used and documents each key.
+class Reader {
+ public:
+  Reader(toml::table& root, std::string name, std::set<std::string> overridden)
+      : root_(root), name_(std::move(name)), overridden_(std::move(overridden)) {}
+
+  struct Doc {
+    std::string key, type, def, range, what;
+  };
+  std::vector<Doc> docs;
+  bool documenting = false;  // collecting the key list: nothing is required
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    std::ostringstream m;
+    m << name_;
+    if (overridden_.count(key)) m << ": (--set " << key << ")";
+    else if (const toml::node* n = find(key); n && n->source().begin.line) m << ":" << n->source().begin.line;
+    m << ": " << key << ": " << what;
+    throw SceneError(m.str());
+  }
+
+  const toml::node* find(const std::string& key) const { return root_.at_path(key).node(); }
+  bool has(const std::string& key) const { return find(key) != nullptr; }
+
+  double number(const std::string& key, double def, const std::string& range, const std::string& what,
+                bool required = false, double lo = -INFINITY, bool lo_open = false, double hi = INFINITY) {
+    doc(key, "number", required ? "(required)" : fmt_num(def), range, what);
+    const toml::node* n = use(key);
+    if (!n) {
+      if (required && !documenting) fail(key, "missing (required: " + what + ")");
+      return def;
+    }
+    std::optional<double> v;
+    if (n->is_floating_point()) v = n->as_floating_point()->get();
+    else if (n->is_integer()) v = static_cast<double>(n->as_integer()->get());
+    if (!v) fail(key, "must be a number (got " + type_name(*n) + ")");
+    if (!std::isfinite(*v)) fail(key, "must be finite (got " + fmt_num(*v) + ")");
+    if ((lo_open ? !(*v > lo) : !(*v >= lo)) || !(*v <= hi))
+      fail(key, "value " + fmt_num(*v) + " is out of range (allowed: " + range + ")");
+    return *v;
+  }
+  double positive(const std::string& key, double def, const std::string& what, bool required = false) {
+    return number(key, def, "> 0", what, required, 0.0, true);
+  }
+  long integer(const std::string& key, long def, long lo, const std::string& what, bool required = false) {
+    doc(key, "integer", required ? "(required)" : std::to_string(def), ">= " + std::to_string(lo), what);
+    const toml::node* n = use(key);
+    if (!n) {
+      if (required && !documenting) fail(key, "missing (required: " + what + ")");
+      return def;
+    }
+    if (!n->is_integer()) fail(key, "must be an integer (got " + type_name(*n) + ")");
+    const long v = static_cast<long>(n->as_integer()->get());
+    if (v < lo) fail(key, "value " + std::to_string(v) + " is out of range (allowed: >= " + std::to_string(lo) + ")");
+    return v;
+  }
+  bool boolean(const std::string& key, bool def, const std::string& what) {
+    doc(key, "boolean", def ? "true" : "false", "true | false", what);
+    const toml::node* n = use(key);
+    if (!n) return def;
+    if (!n->is_boolean()) fail(key, "must be true or false (got " + type_name(*n) + ")");
+    return n->as_boolean()->get();
+  }
+  std::string text(const std::string& key, const std::string& def, const std::string& what) {
+    doc(key, "string", "\"" + def + "\"", "", what);
+    const toml::node* n = use(key);
+    if (!n) return def;
+    if (!n->is_string()) fail(key, "must be a string (got " + type_name(*n) + ")");
+    return n->as_string()->get();
+  }
+  std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& options,
+                     const std::string& what) {
+    std::string all;
+    for (const auto& o : options) all += (all.empty() ? "" : " | ") + o;
+    const std::string v = text(key, def, what);
+    docs.back().range = all;
+    for (const auto& o : options)
+      if (v == o) return v;
+    fail(key, "\"" + v + "\" is not allowed (allowed: " + all + ")");
+  }
+  Eigen::Vector2d pair(const std::string& key, const Eigen::Vector2d& def, const std::string& what,
+                       bool required = false) {
+    doc(key, "[number, number]", required ? "(required)" : "[" + fmt_num(def[0]) + ", " + fmt_num(def[1]) + "]", "",
+        what);
+    const toml::node* n = use(key);
+    if (!n) {
+      if (required && !documenting) fail(key, "missing (required: " + what + ")");
+      return def;
+    }
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 2) fail(key, "must be an array of two numbers");
+    Eigen::Vector2d v;
+    for (int k = 0; k < 2; ++k) {
+      const toml::node& e = *a->get(k);
+      if (e.is_floating_point()) v[k] = e.as_floating_point()->get();
+      else if (e.is_integer()) v[k] = static_cast<double>(e.as_integer()->get());
+      else fail(key, "must be an array of two numbers");
+      if (!std::isfinite(v[k])) fail(key, "must be finite");
+    }
+    return v;
+  }
+  const toml::node* raw(const std::string& key, const std::string& type, const std::string& what) {
+    doc(key, type, "", "", what);
+    return use(key);
+  }
+
+  // Every leaf key present but never read is an error.
+  void reject_unknown() const { walk(root_, ""); }
+
+  std::vector<std::pair<std::string, std::string>> resolved;
+
+ private:
+  const toml::node* use(const std::string& key) {
+    used_.insert(key);
+    const toml::node* n = find(key);
+    if (n && !n->is_table()) {
+      std::ostringstream s;
+      n->visit([&](const auto& v) { s << v; });
+      resolved.emplace_back(key, s.str());
+    }
+    return n;
+  }
+  void doc(const std::string& key, const std::string& type, const std::string& def, const std::string& range,
+           const std::string& what) {
+    docs.push_back({key, type, def, range, what});
+  }
+  static std::string type_name(const toml::node& n) {
+    switch (n.type()) {
+      case toml::node_type::string: return "a string";
+      case toml::node_type::integer: return "an integer";
+      case toml::node_type::floating_point: return "a number";
+      case toml::node_type::boolean: return "a boolean";
+      case toml::node_type::array: return "an array";
+      case toml::node_type::table: return "a table";
+      default: return "a date/time";
+    }
+  }
+  void walk(const toml::table& t, const std::string& prefix) const {
+    for (const auto& [k, v] : t) {
+      const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+      if (used_.count(key)) continue;
+      if (const toml::table* sub = v.as_table()) { walk(*sub, key); continue; }
+      if (const toml::array* arr = v.as_array(); arr && arr->is_array_of_tables()) {
+        for (size_t i = 0; i < arr->size(); ++i) walk(*arr->get(i)->as_table(), key + "[" + std::to_string(i) + "]");
+        continue;
+      }
+      std::ostringstream m;
+      m << name_;
+      if (overridden_.count(key)) m << ": (--set " << key << ")";
+      else if (v.source().begin.line) m << ":" << v.source().begin.line;
+      m << ": unknown key '" << key << "' (see `sphib keys` for the keys a scene may have)";
+      throw SceneError(m.str());
+    }
+  }
+
+  toml::table& root_;
+  std::string name_;
+  std::set<std::string> overridden_;
+  std::set<std::string> used_;
+};
+
+// Applies key=value to the table, creating intermediate tables. `membrane.X` also reaches the
+// only element of a [[membranes]] array.
+std::string apply_override(toml::table& root, const std::string& kv, const std::string& name) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(name + ": --set " + kv + ": expected key=value (for example grid.nx=32)");
+  std::string key = kv.substr(0, eq);
+  const std::string val = kv.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + val);
+  } catch (const toml::parse_error&) {
+    parsed.insert_or_assign("v", val);  // a bare word: a string
+  }
+  if (key.rfind("membrane.", 0) == 0 && !root.contains("membrane")) {
+    if (toml::array* arr = root["membranes"].as_array(); arr && arr->size() == 1)
+      key = "membranes[0]." + key.substr(9);
+  }
+  // Walk/create the tables of the dotted key.
+  toml::table* t = &root;
+  size_t start = 0;
+  while (true) {
+    const size_t dot = key.find('.', start);
+    std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (part.empty()) throw SceneError(name + ": --set " + kv + ": empty key component");
+    if (dot == std::string::npos) {
+      t->insert_or_assign(part, *parsed.get("v"));
+      break;
+    }
+    const auto br = part.find('[');
+    if (br != std::string::npos) {  // membranes[0]
+      const std::string arr_name = part.substr(0, br);
+      const int idx = std::atoi(part.c_str() + br + 1);
+      toml::array* arr = (*t)[arr_name].as_array();
+      if (!arr || idx < 0 || idx >= static_cast<int>(arr->size()) || !arr->get(idx)->is_table())
+        throw SceneError(name + ": --set " + kv + ": no table " + part);
+      t = arr->get(idx)->as_table();
+    } else {
+      if (!t->contains(part)) t->insert(part, toml::table{});
+      t = (*t)[part].as_table();
+      if (!t) throw SceneError(name + ": --set " + kv + ": " + part + " is not a table");
+    }
+    start = dot + 1;
+  }
+  return key;
+}
+
+SolverKind solver_kind(const std::string& s) {
+  if (s == "cholmod_supernodal") return SolverKind::CholmodSupernodal;
+  if (s == "cholmod_simplicial") return SolverKind::CholmodSimplicial;
+  if (s == "umfpack") return SolverKind::Umfpack;
+  return SolverKind::Auto;
+}
+
+void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
+  m.shape = r.choice(p + "shape", "circle", {"circle", "ellipse", "points"},
+                     "initial shape: circle (radius), ellipse (rx, ry) or points (a closed point list)");
+  m.r0 = r.positive(p + "r0", 0.5, "rest radius r0: rest length L0 = 2 pi r0", true);
+  m.T0 = r.number(p + "T0", 1.0, ">= 0", "Young's modulus T0 of Eq. (47)", true, 0.0);
+  m.nb = static_cast<int>(r.integer(p + "nb", 128, 4, "number of markers Nb"));
+  const Eigen::Vector2d c = r.pair(p + "centre", Eigen::Vector2d::Zero(), "centre of the initial circle/ellipse");
+  m.cx = c[0];
+  m.cy = c[1];
+  m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)");
+  m.rx = r.positive(p + "rx", 0.75, "ellipse half-axis along x");
+  m.ry = r.positive(p + "ry", 0.5, "ellipse half-axis along y");
+  m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
+  m.h_star_over_h = r.positive(p + "h_star_over_h", 1.4, "h* / h when h_star is 0");
+  m.fixed = r.boolean(p + "fixed", false, "hold the markers in place (fixed membrane)");
+  const toml::node* pts = r.raw(p + "points", "array of [x, y]", "closed point list for shape = \"points\"");
+  if (m.shape == "points") {
+    const toml::array* a = pts ? pts->as_array() : nullptr;
+    if (!a) r.fail(p + "points", "shape = \"points\" needs points = [[x, y], ...]");
+    m.points.resize(static_cast<int>(a->size()), 2);
+    for (size_t k = 0; k < a->size(); ++k) {
+      const toml::array* e = a->get(k)->as_array();
+      if (!e || e->size() != 2) r.fail(p + "points", "each point must be [x, y]");
+      for (int d = 0; d < 2; ++d) {
+        auto v = e->get(d)->value<double>();
+        if (!v || !std::isfinite(*v)) r.fail(p + "points", "each point must be two finite numbers");
+        m.points(static_cast<int>(k), d) = *v;
+      }
+    }
+  }
+}
+
+Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
+            std::vector<Reader::Doc>* docs_out) {
+  Reader r(root, name, overridden);
+  r.documenting = docs_out != nullptr;
+  Scene s;
+  s.path = name;
+  s.title = r.text("title", "", "a one-line description");
+  s.method = r.choice("method", "eulerian", {"eulerian"},
+                      "fluid solver: eulerian (EPSPH, fixed particles)");
+  // Domain and walls
+  FluidParams& f = s.sim.fluid;
+  const Eigen::Vector2d xr = r.pair("domain.x", {0.0, 1.0}, "x extent [x0, x1]");
+  const Eigen::Vector2d yr = r.pair("domain.y", {0.0, 1.0}, "y extent [y0, y1]");
+  if (!(xr[1] > xr[0])) r.fail("domain.x", "must satisfy x0 < x1");
+  if (!(yr[1] > yr[0])) r.fail("domain.y", "must satisfy y0 < y1");
+  f.domain.x0 = xr[0]; f.domain.x1 = xr[1]; f.domain.y0 = yr[0]; f.domain.y1 = yr[1];
+  f.domain.periodic_x = r.boolean("domain.periodic_x", true, "periodic in x (else no-slip walls at x0 and x1)");
+  f.domain.periodic_y = r.boolean("domain.periodic_y", false, "periodic in y (else no-slip walls at y0 and y1)");
+  const char* sides[4] = {"left", "right", "bottom", "top"};
+  for (int k = 0; k < 4; ++k) {
+    const std::string key = std::string("walls.") + sides[k];
+    const bool given = r.has(key);
+    f.domain.wall_velocity[k] = r.pair(key, Eigen::Vector2d::Zero(), std::string("velocity of the ") + sides[k] + " wall");
+    if (given && !f.domain.is_wall(static_cast<Side>(k)))
+      r.fail(key, "a wall velocity is given on a periodic side");
+  }
+  // Resolution and kernel
+  f.nx = static_cast<int>(r.integer("grid.nx", 0, 2, "particles along x (Eq. 68)", true));
+  f.ny = static_cast<int>(r.integer("grid.ny", 0, 2, "particles along y (Eq. 68)", true));
+  f.h_over_dx = r.positive("kernel.h_over_dx", 1.2, "smoothing length h = h_over_dx (dx + dy)/2; support 2h");
+  // Fluid
+  f.rho = r.positive("fluid.rho", 1.0, "density rho", true);
+  f.mu = r.positive("fluid.mu", 1.0, "dynamic viscosity mu", true);
+  s.sim.body_force = r.pair("fluid.body_force", Eigen::Vector2d::Zero(), "body force per unit volume [Fx, Fy]");
+  f.convection = r.boolean("fluid.convection", true, "Navier-Stokes (true) or Stokes (false: no convection operator)");
+  // Time
+  f.dt = r.positive("time.dt", 0.0, "time step", true);
+  s.t_end = r.positive("time.end", 0.0, "end time (upper bound when steady_eps is set)", true);
+  s.max_steps = r.integer("time.max_steps", 0, 0, "stop after this many steps (0: no limit)");
+  s.steady_eps = r.number("time.steady_eps", 0.0, ">= 0", "stop at steady state, Eqs. (81)-(82), when max(rms dp, rms du) < steady_eps dt (0: off)", false, 0.0);
+  // Solvers
+  const std::vector<std::string> kinds{"auto", "cholmod_supernodal", "cholmod_simplicial", "umfpack"};
+  f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", kinds, "factorisation of the Crank-Nicolson system"));
+  f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", kinds, "factorisation of the Poisson system"));
+  s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
+  s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
+  // Output and observation
+  s.output_interval = r.number("output.interval", 0.0, ">= 0", "time between HDF5 snapshots (0: first and last only)", false, 0.0);
+  s.diagnostics_every = r.integer("output.diagnostics_every", 0, 0, "steps between diagnostics rows (0: about 500 rows per run)");
+  if (const toml::node* fl = r.raw("output.fields", "array of strings", "particle fields in snapshots, from u, v, p, phi")) {
+    const toml::array* a = fl->as_array();
+    if (!a) r.fail("output.fields", "must be an array of strings");
+    s.fields.clear();
+    for (const auto& e : *a) {
+      const auto v = e.value<std::string>();
+      if (!v || (*v != "u" && *v != "v" && *v != "p" && *v != "phi"))
+        r.fail("output.fields", "allowed field names: u, v, p, phi");
+      s.fields.push_back(*v);
+    }
+  }
+  s.exact = r.choice("observe.exact", "none",
+                     {"none", "poiseuille", "couette", "cavity", "membrane_equilibrium", "membrane_oscillation"},
+                     "which exact or reference solution to measure against");
+  s.reference_dir = r.text("observe.reference_dir", "reference", "directory of the Ghia et al. tables, relative to the scene file");
+  // Membranes: [membrane] for one, [[membranes]] for several
+  if (r.has("membrane") && r.has("membranes")) r.fail("membranes", "give either [membrane] or [[membranes]], not both");
+  if (r.has("membrane") || docs_out) {
+    if (r.has("membrane") && !r.find("membrane")->is_table()) r.fail("membrane", "must be a table");
+    MembraneScene m;
+    read_membrane(r, "membrane.", m);
+    if (r.has("membrane")) s.membranes.push_back(m);
+  }
+  if (const toml::node* arr = r.raw("membranes", "array of tables", "several membranes, each with the keys of [membrane]")) {
+    const toml::array* a = arr->as_array();
+    if (!a || !a->is_array_of_tables()) r.fail("membranes", "must be an array of tables [[membranes]]");
+    for (size_t k = 0; k < a->size(); ++k) {
+      MembraneScene m;
+      read_membrane(r, "membranes[" + std::to_string(k) + "].", m);
+      s.membranes.push_back(m);
+    }
+  }
+  if (docs_out) { *docs_out = r.docs; return s; }
+  r.reject_unknown();
+  s.resolved = r.resolved;
+
+  // Derived: the fluid computes the pressure only if it is observed.
+  bool want_p = s.exact == "membrane_equilibrium" || s.steady_eps > 0;
+  for (const auto& fl : s.fields) want_p |= (fl == "p");
+  f.pressure = want_p;
+  if (s.max_steps == 0 && s.t_end / f.dt > 1e9) r.fail("time.end", "needs more than 1e9 steps of time.dt");
+
+  // Membranes, built in the domain's coordinates.
+  const double dx = (f.domain.x1 - f.domain.x0) / f.nx, dy = (f.domain.y1 - f.domain.y0) / f.ny;
+  const double h = f.h_over_dx * 0.5 * (dx + dy);
+  for (size_t k = 0; k < s.membranes.size(); ++k) {
+    const MembraneScene& m = s.membranes[k];
+    const std::string p = s.membranes.size() == 1 && r.has("membrane") ? "membrane." : "membranes[" + std::to_string(k) + "].";
+    MembraneSetup setup;
+    try {
+      if (m.shape == "circle") setup.membrane = circle(m.nb, m.r0, m.cx, m.cy, m.radius, m.T0);
+      else if (m.shape == "ellipse") setup.membrane = ellipse(m.nb, m.r0, m.cx, m.cy, m.rx, m.ry, m.T0);
+      else setup.membrane = from_points(m.points, m.nb, m.r0, m.T0);
+    } catch (const std::invalid_argument& e) {
+      r.fail(p + "shape", e.what());
+    }
+    setup.h_star = m.h_star > 0 ? m.h_star : m.h_star_over_h * h;
+    setup.fixed = m.fixed;
+    s.sim.membranes.push_back(setup);
+  }
+  return s;
+}
+
+Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides) {
+  std::set<std::string> overridden;
+  for (const auto& kv : overrides) overridden.insert(apply_override(root, kv, name));
+  return build(root, name, overridden, nullptr);
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream m;
+    m << name << ":" << e.source().begin.line << ": TOML syntax error: " << e.description();
+    throw SceneError(m.str());
+  }
+  return from_table(std::move(root), name, overrides);
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot read the scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  Scene s = parse_scene(ss.str(), path, overrides);
+  namespace fs = std::filesystem;
+  s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
+  return s;
+}
+
+std::string describe_scene_keys() {
+  toml::table empty;
+  std::vector<Reader::Doc> docs;
+  build(empty, "keys", {}, &docs);
+  std::ostringstream o;
+  for (const auto& d : docs) {
+    o << "| `" << d.key << "` | " << d.type << " | " << d.def << " | " << d.range << " | " << d.what << " |\n";
+  }
+  return o.str();
+}
+
+}  // namespace sphib

@@ -1,0 +1,55 @@
+#pragma once
+// Scene files (TOML): what to simulate, parsed and validated in one place.
+// Every key, its type, default and allowed range is listed in scene.cpp (and the README table is
+// generated from `sphib keys`). Unknown keys, wrong types and invalid values are errors that name
+// the key and its line.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "coupling/simulation.hpp"
+
+namespace sphib {
+
+// A refused scene: the message names the file, line, key, value and allowed range.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct MembraneScene {
+  std::string shape = "circle";  // circle | ellipse | points
+  double radius = 0.5, rx = 0.5, ry = 0.5, cx = 0.0, cy = 0.0;
+  double r0 = 0.5, T0 = 1.0;
+  int nb = 128;
+  double h_star = 0.0;  // absolute h*; 0: use h_star_over_h * h
+  double h_star_over_h = 1.4;
+  bool fixed = false;
+  Mat2 points;  // shape = "points"
+};
+
+struct Scene {
+  std::string path, title, method = "eulerian";
+  std::string exact = "none";  // none | poiseuille | couette | cavity | membrane_equilibrium | membrane_oscillation
+  SimulationParams sim;
+  std::vector<MembraneScene> membranes;
+  double t_end = 1.0;
+  long max_steps = 0;        // 0: no limit
+  double steady_eps = 0.0;   // > 0: stop at steady state, Eqs. (81)-(82)
+  double output_interval = 0.0;  // time between HDF5 snapshots (0: first and last only)
+  long diagnostics_every = 0;    // steps between diagnostics rows (0: about 500 rows)
+  std::vector<std::string> fields{"u", "v", "p", "phi"};
+  std::string reference_dir;     // Ghia tables for the cavity
+  std::vector<std::pair<std::string, std::string>> resolved;  // every key = value as used (for attributes)
+};
+
+// Reads a scene file, applies `key=value` overrides (dotted keys, TOML values; a bare word is a
+// string) and validates everything. Throws SceneError.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Same, from TOML text (for tests and the fuzzer); `name` is used in messages.
+Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides = {});
+
+// Every scene key with its type, default and meaning, one per line (the `sphib keys` listing).
+std::string describe_scene_keys();
+
+}  // namespace sphib

@@ -1,0 +1,46 @@
+#pragma once
+// Hookean membrane (Section 4.2.1): tension Eq. (47), tangent Eq. (48), force density Eq. (50).
+#include "membrane/spline.hpp"
+
+namespace sphib {
+
+/// A closed membrane: nb markers X_k labelled by rest arclength s_k = k*L0/nb (uniform in s),
+/// rest length L0 = 2*pi*r0, Young's modulus T0 of Eq. (47).
+struct Membrane {
+  Mat2 X;
+  double L0 = 0.0;
+  double T0 = 0.0;
+  int nb() const { return static_cast<int>(X.rows()); }
+  double ds() const { return L0 / nb(); }
+};
+
+/// How d(T tau)/ds of Eq. (50) is taken from the markers.
+enum class HookeanScheme {
+  ProductSpline,  // spline of T tau, differentiated at the knots: O(h^4), sum_k f_k = 0 exactly
+  Analytic,       // chain rule on the spline of X (needs X_ss at the knots): O(h^2)
+};
+
+/// Elastic force density per unit REST arclength, f = d(T tau)/ds (Eq. 50), at the markers.
+/// Owns its splines and workspace: compute() is O(nb) and allocation-free once f and T have
+/// size nb (they are resized on the first call only).
+class HookeanForce {
+ public:
+  HookeanForce(int nb, double L0, HookeanScheme scheme = HookeanScheme::ProductSpline);
+
+  /// f_k = d(T tau)/ds (Eq. 50) and T_k = T0 (|X_s| - 1) (Eq. 47) at each marker.
+  void compute(const Mat2& X, double T0, Mat2& f, Vec& T);
+  void compute(const Membrane& m, Mat2& f, Vec& T) { compute(m.X, m.T0, f, T); }
+
+  int nb() const { return nb_; }
+  double ds() const { return L0_ / nb_; }
+  HookeanScheme scheme() const { return scheme_; }
+
+ private:
+  int nb_;
+  double L0_;
+  HookeanScheme scheme_;
+  PeriodicSpline spline_;  // refitted per coordinate: X, Y, then (T tau)_x, (T tau)_y
+  Mat2 X_s_, W_;           // X_s at the knots; W = T tau (ProductSpline) or X_ss (Analytic)
+};
+
+}  // namespace sphib

@@ -1,0 +1,56 @@
+#pragma once
+// Periodic cubic spline in the Lagrangian coordinate s (Section 4.2.1: "we use a cubic
+// spline interpolation of the markers and obtain all these derivatives directly from the
+// interpolating polynomials").
+#include <Eigen/Core>
+
+namespace sphib {
+
+// The same aliases as fluid/types.hpp (membrane/ must not include fluid/); identical alias
+// redeclarations are legal C++, so both headers may appear in one translation unit.
+using Vec = Eigen::VectorXd;
+using Mat2 = Eigen::Matrix<double, Eigen::Dynamic, 2>;
+
+/// Periodic cubic spline through n >= 4 values y_k at uniform knots s_k = k*h, h = L/n,
+/// period L. The knot second derivatives M solve the cyclic system
+///   M_{k-1} + 4 M_k + M_{k+1} = 6 (y_{k+1} - 2 y_k + y_{k-1}) / h^2,
+/// whose circulant matrix factors once as (1/rho)(I + rho S)(I + rho S^T), rho = 2 - sqrt(3)
+/// (S the cyclic shift): fit() is two stable O(n) sweeps and never allocates.
+class PeriodicSpline {
+ public:
+  PeriodicSpline(int n, double L);  // throws std::invalid_argument if n < 4 or L <= 0
+
+  /// Interpolate y[k*stride], k = 0..n-1. O(n), no heap allocation.
+  void fit(const double* y, int stride = 1);
+
+  // Evaluation at any s (wrapped into [0, L)).
+  double value(double s) const;
+  double d1(double s) const;  // dS/ds
+  double d2(double s) const;  // d2S/ds2
+  void eval(double s, double& v, double& v_s, double& v_ss) const;
+
+  // Knot values, vectorised: out[k*stride], k = 0..n-1 (caller's storage).
+  void d1_at_knots(double* out, int stride = 1) const;  // error O(h^4) for smooth data
+  void d2_at_knots(double* out, int stride = 1) const;  // = M_k, error O(h^2)
+
+  /// Power-form coefficients of segment k: S(s_k + t) = c[0] + c[1] t + c[2] t^2 + c[3] t^3,
+  /// 0 <= t <= h. k is wrapped periodically.
+  void segment(int k, double c[4]) const;
+
+  int n() const { return n_; }
+  double period() const { return L_; }
+  double h() const { return h_; }
+  const Vec& knot_values() const { return y_; }
+
+ private:
+  int wrap(int k) const { return ((k % n_) + n_) % n_; }
+  void locate(double s, int& k, double& t) const;  // s = s_k + t, 0 <= t < h
+
+  int n_;
+  double L_, h_;
+  double rho_;  // 2 - sqrt(3)
+  Vec pw_;      // (-rho)^j / (1 - (-rho)^n), truncated where it underflows below 1e-18
+  Vec y_, M_, w_;
+};
+
+}  // namespace sphib

@@ -1,0 +1,348 @@
+#!/usr/bin/python3
+"""PNG plots of an sphib run from its HDF5 output, CSV diagnostics and JSON summary.
+
+    plot.py RUN_DIR             reads RUN_DIR/output.h5, RUN_DIR/diagnostics.csv and, if present,
+                                RUN_DIR/summary.json; writes PNGs into RUN_DIR
+    plot.py --sweep SWEEP_CSV   log-log plot of every *_error column against nx -> SWEEP.png
+
+HDF5 layout read here (written by io/hdf5_writer): /snapshots/NNNNNN with attributes time, step,
+datasets x, y and particle scalars, subgroups membrane_k with X (nb x 2); root attributes hold
+the run parameters (e.g. membrane.radius).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+
+try:
+    import h5py  # noqa: E402
+except ImportError:  # pragma: no cover
+    sys.exit("plot.py: h5py is missing (Debian: apt-get install python3-h5py)")
+
+N_SNAPSHOT_PLOTS = 4   # the last snapshot and up to three evenly spaced earlier ones
+MAX_ARROWS = 600       # quiver arrows per snapshot plot
+
+
+def fail(msg):
+    sys.exit("plot.py: " + msg)
+
+
+def require(path):
+    if not os.path.isfile(path):
+        hint = ""
+        if os.path.isfile(path + ".part"):
+            hint = " (only %s.part exists: the run is still going or was killed)" % path
+        fail("missing file %s%s" % (path, hint))
+    return path
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading
+
+def read_csv(path):
+    """Columns of a CSV with a header row, as {name: float array}."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        fail("%s is empty (no header row)" % path)
+    header = [h.strip() for h in rows[0]]
+    body = [r for r in rows[1:] if r]
+    data = np.full((len(body), len(header)), np.nan)
+    for i, r in enumerate(body):
+        for j, cell in enumerate(r[:len(header)]):
+            try:
+                data[i, j] = float(cell)
+            except ValueError:
+                pass
+    return {name: data[:, j] for j, name in enumerate(header)}
+
+
+def read_summary(run_dir):
+    path = os.path.join(run_dir, "summary.json")
+    if not os.path.isfile(path):
+        return {}
+    with open(path) as f:
+        return json.load(f)
+
+
+class Snapshot:
+    def __init__(self, group):
+        self.name = group.name.rsplit("/", 1)[-1]
+        self.t = float(group.attrs.get("time", np.nan))
+        self.step = int(group.attrs.get("step", -1))
+        self.x = group["x"][()]
+        self.y = group["y"][()]
+        self.scalars = {k: v[()] for k, v in group.items()
+                        if isinstance(v, h5py.Dataset) and k not in ("x", "y")}
+        self.membranes = []
+        for k in sorted((k for k in group if k.startswith("membrane_")),
+                        key=lambda s: int(s.split("_")[1])):
+            self.membranes.append(group[k]["X"][()])
+
+
+def snapshot_names(h5):
+    if "snapshots" not in h5:
+        return []
+    return sorted(h5["snapshots"].keys())
+
+
+def pick_evenly(n, k):
+    """Up to k indices out of range(n), evenly spaced, always including the last."""
+    if n == 0:
+        return []
+    return sorted(set(int(round(i)) for i in np.linspace(n - 1, 0, min(n, k))))
+
+
+# ---------------------------------------------------------------------------------------------
+# Geometry helpers
+
+def lattice(x, y):
+    """(ix, iy, xs, ys) if the particles sit on a full tensor-product lattice, else None."""
+    scale = max(np.ptp(x), np.ptp(y), 1e-300)
+    xs = np.unique(np.round(x / scale, 9))
+    ys = np.unique(np.round(y / scale, 9))
+    if len(xs) * len(ys) != len(x) or len(xs) < 2 or len(ys) < 2:
+        return None
+    ix = np.searchsorted(xs, np.round(x / scale, 9))
+    iy = np.searchsorted(ys, np.round(y / scale, 9))
+    if len(set(zip(ix.tolist(), iy.tolist()))) != len(x):
+        return None
+    return ix, iy, xs * scale, ys * scale
+
+
+def spacing(x, y):
+    """Typical particle spacing: lattice step, else median nearest-neighbour distance of a sample."""
+    n = len(x)
+    if n < 2:
+        return 1.0
+    grid = lattice(x, y)
+    if grid is not None:
+        return float(min(np.median(np.diff(grid[2])), np.median(np.diff(grid[3]))))
+    nearest = []
+    for i in np.linspace(0, n - 1, min(n, 100)).astype(int):  # O(100 N) time, O(N) memory
+        d2 = (x - x[i]) ** 2 + (y - y[i]) ** 2
+        d2[i] = np.inf
+        nearest.append(d2.min())
+    return float(np.sqrt(np.median(nearest)))
+
+
+def closed(X):
+    return np.vstack([X, X[:1]])
+
+
+# ---------------------------------------------------------------------------------------------
+# Plots
+
+def plot_snapshot(s, out):
+    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+    x, y = s.x, s.y
+    grid = lattice(x, y)
+    p = s.scalars.get("p")
+    if p is not None and len(x) > 0:
+        if grid is not None:
+            ix, iy, xs, ys = grid
+            P = np.full((len(ys), len(xs)), np.nan)
+            P[iy, ix] = p
+            im = ax.pcolormesh(xs, ys, P, shading="nearest", cmap="viridis")
+        elif len(x) >= 3:
+            im = ax.tricontourf(x, y, p, levels=40, cmap="viridis")
+        else:
+            im = ax.scatter(x, y, c=p, cmap="viridis")
+        fig.colorbar(im, ax=ax, label="p")
+    else:
+        ax.plot(x, y, ".", ms=2, color="0.6")
+    u, v = s.scalars.get("u"), s.scalars.get("v")
+    if u is not None and v is not None and len(x) > 0:
+        if grid is not None:
+            ix, iy, xs, ys = grid
+            stride = max(1, int(math.ceil(math.sqrt(len(x) / MAX_ARROWS))))
+            sel = (ix % stride == 0) & (iy % stride == 0)
+        else:
+            sel = np.zeros(len(x), bool)
+            sel[::max(1, int(math.ceil(len(x) / MAX_ARROWS)))] = True
+        if np.any(np.hypot(u[sel], v[sel]) > 0):
+            ax.quiver(x[sel], y[sel], u[sel], v[sel], color="white", edgecolor="black",
+                      linewidth=0.3, width=0.004)
+    for k, X in enumerate(s.membranes):
+        C = closed(X)
+        ax.plot(C[:, 0], C[:, 1], "-", color="red", lw=1.5,
+                label="membrane %d" % k if len(s.membranes) > 1 else None)
+    if len(s.membranes) > 1:
+        ax.legend(loc="upper right", fontsize="small")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title("t = %.6g (step %d): pressure and velocity" % (s.t, s.step))
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def plot_sections(s, radius, jump, out):
+    """p along y = 0 and x = 0 (particles within half a spacing), with the exact step."""
+    p = s.scalars.get("p")
+    if p is None:
+        return False
+    h = spacing(s.x, s.y)
+    centre = s.membranes[0].mean(axis=0) if s.membranes else np.zeros(2)
+    r = np.hypot(s.x - centre[0], s.y - centre[1])
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    for ax, (along, across, label) in zip(axes, ((s.x, s.y, "y = 0"), (s.y, s.x, "x = 0"))):
+        on = np.abs(across) <= 0.5 * h * (1 + 1e-6)
+        # a lattice offset by h/2 puts two rows at +-h/2: average them per position
+        key = np.round(along[on] / h, 3)
+        pos, inv = np.unique(key, return_inverse=True)
+        p_mean = np.bincount(inv, weights=p[on]) / np.bincount(inv)
+        s_mean = np.bincount(inv, weights=along[on]) / np.bincount(inv)
+        rows = int(round(on.sum() / max(len(pos), 1)))
+        ax.plot(s_mean, p_mean, ".-", ms=4, lw=0.8,
+                label="computed" + (" (mean of %d rows)" % rows if rows > 1 else ""))
+        if radius is not None and jump is not None and on.any():
+            far = r > radius + 3 * h
+            if not far.any():
+                far = r > radius
+            p_out = float(np.median(p[far])) if far.any() else 0.0
+            c, off = (centre[0], centre[1]) if label == "y = 0" else (centre[1], centre[0])
+            half = math.sqrt(max(radius ** 2 - off ** 2, 0.0))  # half chord of the circle
+            lo, hi = float(along[on].min()), float(along[on].max())
+            xs = np.array([lo, c - half, c - half, c + half, c + half, hi])
+            ps = np.array([0, 0, 1, 1, 0, 0]) * jump + p_out
+            ax.plot(xs, ps, "k--", lw=1, label="exact, jump %.4g" % jump)
+        ax.set_xlabel("x" if label == "y = 0" else "y")
+        ax.set_title("p along %s, t = %.6g" % (label, s.t))
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small")
+    axes[0].set_ylabel("p")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return True
+
+
+def plot_series(cols, names, ylabel, title, out, logy=False):
+    """Columns `names` (those present) against t; False if nothing to draw."""
+    t = cols.get("t")
+    present = [n for n in names if n in cols]
+    if t is None or not present or len(t) == 0:
+        return False
+    fig, ax = plt.subplots(figsize=(6.4, 4))
+    for n in present:
+        y = cols[n]
+        if logy and np.any(y > 0):
+            ax.semilogy(t[y > 0], y[y > 0], label=n)
+        else:
+            ax.plot(t, y, label=n)
+    ax.set_xlabel("t")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return True
+
+
+def plot_run(run_dir):
+    h5_path = require(os.path.join(run_dir, "output.h5"))
+    csv_path = require(os.path.join(run_dir, "diagnostics.csv"))
+    summary = read_summary(run_dir)
+    written = []
+
+    with h5py.File(h5_path, "r") as h5:
+        radius = h5.attrs.get("membrane.radius")
+        radius = float(radius) if radius is not None else None
+        names = snapshot_names(h5)
+        if not names:
+            print("plot.py: %s has no snapshots" % h5_path, file=sys.stderr)
+        for i in pick_evenly(len(names), N_SNAPSHOT_PLOTS):
+            s = Snapshot(h5["snapshots"][names[i]])
+            out = os.path.join(run_dir, "snapshot_%s.png" % s.name)
+            plot_snapshot(s, out)
+            written.append(out)
+        if names:
+            last = Snapshot(h5["snapshots"][names[-1]])
+            jump = summary.get("pressure_jump_exact")
+            jump = float(jump) if isinstance(jump, (int, float)) and math.isfinite(jump) else None
+            out = os.path.join(run_dir, "pressure_sections.png")
+            if plot_sections(last, radius, jump, out):
+                written.append(out)
+
+    cols = read_csv(csv_path)
+    for names, ylabel, title, fname, logy in (
+            (["m0_rx", "m0_ry"], "half-axis", "membrane 0 half-axes", "rx_ry.png", False),
+            (["m0_area_rel_error"], "relative error", "membrane 0 area error",
+             "area_error.png", False),
+            (["kinetic_energy", "m0_elastic_energy"], "energy", "energies", "energy.png", False),
+            (["rms_error"], "rms error", "rms error against the exact solution",
+             "rms_error.png", True)):
+        out = os.path.join(run_dir, fname)
+        if plot_series(cols, names, ylabel, title, out, logy):
+            written.append(out)
+    return written
+
+
+def plot_sweep(sweep_csv):
+    cols = read_csv(require(sweep_csv))
+    if "nx" not in cols:
+        fail("%s has no nx column (columns: %s)" % (sweep_csv, ", ".join(cols)))
+    errors = [c for c in cols if c.endswith("_error")]
+    if not errors:
+        fail("%s has no *_error column (columns: %s)" % (sweep_csv, ", ".join(cols)))
+    nx = cols["nx"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    for c in errors:
+        ok = (nx > 0) & (cols[c] > 0) & np.isfinite(cols[c])
+        if not ok.any():
+            continue
+        n, e = nx[ok], cols[c][ok]
+        order = np.argsort(n)
+        n, e = n[order], e[order]
+        label = c
+        if len(n) >= 2:  # observed order: least-squares slope of log e against log nx
+            label += " (order %.2f)" % -np.polyfit(np.log(n), np.log(e), 1)[0]
+        ax.loglog(n, e, "o-", label=label)
+    ticks = np.unique(nx[nx > 0])
+    ax.set_xticks(ticks)
+    ax.set_xticklabels(["%g" % v for v in ticks])
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    ax.set_xlabel("nx")
+    ax.set_ylabel("error")
+    ax.set_title(os.path.basename(sweep_csv))
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    out = os.path.splitext(sweep_csv)[0] + ".png"
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return [out]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("run_dir", nargs="?", help="run directory with output.h5, diagnostics.csv")
+    ap.add_argument("--sweep", metavar="SWEEP_CSV", help="resolution sweep CSV (nx, *_error)")
+    a = ap.parse_args()
+    if a.sweep:
+        written = plot_sweep(a.sweep)
+    elif a.run_dir:
+        if not os.path.isdir(a.run_dir):
+            fail("missing run directory %s" % a.run_dir)
+        written = plot_run(a.run_dir)
+    else:
+        ap.error("give RUN_DIR or --sweep SWEEP_CSV")
+    for w in written:
+        print(w)
+
+
+if __name__ == "__main__":
+    main()
