@@ -11,12 +11,6 @@ namespace sphib {
 
 namespace {
 
-double max_h_star(const SimulationParams& p) {
-  double h = 0.0;
-  for (const auto& m : p.membranes) h = std::max(h, m.h_star);
-  return h;
-}
-
 // A membrane must lie inside the domain and keep its spreading support 2h* and the fluid's
 // interpolation support 2h off every wall.
 void check_membrane(const Domain& d, const MembraneSetup& s, double h, int index) {
@@ -52,7 +46,7 @@ Simulation::Simulation(const SimulationParams& params)
     : prm_(params), fluid_(params.fluid),
       grid_(Eigen::Vector2d(params.fluid.domain.x0, params.fluid.domain.y0),
             Eigen::Vector2d(params.fluid.domain.x1, params.fluid.domain.y1), params.fluid.domain.periodic_x,
-            params.fluid.domain.periodic_y, std::max(2.0 * fluid_.h(), 2.0 * max_h_star(params))) {
+            params.fluid.domain.periodic_y, std::min(fluid_.lattice().dx, fluid_.lattice().dy)) {
   const int N = fluid_.size();
   for (size_t k = 0; k < prm_.membranes.size(); ++k) {
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_.h(), static_cast<int>(k));

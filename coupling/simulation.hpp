@@ -57,7 +57,7 @@ class Simulation {
   SimulationParams prm_;
   Fluid fluid_;
   std::vector<MembraneState> mem_;
-  CellGrid grid_;  // over the fixed particles, for marker neighbourhoods (O(Nb) per query set)
+  CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   Mat2 F_body_, F_;
   Profile prof_;
   int k_force_, k_spread_, k_interp_, k_markers_;

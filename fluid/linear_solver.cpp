@@ -68,10 +68,6 @@ class CholmodSolver final : public LinearSolver {
                                                                        : "CHOLMOD simplicial LDL'");
     info_.nnz_factor = static_cast<long>(c_.lnz);
   }
-  void annotate(const std::string& note, double extra_factor_seconds) {
-    info_.method += note;
-    info_.factor_seconds += extra_factor_seconds;
-  }
   ~CholmodSolver() override {
     if (X_) cholmod_free_dense(&X_, &c_);
     if (Y_) cholmod_free_dense(&Y_, &c_);
@@ -146,6 +142,64 @@ class UmfpackSolver final : public LinearSolver {
   std::vector<double> W_;
 };
 
+// Conjugate gradients with the Jacobi preconditioner, warm-started from X. For the
+// Crank-Nicolson matrix I - (nu dt/2) lap, whose condition number is 1 + O(nu dt/dx^2), a few
+// iterations reach round-off when nu dt/dx^2 is small (the membrane cases).
+class PcgSolver final : public LinearSolver {
+ public:
+  PcgSolver(const std::string& system, const SpMat& A, double rtol = 1e-14, int max_iter = 500)
+      : A_(A), rtol_(rtol), max_iter_(max_iter) {
+    info_.system = system;
+    info_.n = static_cast<int>(A.rows());
+    info_.nnz_A = A.nonZeros();
+    info_.nnz_factor = 0;
+    info_.method = "Jacobi-PCG";
+    inv_diag_ = A_.diagonal().cwiseInverse();
+    if (!inv_diag_.allFinite() || (A_.diagonal().array() <= 0).any())
+      fail(info_, "conjugate gradients need a positive diagonal");
+    r_.resize(info_.n); z_.resize(info_.n); p_.resize(info_.n); q_.resize(info_.n);
+  }
+  void solve(const double* B, double* X, int k) override {
+    for (int c = 0; c < k; ++c) {
+      Eigen::Map<const Vec> b(B + static_cast<size_t>(c) * info_.n, info_.n);
+      Eigen::Map<Vec> x(X + static_cast<size_t>(c) * info_.n, info_.n);
+      const double bnorm = b.norm();
+      if (bnorm == 0.0) { x.setZero(); continue; }
+      r_.noalias() = b - A_ * x;
+      z_ = inv_diag_.cwiseProduct(r_);
+      p_ = z_;
+      double rz = r_.dot(z_);
+      int it = 0;
+      while (r_.norm() > rtol_ * bnorm) {
+        if (++it > max_iter_) {
+          std::ostringstream m;
+          m << "conjugate gradients did not converge in " << max_iter_ << " iterations (residual "
+            << r_.norm() / bnorm << ")";
+          fail(info_, m.str());
+        }
+        q_.noalias() = A_ * p_;
+        const double alpha = rz / p_.dot(q_);
+        x += alpha * p_;
+        r_ -= alpha * q_;
+        z_ = inv_diag_.cwiseProduct(r_);
+        const double rz_new = r_.dot(z_);
+        p_ = z_ + (rz_new / rz) * p_;
+        rz = rz_new;
+      }
+      iterations_ += it;
+      ++solves_;
+    }
+  }
+  double mean_iterations() const { return solves_ ? static_cast<double>(iterations_) / solves_ : 0.0; }
+
+ private:
+  SpMat A_;
+  Vec inv_diag_, r_, z_, p_, q_;
+  double rtol_;
+  int max_iter_;
+  long iterations_ = 0, solves_ = 0;
+};
+
 }  // namespace
 
 std::string SolverInfo::describe() const {
@@ -161,32 +215,40 @@ bool is_symmetric(const SpMat& A, double rel_tol) {
   return (A - At).norm() <= rel_tol * A.norm();
 }
 
-std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A, SolverKind kind) {
+std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A, SolverKind kind,
+                                        bool allow_pcg) {
   if (kind == SolverKind::Umfpack || (kind == SolverKind::Auto && !is_symmetric(A)))
     return std::make_unique<UmfpackSolver>(system, A);
+  if (kind == SolverKind::Pcg) return std::make_unique<PcgSolver>(system, A);
   if (kind != SolverKind::Auto) return std::make_unique<CholmodSolver>(system, A, kind);
-  // Auto: factorise both ways and keep the one whose solves (two right-hand sides, as in a step)
-  // are faster on this matrix and machine. Supernodal wins on large fill, simplicial on small.
-  std::unique_ptr<CholmodSolver> cand[2] = {
-      std::make_unique<CholmodSolver>(system, A, SolverKind::CholmodSupernodal),
-      std::make_unique<CholmodSolver>(system, A, SolverKind::CholmodSimplicial)};
+  // Auto: time each candidate on a two-column solve, as in a step, and keep the fastest.
+  std::vector<std::unique_ptr<LinearSolver>> cand;
+  cand.push_back(std::make_unique<CholmodSolver>(system, A, SolverKind::CholmodSupernodal));
+  cand.push_back(std::make_unique<CholmodSolver>(system, A, SolverKind::CholmodSimplicial));
+  if (allow_pcg) cand.push_back(std::make_unique<PcgSolver>(system, A));
   const int n = static_cast<int>(A.rows());
   Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 2), X(n, 2);
-  double best[2];
-  for (int c = 0; c < 2; ++c) {
-    cand[c]->solve(B.data(), X.data(), 2);  // warm-up (allocates the workspace)
-    best[c] = 1e300;
+  std::vector<double> best(cand.size(), 1e300);
+  for (size_t c = 0; c < cand.size(); ++c) {
+    X.setZero();
+    cand[c]->solve(B.data(), X.data(), 2);  // warm-up (allocates CHOLMOD's workspace)
     for (int rep = 0; rep < 5; ++rep) {
+      X.setZero();  // CG from a zero guess: its worst case, a time step warm-starts it
       const auto t0 = Clock::now();
       cand[c]->solve(B.data(), X.data(), 2);
       best[c] = std::min(best[c], since(t0));
     }
   }
-  const int w = best[1] < best[0] ? 1 : 0;
+  const size_t w = std::min_element(best.begin(), best.end()) - best.begin();
   std::ostringstream note;
-  note << " (auto: " << 1e6 * best[w] << " us per 2-column solve vs " << 1e6 * best[1 - w] << " us "
-       << (w ? "supernodal" : "simplicial") << ")";
-  cand[w]->annotate(note.str(), cand[1 - w]->info().factor_seconds);
+  note << " (auto, us per 2-column solve:";
+  double extra = 0;
+  for (size_t c = 0; c < cand.size(); ++c) {
+    note << (c ? ", " : " ") << (c == 0 ? "supernodal " : c == 1 ? "simplicial " : "PCG ") << 1e6 * best[c];
+    if (c != w) extra += cand[c]->info().factor_seconds;
+  }
+  note << ")";
+  cand[w]->annotate(note.str(), extra);
   return std::move(cand[w]);
 }
 

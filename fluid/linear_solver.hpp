@@ -10,7 +10,7 @@
 
 namespace sphib {
 
-enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack };
+enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack, Pcg };
 
 struct SolverInfo {
   std::string system;   // which system ("Crank-Nicolson", "Poisson")
@@ -26,19 +26,26 @@ struct SolverInfo {
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
-  // Solves A X = B; B and X are n x k column-major arrays.
+  // Solves A X = B; B and X are n x k column-major arrays. On entry X holds an initial guess,
+  // which iterative solvers use (warm start) and direct ones ignore.
   virtual void solve(const double* B, double* X, int k) = 0;
   const SolverInfo& info() const { return info_; }
+  // Appends a note to the method (e.g. why it was chosen) and the set-up time of the others.
+  void annotate(const std::string& note, double extra_factor_seconds) {
+    info_.method += note;
+    info_.factor_seconds += extra_factor_seconds;
+  }
 
  protected:
   SolverInfo info_;
 };
 
-// Auto: CHOLMOD (supernodal or simplicial, CHOLMOD's own choice) when A is symmetric,
-// UMFPACK otherwise. Failures (not positive definite, singular) throw std::runtime_error
-// naming the system and its size.
+// Auto: for a symmetric A, CHOLMOD supernodal, CHOLMOD simplicial and (if allow_pcg) Jacobi-
+// preconditioned conjugate gradients are each timed on a two-column solve (CG from a zero guess,
+// its worst case) and the fastest is kept; a non-symmetric A gets UMFPACK. Failures (not positive
+// definite, singular, CG not converging) throw std::runtime_error naming the system and size.
 std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A,
-                                        SolverKind kind = SolverKind::Auto);
+                                        SolverKind kind = SolverKind::Auto, bool allow_pcg = false);
 
 bool is_symmetric(const SpMat& A, double rel_tol = 1e-12);
 

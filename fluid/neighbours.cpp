@@ -11,26 +11,33 @@ CellGrid::CellGrid(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, bool px
   periodic_[0] = px;
   periodic_[1] = py;
   for (int a = 0; a < 2; ++a) {
-    nc_[a] = std::max(1, static_cast<int>(std::floor(period_[a] / min_cell)));
+    nc_[a] = std::max(1, static_cast<int>(std::floor(period_[a] / min_cell * (1.0 + 1e-12))));
     h_[a] = period_[a] / nc_[a];  // >= min_cell; along a periodic axis cells tile the period exactly
   }
 }
 
 void CellGrid::build(const Mat2& points) {
-  pts_ = &points;
   const int n = static_cast<int>(points.rows());
   const int ncell = nc_[0] * nc_[1];
   start_.assign(ncell + 1, 0);
   cell_.resize(n);
   items_.resize(n);
+  x_.resize(n, 2);
   for (int j = 0; j < n; ++j) {
     cell_[j] = cell_of(points(j, 0), 0) + nc_[0] * cell_of(points(j, 1), 1);
     ++start_[cell_[j] + 1];
   }
   for (int c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
-  std::vector<int>& fill = cell_;  // reuse: counting sort, stable in j
   std::vector<int> next(start_.begin(), start_.end() - 1);
-  for (int j = 0; j < n; ++j) items_[next[fill[j]]++] = j;
+  for (int j = 0; j < n; ++j) {  // counting sort, stable in j
+    const int k = next[cell_[j]]++;
+    items_[k] = j;
+    for (int a = 0; a < 2; ++a) {
+      double c = points(j, a);
+      if (periodic_[a]) c -= period_[a] * std::floor((c - lo_[a]) / period_[a]);
+      x_(k, a) = c;
+    }
+  }
 }
 
 PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {

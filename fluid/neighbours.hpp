@@ -12,28 +12,29 @@ namespace sphib {
 class CellGrid {
  public:
   // Points in the box [lo, hi]; along a periodic axis the box is exactly one period and points wrap.
-  // Points outside the box along a bounded axis go to the edge cells.
+  // Points outside the box along a bounded axis go to the edge cells. A query visits about
+  // (2 radius / cell + 1)^2 cells, so cells of one lattice spacing suit the markers' queries.
   CellGrid(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, bool periodic_x, bool periodic_y,
            double min_cell_size);
 
   void build(const Mat2& points);  // allocates only when the point count grows
 
   // Calls f(j, dx, dy, r) for every point j with r = |q - x_j| < radius (minimum image),
-  // where (dx, dy) = q - x_j. Requires radius <= the cell size.
+  // where (dx, dy) = q - x_j. Any radius: the cells overlapping the query disc are visited
+  // (each once, also when the disc wraps around a periodic axis).
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
-    const int cx = cell_of(qx, 0), cy = cell_of(qy, 1);
     const double r2max = radius * radius;
-    int xs[3], ys[3];
-    const int nxs = stencil(cx, 0, xs), nys = stencil(cy, 1, ys);
+    int xs[kMaxSpan], ys[kMaxSpan];
+    double xsh[kMaxSpan], ysh[kMaxSpan];
+    const int nxs = span(qx, radius, 0, xs, xsh), nys = span(qy, radius, 1, ys, ysh);
     for (int b = 0; b < nys; ++b)
       for (int a = 0; a < nxs; ++a) {
         const int c = xs[a] + nc_[0] * ys[b];
+        const double ox = qx - xsh[a], oy = qy - ysh[b];  // the query, moved by whole periods
         for (int k = start_[c]; k < start_[c + 1]; ++k) {
           const int j = items_[k];
-          double dx = qx - (*pts_)(j, 0), dy = qy - (*pts_)(j, 1);
-          if (periodic_[0]) dx -= period_[0] * std::round(dx / period_[0]);
-          if (periodic_[1]) dy -= period_[1] * std::round(dy / period_[1]);
+          const double dx = ox - x_(k, 0), dy = oy - x_(k, 1);
           const double r2 = dx * dx + dy * dy;
           if (r2 < r2max) f(j, dx, dy, std::sqrt(r2));
         }
@@ -49,16 +50,29 @@ class CellGrid {
     else k = k < 0 ? 0 : (k >= nc_[axis] ? nc_[axis] - 1 : k);
     return k;
   }
-  // The (up to) three distinct neighbouring cell indices along an axis.
-  int stencil(int c, int axis, int* out) const {
+  static constexpr int kMaxSpan = 64;
+  // The distinct cells along an axis that overlap [c - r, c + r], with the whole-period shift
+  // that takes each (unwrapped) cell to its stored one. A disc wider than a period visits every
+  // cell once with the shift of its nearest copy (minimum image).
+  int span(double c, double r, int axis, int* out, double* shift) const {
+    const int k0 = static_cast<int>(std::floor((c - r - lo_[axis]) / h_[axis]));
+    const int k1 = static_cast<int>(std::floor((c + r - lo_[axis]) / h_[axis]));
+    const int nc = nc_[axis];
     int n = 0;
-    for (int d = -1; d <= 1; ++d) {
-      int k = c + d;
-      if (periodic_[axis]) { k %= nc_[axis]; if (k < 0) k += nc_[axis]; }
-      else if (k < 0 || k >= nc_[axis]) continue;
-      bool seen = false;
-      for (int m = 0; m < n; ++m) seen |= (out[m] == k);
-      if (!seen) out[n++] = k;
+    if (periodic_[axis]) {
+      const int kc = static_cast<int>(std::floor((c - lo_[axis]) / h_[axis]));
+      const bool all = k1 - k0 + 1 >= nc;
+      const int a = all ? kc - nc / 2 : k0, b = all ? kc - nc / 2 + nc - 1 : k1;
+      for (int k = a; k <= b && n < kMaxSpan; ++k) {
+        const int w = ((k % nc) + nc) % nc;
+        out[n] = w;
+        shift[n++] = static_cast<double>((k - w) / nc) * period_[axis];
+      }
+    } else {
+      for (int k = std::max(k0, 0); k <= std::min(k1, nc - 1) && n < kMaxSpan; ++k) {
+        out[n] = k;
+        shift[n++] = 0.0;
+      }
     }
     return n;
   }
@@ -67,7 +81,7 @@ class CellGrid {
   bool periodic_[2];
   int nc_[2];
   double h_[2];
-  const Mat2* pts_ = nullptr;
+  Mat2 x_;  // the points in cell order, wrapped into the box along periodic axes
   std::vector<int> start_, items_, cell_;
 };
 

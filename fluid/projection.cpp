@@ -60,7 +60,7 @@ Fluid::Fluid(const FluidParams& params)
   setup_.emplace_back("assembly", since(t0));
 
   t0 = Clock::now();
-  cn_ = factorize("Crank-Nicolson", A_cn, prm_.cn_solver);
+  cn_ = factorize("Crank-Nicolson", A_cn, prm_.cn_solver, /*allow_pcg=*/true);
   poisson_ = factorize("Poisson", poisson_A_, prm_.poisson_solver);
   setup_.emplace_back("factorisation", since(t0));
 
@@ -123,7 +123,9 @@ void Fluid::step(const Mat2& F) {
   }
   {
     ScopedTimer tm(prof_, k_solve_cn_);
-    cn_->solve(rhs_.data(), u_star_.data(), 2);  // u and v: two right-hand sides, one factorisation
+    // u and v: two right-hand sides of one factorisation; u_star_ still holds the previous u*,
+    // the warm start of an iterative solver.
+    cn_->solve(rhs_.data(), u_star_.data(), 2);
   }
   {
     ScopedTimer tm(prof_, k_div_);
@@ -148,15 +150,20 @@ void Fluid::step(const Mat2& F) {
     grad_phi_.col(1).noalias() = op.grad_phiy * phi_;
     u_ = u_star_ - (dt / rho) * grad_phi_;
   }
-  if (prm_.pressure) {
-    ScopedTimer tm(prof_, k_pressure_);
-    // Eq. (35): p^{n+1/2} = phi^{n+1} - (nu dt / 2) lap phi^{n+1}  (zero mean, as phi)
-    p_.noalias() = op.lap_phi * phi_;
-    p_ = phi_ - a * p_;
-  }
   first_ = false;
   t_ += dt;
   ++n_;
+}
+
+const Vec& Fluid::p() const {
+  if (p_step_ != n_) {
+    ScopedTimer tm(prof_, k_pressure_);
+    // Eq. (35): p^{n+1/2} = phi^{n+1} - (nu dt / 2) lap phi^{n+1}  (zero mean, as phi)
+    p_.noalias() = op_.lap_phi * phi_;
+    p_ = phi_ - (0.5 * nu() * prm_.dt) * p_;
+    p_step_ = n_;
+  }
+  return p_;
 }
 
 double Fluid::max_abs_divergence() const {

@@ -23,7 +23,6 @@ struct FluidParams {
   double rho = 1.0, mu = 1.0;
   double dt = 1e-3;
   bool convection = true;  // false: Stokes flow, the convection operator is not even assembled
-  bool pressure = true;    // recover p^{n+1/2} (Eq. 35) every step
   SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
 };
 
@@ -48,7 +47,8 @@ class Fluid {
 
   const Mat2& u() const { return u_; }      // u^{n}
   const Vec& phi() const { return phi_; }   // phi^{n}
-  const Vec& p() const { return p_; }       // p^{n-1/2}, zero mean (gauge)
+  // p^{n-1/2} (Eq. 35), zero mean (gauge); recovered from phi only when asked for, once per step.
+  const Vec& p() const;
   const Mat2& grad_phi() const { return grad_phi_; }
   double time() const { return t_; }
   long steps() const { return n_; }
@@ -76,12 +76,14 @@ class Fluid {
 
   // state and workspace (sized once)
   Mat2 u_, u_star_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_, c_sum_;
-  Vec phi_, p_, div_, b_phi_;
+  Vec phi_, div_, b_phi_;
+  mutable Vec p_;
+  mutable long p_step_ = -1;
   double t_ = 0;
   long n_ = 0;
   bool first_ = true;
 
-  Profile prof_;
+  mutable Profile prof_;  // timing only: also updated by the lazily recovered pressure
   int k_images_, k_conv_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_;
 };
 

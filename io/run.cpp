@@ -139,7 +139,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       << " images, h = " << fl.h() << " (" << fp.h_over_dx << " (dx+dy)/2), "
       << static_cast<double>(fl.pairs().size()) / N << " neighbours per particle\n"
       << "  rho = " << fp.rho << ", mu = " << fp.mu << ", dt = " << fp.dt << ", convection "
-      << (fp.convection ? "on" : "off (Stokes)") << ", pressure " << (fp.pressure ? "on" : "off") << "\n";
+      << (fp.convection ? "on" : "off (Stokes)") << "\n";
     for (const auto& si : fl.solver_info()) m << "  " << si.describe() << "\n";
     m << "  set-up " << setup_seconds << " s (neighbours " << fl.setup_seconds("neighbours") << " s, assembly "
       << fl.setup_seconds("assembly") << " s, factorisation " << fl.setup_seconds("factorisation") << " s)";
@@ -173,11 +173,14 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   attrs.text.emplace_back("sphib_version", SPHIB_VERSION);
   attrs.text.emplace_back("scene", scene.path);
   for (const auto& [k, v] : scene.resolved) attrs.text.emplace_back(k, v);
-  attrs.numbers.emplace_back("h", fl.h());
-  attrs.numbers.emplace_back("dx", fl.lattice().dx);
-  attrs.numbers.emplace_back("dy", fl.lattice().dy);
-  if (!scene.membranes.empty()) attrs.numbers.emplace_back("membrane.radius", scene.membranes[0].radius);
-  if (!scene.membranes.empty()) attrs.numbers.emplace_back("membrane.r0", scene.membranes[0].r0);
+  attrs.numbers.emplace_back("derived.h", fl.h());
+  attrs.numbers.emplace_back("derived.dx", fl.lattice().dx);
+  attrs.numbers.emplace_back("derived.dy", fl.lattice().dy);
+  if (!scene.membranes.empty()) {
+    attrs.numbers.emplace_back("derived.membrane_radius", scene.membranes[0].radius);
+    attrs.numbers.emplace_back("derived.membrane_r0", scene.membranes[0].r0);
+    attrs.numbers.emplace_back("derived.membrane_h_star", sim.membranes()[0].h_star);
+  }
   Hdf5Writer h5(opt.out_dir + "/output.h5", attrs);
   CsvWriter csv(opt.out_dir + "/diagnostics.csv", cols);
   std::vector<std::vector<double>> series;
@@ -196,7 +199,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     for (const auto& f : scene.fields) {
       if (f == "u") fields.emplace_back("u", &u_field);
       if (f == "v") fields.emplace_back("v", &v_field);
-      if (f == "p" && fp.pressure) fields.emplace_back("p", &fl.p());
+      if (f == "p") fields.emplace_back("p", &fl.p());
       if (f == "phi") fields.emplace_back("phi", &fl.phi());
     }
     std::vector<MembraneSnapshot> ms;

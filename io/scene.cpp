@@ -233,6 +233,7 @@ SolverKind solver_kind(const std::string& s) {
   if (s == "cholmod_supernodal") return SolverKind::CholmodSupernodal;
   if (s == "cholmod_simplicial") return SolverKind::CholmodSimplicial;
   if (s == "umfpack") return SolverKind::Umfpack;
+  if (s == "pcg") return SolverKind::Pcg;
   return SolverKind::Auto;
 }
 
@@ -310,8 +311,12 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   s.steady_eps = r.number("time.steady_eps", 0.0, ">= 0", "stop at steady state, Eqs. (81)-(82), when max(rms dp, rms du) < steady_eps dt (0: off)", false, 0.0);
   // Solvers
   const std::vector<std::string> kinds{"auto", "cholmod_supernodal", "cholmod_simplicial", "umfpack"};
-  f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", kinds, "factorisation of the Crank-Nicolson system"));
-  f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", kinds, "factorisation of the Poisson system"));
+  std::vector<std::string> cn_kinds(kinds);
+  cn_kinds.push_back("pcg");
+  f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", cn_kinds,
+                                     "Crank-Nicolson solver (auto: the fastest, timed at set-up)"));
+  f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", kinds,
+                                          "Poisson factorisation (auto: the fastest, timed at set-up)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
   // Output and observation
@@ -353,10 +358,6 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   r.reject_unknown();
   s.resolved = r.resolved;
 
-  // Derived: the fluid computes the pressure only if it is observed.
-  bool want_p = s.exact == "membrane_equilibrium" || s.steady_eps > 0;
-  for (const auto& fl : s.fields) want_p |= (fl == "p");
-  f.pressure = want_p;
   if (s.max_steps == 0 && s.t_end / f.dt > 1e9) r.fail("time.end", "needs more than 1e9 steps of time.dt");
 
   // Membranes, built in the domain's coordinates.

@@ -7,7 +7,7 @@
 
 HDF5 layout read here (written by io/hdf5_writer): /snapshots/NNNNNN with attributes time, step,
 datasets x, y and particle scalars, subgroups membrane_k with X (nb x 2); root attributes hold
-the run parameters (e.g. membrane.radius).
+the run parameters (e.g. derived.membrane_radius).
 """
 import argparse
 import csv
@@ -259,7 +259,7 @@ def plot_run(run_dir):
     written = []
 
     with h5py.File(h5_path, "r") as h5:
-        radius = h5.attrs.get("membrane.radius")
+        radius = h5.attrs.get("derived.membrane_radius")
         radius = float(radius) if radius is not None else None
         names = snapshot_names(h5)
         if not names:
