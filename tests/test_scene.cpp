@@ -1,0 +1,164 @@
+// Scene files: every bad input is refused with a message naming the key and its line; overrides;
+// every case in cases/ loads and smoke-runs a few steps.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/run.hpp"
+#include "io/scene.hpp"
+
+using namespace sphib;
+
+namespace {
+
+const char* kMinimal = R"(
+[grid]
+nx = 16
+ny = 16
+[fluid]
+rho = 1.0
+mu = 1.0
+[time]
+dt = 0.001
+end = 0.01
+)";
+
+// The message of the SceneError thrown by parsing `text`, or "" if it parsed.
+std::string refusal(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_scene(text, "scene.toml", sets);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Scene, MinimalSceneParsesWithDefaults) {
+  const Scene s = parse_scene(kMinimal, "scene.toml");
+  EXPECT_EQ(s.sim.fluid.nx, 16);
+  EXPECT_TRUE(s.sim.fluid.domain.periodic_x);
+  EXPECT_FALSE(s.sim.fluid.domain.periodic_y);
+  EXPECT_DOUBLE_EQ(s.sim.fluid.h_over_dx, 1.2);
+  EXPECT_TRUE(s.membranes.empty());
+}
+
+TEST(Scene, UnknownKeyNamesKeyAndLine) {
+  const std::string m = refusal(std::string(kMinimal) + "[fluid2]\nmuu = 3\n");
+  EXPECT_NE(m.find("scene.toml:12"), std::string::npos) << m;
+  EXPECT_NE(m.find("fluid2.muu"), std::string::npos) << m;
+  const std::string m2 = refusal(std::string("viscosity = 1\n") + kMinimal);
+  EXPECT_NE(m2.find("scene.toml:1"), std::string::npos) << m2;
+  EXPECT_NE(m2.find("unknown key 'viscosity'"), std::string::npos) << m2;
+}
+
+TEST(Scene, WrongTypeNamesKey) {
+  const std::string m = refusal(kMinimal, {"grid.nx=\"many\""});
+  EXPECT_NE(m.find("grid.nx"), std::string::npos) << m;
+  EXPECT_NE(m.find("integer"), std::string::npos) << m;
+  const std::string m2 = refusal(kMinimal, {"fluid.convection=3"});
+  EXPECT_NE(m2.find("fluid.convection"), std::string::npos) << m2;
+}
+
+TEST(Scene, MissingRequiredKeyIsNamed) {
+  const std::string m = refusal("[grid]\nnx = 8\nny = 8\n[fluid]\nrho = 1.0\n[time]\ndt = 0.1\nend = 1.0\n");
+  EXPECT_NE(m.find("fluid.mu"), std::string::npos) << m;
+  EXPECT_NE(m.find("missing"), std::string::npos) << m;
+}
+
+TEST(Scene, InvalidValuesAreRefusedWithRange) {
+  for (const char* kv : {"fluid.rho=0", "fluid.mu=-1", "time.dt=0", "grid.nx=1", "kernel.h_over_dx=-2",
+                         "time.end=0", "fluid.mu=nan", "fluid.rho=inf"}) {
+    const std::string m = refusal(kMinimal, {kv});
+    const std::string key = std::string(kv).substr(0, std::string(kv).find('='));
+    EXPECT_NE(m.find(key), std::string::npos) << kv << " -> " << m;
+    EXPECT_NE(m.find("--set"), std::string::npos) << m;
+  }
+  EXPECT_NE(refusal(kMinimal, {"observe.exact=vortex"}).find("allowed:"), std::string::npos);
+}
+
+TEST(Scene, WallVelocityOnPeriodicSideIsRefused) {
+  const std::string m = refusal(std::string(kMinimal) + "[walls]\nleft = [1.0, 0.0]\n");
+  EXPECT_NE(m.find("walls.left"), std::string::npos) << m;
+  EXPECT_NE(m.find("periodic"), std::string::npos) << m;
+}
+
+TEST(Scene, SyntaxErrorHasLine) {
+  const std::string m = refusal("[grid\nnx = 3\n");
+  EXPECT_NE(m.find("scene.toml:1"), std::string::npos) << m;
+}
+
+TEST(Scene, OverridesReachEveryContractKey) {
+  const std::string mem = std::string(kMinimal) +
+                          "[domain]\nx = [-1.5, 1.5]\ny = [-1.5, 1.5]\n[membrane]\nr0 = 0.5\nT0 = 1.0\n";
+  const Scene s = parse_scene(mem, "scene.toml",
+                              {"grid.nx=32", "grid.ny=24", "kernel.h_over_dx=1.5", "time.dt=0.002", "time.end=0.5",
+                               "fluid.rho=2", "fluid.mu=0.3", "membrane.T0=10", "membrane.r0=0.4", "membrane.nb=64",
+                               "membrane.h_star_over_h=0.5", "membrane.fixed=true", "membrane.shape=ellipse",
+                               "membrane.rx=0.6", "membrane.ry=0.3"});
+  EXPECT_EQ(s.sim.fluid.nx, 32);
+  EXPECT_EQ(s.sim.fluid.ny, 24);
+  EXPECT_DOUBLE_EQ(s.sim.fluid.h_over_dx, 1.5);
+  EXPECT_DOUBLE_EQ(s.sim.fluid.dt, 0.002);
+  EXPECT_DOUBLE_EQ(s.t_end, 0.5);
+  EXPECT_DOUBLE_EQ(s.sim.fluid.rho, 2.0);
+  EXPECT_DOUBLE_EQ(s.sim.fluid.mu, 0.3);
+  ASSERT_EQ(s.sim.membranes.size(), 1u);
+  const MembraneSetup& m = s.sim.membranes[0];
+  EXPECT_DOUBLE_EQ(m.membrane.T0, 10.0);
+  EXPECT_DOUBLE_EQ(m.membrane.L0, 2 * M_PI * 0.4);
+  EXPECT_EQ(m.membrane.nb(), 64);
+  EXPECT_TRUE(m.fixed);
+  const double h = 1.5 * 0.5 * (3.0 / 32 + 3.0 / 24);
+  EXPECT_NEAR(m.h_star, 0.5 * h, 1e-14);
+  EXPECT_NEAR(m.membrane.X.col(0).maxCoeff(), 0.6, 1e-12);  // ellipse rx
+  EXPECT_NEAR(m.membrane.X.col(1).maxCoeff(), 0.3, 1e-3);   // ry (markers at uniform angle)
+  const Scene c = parse_scene(mem, "scene.toml", {"membrane.shape=circle", "membrane.radius=0.45"});
+  EXPECT_NEAR(c.sim.membranes[0].membrane.X.col(0).maxCoeff(), 0.45, 1e-12);
+}
+
+TEST(Scene, BadMembraneIsRefusedWithItsKey) {
+  const std::string mem = std::string(kMinimal) + "[membrane]\nr0 = 0.2\nT0 = 1.0\n";
+  EXPECT_NE(refusal(mem, {"membrane.nb=3"}).find("membrane.nb"), std::string::npos);
+  EXPECT_NE(refusal(mem, {"membrane.T0=-1"}).find("membrane.T0"), std::string::npos);
+  EXPECT_NE(refusal(mem, {"membrane.shape=star"}).find("membrane.shape"), std::string::npos);
+  // shape = points with a clockwise square: refused by the shape check
+  const std::string pts = mem + "shape = \"points\"\npoints = [[0.4,0.4],[0.4,0.6],[0.6,0.6],[0.6,0.4]]\n";
+  const std::string m = refusal(pts);
+  EXPECT_NE(m.find("membrane.shape"), std::string::npos) << m;
+}
+
+TEST(Scene, KeyListingDocumentsTheContractKeys) {
+  const std::string keys = describe_scene_keys();
+  for (const char* k : {"grid.nx", "grid.ny", "kernel.h_over_dx", "time.dt", "time.end", "fluid.rho", "fluid.mu",
+                        "membrane.T0", "membrane.r0", "membrane.nb", "membrane.h_star_over_h", "membrane.fixed",
+                        "membrane.shape", "membrane.radius", "membrane.rx", "membrane.ry"})
+    EXPECT_NE(keys.find(std::string("`") + k + "`"), std::string::npos) << k;
+}
+
+// Every case smoke-runs a few steps and writes its outputs.
+TEST(Scene, EveryCaseSmokeRuns) {
+  namespace fs = std::filesystem;
+  const fs::path cases = fs::path(SPHIB_SOURCE_DIR) / "cases";
+  int n = 0;
+  for (const auto& entry : fs::directory_iterator(cases)) {
+    if (entry.path().extension() != ".toml") continue;
+    ++n;
+    SCOPED_TRACE(entry.path().string());
+    Scene s = load_scene(entry.path().string(), {"time.max_steps=3"});
+    RunOptions opt;
+    opt.out_dir = (fs::temp_directory_path() / ("sphib_smoke_" + entry.path().stem().string())).string();
+    fs::remove_all(opt.out_dir);
+    const nlohmann::json j = run_scene(s, opt);
+    EXPECT_EQ(j["steps"].get<long>(), 3);
+    EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "output.h5"));
+    EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "output.xdmf"));
+    EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "diagnostics.csv"));
+    EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "summary.json"));
+    for (const char* k : {"steps", "wall_seconds", "seconds_per_step"}) EXPECT_TRUE(j.contains(k)) << k;
+    fs::remove_all(opt.out_dir);
+  }
+  EXPECT_GE(n, 6);
+}
