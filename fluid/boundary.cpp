@@ -1,6 +1,8 @@
 #include "fluid/boundary.hpp"
 
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 
 namespace sphib {
 
@@ -11,6 +13,13 @@ double mirror(double c, double w) { return 2.0 * w - c; }
 
 Images make_images(const Lattice& L, double reach) {
   const Domain& d = L.domain;
+  // One image layer per wall is complete only if no particle is within reach of two opposite walls.
+  if ((!d.periodic_x && d.Lx() < 2.0 * reach) || (!d.periodic_y && d.Ly() < 2.0 * reach)) {
+    std::ostringstream m;
+    m << "walls: the distance between opposite walls must be at least two kernel supports (4h = "
+      << 2.0 * reach << "); the domain is " << d.Lx() << " x " << d.Ly();
+    throw std::invalid_argument(m.str());
+  }
   Images im;
   std::vector<double> xs, ys;
   auto add = [&](int p, double x, double y, int wall, double sign) {
@@ -33,9 +42,6 @@ Images make_images(const Lattice& L, double reach) {
       if (y - d.y0 < reach) { yw = Bottom; ym = mirror(y, d.y0); }
       else if (d.y1 - y < reach) { yw = Top; ym = mirror(y, d.y1); }
     }
-    // A particle close to both opposite walls of a narrow channel also needs the far mirror.
-    if (!d.periodic_x && xw == Left && d.x1 - x < reach) add(p, mirror(x, d.x1), y, Right, -1.0);
-    if (!d.periodic_y && yw == Bottom && d.y1 - y < reach) add(p, x, mirror(y, d.y1), Top, -1.0);
     if (xw >= 0) add(p, xm, y, xw, -1.0);
     if (yw >= 0) add(p, x, ym, yw, -1.0);
     if (xw >= 0 && yw >= 0) add(p, xm, ym, -1, +1.0);  // corner: point reflection

@@ -28,8 +28,10 @@ class CholmodSolver final : public LinearSolver {
  public:
   CholmodSolver(const std::string& system, const SpMat& A, SolverKind kind) {
     cholmod_start(&c_);
+    started_ = true;
     c_.print = 0;
     c_.error_handler = nullptr;
+    c_.final_ll = 1;  // LL' also for simplicial: a matrix that is not positive definite fails
     c_.supernodal = kind == SolverKind::CholmodSupernodal  ? CHOLMOD_SUPERNODAL
                     : kind == SolverKind::CholmodSimplicial ? CHOLMOD_SIMPLICIAL
                                                              : CHOLMOD_AUTO;
@@ -53,7 +55,7 @@ class CholmodSolver final : public LinearSolver {
     S.packed = 1;
     auto t0 = Clock::now();
     L_ = cholmod_analyze(&S, &c_);
-    if (!L_) fail(info_, "CHOLMOD analysis failed");
+    if (!L_) { release(); fail(info_, "CHOLMOD analysis failed"); }
     info_.analyse_seconds = since(t0);
     t0 = Clock::now();
     cholmod_factorize(&S, L_, &c_);
@@ -61,19 +63,22 @@ class CholmodSolver final : public LinearSolver {
     if (c_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
       std::ostringstream m;
       m << "matrix is not positive definite (CHOLMOD stopped at column " << L_->minor << ")";
+      release();
       fail(info_, m.str());
     }
-    if (c_.status < CHOLMOD_OK) fail(info_, "CHOLMOD factorisation failed");
+    if (c_.status < CHOLMOD_OK) { release(); fail(info_, "CHOLMOD factorisation failed"); }
     info_.method = L_->is_super ? "CHOLMOD supernodal LL'" : (L_->is_ll ? "CHOLMOD simplicial LL'"
                                                                        : "CHOLMOD simplicial LDL'");
     info_.nnz_factor = static_cast<long>(c_.lnz);
   }
-  ~CholmodSolver() override {
+  ~CholmodSolver() override { release(); }
+  void release() {
     if (X_) cholmod_free_dense(&X_, &c_);
     if (Y_) cholmod_free_dense(&Y_, &c_);
     if (E_) cholmod_free_dense(&E_, &c_);
-    cholmod_free_factor(&L_, &c_);
-    cholmod_finish(&c_);
+    if (L_) cholmod_free_factor(&L_, &c_);
+    if (started_) cholmod_finish(&c_);
+    started_ = false;
   }
   void solve(const double* B, double* X, int k) override {
     cholmod_dense b{};
@@ -91,6 +96,7 @@ class CholmodSolver final : public LinearSolver {
 
  private:
   cholmod_common c_{};
+  bool started_ = false;
   cholmod_factor* L_ = nullptr;
   cholmod_dense *X_ = nullptr, *Y_ = nullptr, *E_ = nullptr;
   ColMat lower_;
@@ -109,13 +115,17 @@ class UmfpackSolver final : public LinearSolver {
     auto t0 = Clock::now();
     int st = umfpack_di_symbolic(info_.n, info_.n, A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(),
                                  &symbolic, control_, nullptr);
-    if (st != UMFPACK_OK) fail(info_, "UMFPACK symbolic analysis failed (status " + std::to_string(st) + ")");
+    if (st != UMFPACK_OK) {
+      if (symbolic) umfpack_di_free_symbolic(&symbolic);
+      fail(info_, "UMFPACK symbolic analysis failed (status " + std::to_string(st) + ")");
+    }
     info_.analyse_seconds = since(t0);
     t0 = Clock::now();
     st = umfpack_di_numeric(A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(), symbolic, &numeric_,
                             control_, nullptr);
     umfpack_di_free_symbolic(&symbolic);
     info_.factor_seconds = since(t0);
+    if (st != UMFPACK_OK && numeric_) umfpack_di_free_numeric(&numeric_);
     if (st == UMFPACK_WARNING_singular_matrix) fail(info_, "matrix is singular");
     if (st != UMFPACK_OK) fail(info_, "UMFPACK factorisation failed (status " + std::to_string(st) + ")");
     int lnz = 0, unz = 0, nr = 0, nc = 0, nzud = 0;
@@ -124,7 +134,9 @@ class UmfpackSolver final : public LinearSolver {
     Wi_.resize(info_.n);
     W_.resize(5 * static_cast<size_t>(info_.n));
   }
-  ~UmfpackSolver() override { umfpack_di_free_numeric(&numeric_); }
+  ~UmfpackSolver() override {
+    if (numeric_) umfpack_di_free_numeric(&numeric_);
+  }
   void solve(const double* B, double* X, int k) override {
     for (int c = 0; c < k; ++c) {
       const size_t o = static_cast<size_t>(c) * info_.n;

@@ -20,8 +20,8 @@ class CellGrid {
   void build(const Mat2& points);  // allocates only when the point count grows
 
   // Calls f(j, dx, dy, r) for every point j with r = |q - x_j| < radius (minimum image),
-  // where (dx, dy) = q - x_j. Any radius: the cells overlapping the query disc are visited
-  // (each once, also when the disc wraps around a periodic axis).
+  // where (dx, dy) = q - x_j. Any radius below half a periodic period: the cells overlapping the
+  // query disc are visited, with their periodic shifts.
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
     const double r2max = radius * radius;
@@ -51,19 +51,17 @@ class CellGrid {
     return k;
   }
   static constexpr int kMaxSpan = 64;
-  // The distinct cells along an axis that overlap [c - r, c + r], with the whole-period shift
-  // that takes each (unwrapped) cell to its stored one. A disc wider than a period visits every
-  // cell once with the shift of its nearest copy (minimum image).
+  // The cells along an axis that overlap [c - r, c + r], each with the whole-period shift that
+  // takes the unwrapped cell to its stored one. Requires r < period / 2 along a periodic axis
+  // (then no point qualifies under two shifts).
   int span(double c, double r, int axis, int* out, double* shift) const {
     const int k0 = static_cast<int>(std::floor((c - r - lo_[axis]) / h_[axis]));
     const int k1 = static_cast<int>(std::floor((c + r - lo_[axis]) / h_[axis]));
     const int nc = nc_[axis];
     int n = 0;
     if (periodic_[axis]) {
-      const int kc = static_cast<int>(std::floor((c - lo_[axis]) / h_[axis]));
-      const bool all = k1 - k0 + 1 >= nc;
-      const int a = all ? kc - nc / 2 : k0, b = all ? kc - nc / 2 + nc - 1 : k1;
-      for (int k = a; k <= b && n < kMaxSpan; ++k) {
+      // Each unwrapped cell with its own shift: exact minimum image while r < period / 2.
+      for (int k = k0; k <= k1 && n < kMaxSpan; ++k) {
         const int w = ((k % nc) + nc) % nc;
         out[n] = w;
         shift[n++] = static_cast<double>((k - w) / nc) * period_[axis];
