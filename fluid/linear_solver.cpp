@@ -41,6 +41,7 @@ class CholmodSolver final : public LinearSolver {
     info_.method = "CHOLMOD";
     lower_ = ColMat(A).triangularView<Eigen::Lower>();
     lower_.makeCompressed();
+    info_.nnz_used = lower_.nonZeros();
     cholmod_sparse S{};
     S.nrow = S.ncol = A.rows();
     S.nzmax = lower_.nonZeros();
@@ -109,7 +110,7 @@ class UmfpackSolver final : public LinearSolver {
     info_.system = system;
     info_.method = "UMFPACK LU";
     info_.n = static_cast<int>(A.rows());
-    info_.nnz_A = A.nonZeros();
+    info_.nnz_A = info_.nnz_used = A.nonZeros();
     umfpack_di_defaults(control_);
     void* symbolic = nullptr;
     auto t0 = Clock::now();
@@ -216,8 +217,13 @@ class PcgSolver final : public LinearSolver {
 
 std::string SolverInfo::describe() const {
   std::ostringstream m;
-  m << system << ": " << method << ", n = " << n << ", nnz(A) = " << nnz_A << ", nnz(factor) = " << nnz_factor
-    << " (fill " << fill() << "x), analysis " << analyse_seconds << " s, factorisation " << factor_seconds << " s";
+  m << system << ": " << method << ", n = " << n << ", nnz(A) = " << nnz_A;
+  if (nnz_factor)
+    m << ", nnz(factor) = " << nnz_factor << " (fill " << fill() << "x the "
+      << (nnz_used < nnz_A ? "lower triangle" : "matrix") << ")";
+  else
+    m << ", no factorisation";
+  m << ", analysis " << analyse_seconds << " s, factorisation " << factor_seconds << " s";
   return m.str();
 }
 

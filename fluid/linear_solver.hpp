@@ -16,9 +16,10 @@ struct SolverInfo {
   std::string system;   // which system ("Crank-Nicolson", "Poisson")
   std::string method;   // which factorisation it got
   int n = 0;
-  long nnz_A = 0;       // stored non-zeros of A (both triangles)
-  long nnz_factor = 0;  // non-zeros of L (CHOLMOD) or L + U (UMFPACK)
-  double fill() const { return nnz_A ? static_cast<double>(nnz_factor) / nnz_A : 0.0; }
+  long nnz_A = 0;       // non-zeros of A (both triangles)
+  long nnz_used = 0;    // non-zeros the factorisation reads: the lower triangle (CHOLMOD) or all
+  long nnz_factor = 0;  // non-zeros of L (CHOLMOD) or L + U (UMFPACK); 0 for an iterative solver
+  double fill() const { return nnz_used ? static_cast<double>(nnz_factor) / nnz_used : 0.0; }
   double analyse_seconds = 0, factor_seconds = 0;
   std::string describe() const;  // one line for the run log
 };

@@ -42,14 +42,14 @@ void CellGrid::build(const Mat2& points) {
 
 PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
   const Domain& d = L.domain;
-  if (d.periodic_x && !(support < 0.5 * d.Lx())) {
+  if (d.periodic_x && !(support <= 0.5 * d.Lx())) {
     std::ostringstream m;
-    m << "kernel support 2h = " << support << " must be below half the periodic length Lx = " << d.Lx();
+    m << "kernel support 2h = " << support << " must not exceed half the periodic length Lx = " << d.Lx();
     throw std::invalid_argument(m.str());
   }
-  if (d.periodic_y && !(support < 0.5 * d.Ly())) {
+  if (d.periodic_y && !(support <= 0.5 * d.Ly())) {
     std::ostringstream m;
-    m << "kernel support 2h = " << support << " must be below half the periodic length Ly = " << d.Ly();
+    m << "kernel support 2h = " << support << " must not exceed half the periodic length Ly = " << d.Ly();
     throw std::invalid_argument(m.str());
   }
   const int N = L.size(), M = static_cast<int>(image_x.rows());

@@ -92,7 +92,7 @@ struct PairList {
   int size() const { return static_cast<int>(j.size()); }
 };
 
-// Throws std::invalid_argument if 2h is not below half a periodic period (minimum image would fail).
+// Throws std::invalid_argument if 2h exceeds half a periodic period (minimum image would fail).
 PairList find_pairs(const Lattice& lattice, const Mat2& image_x, double support);
 
 }  // namespace sphib

@@ -191,7 +191,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       const auto& ms = sim.membranes()[k];
       m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0 << ", T0 = " << ms.m.T0
         << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << ", markers per grid spacing "
-        << (ms.m.L0 / ms.m.nb()) / fl.lattice().dx;
+        << fl.lattice().dx / ms.m.ds();
     }
     say(m.str());
   }

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The paper's validations, whose figures the README quotes. Each section writes bench_out/NAME/
+# (sweep.csv, sweep.md and one directory per run). Usage: bench/validate.sh [SECTION ...]
+#   poiseuille     64 x 64, h = 1.525 dx, dt = 1.25e-6 to t = 0.0125 (Section 5.1)
+#   couette        Couette flow from rest, rms error at t = 1
+#   cavity         lid-driven cavity, Re = 1, 100, 400, 1000 to steady state, against Ghia et al.
+#   equilibrium    stretched membrane, fixed and free, to steady state (Section 5.2.1, Fig. 8)
+#   fig10          equilibrium convergence: Nx = 40..160, mu = 0.25, 1, fixed and free (Fig. 10)
+#   oscillation    oscillating membrane, mu = 1, 0.1, 0.05, 0.025, t in [0, 10] (Figs. 11, 15-17)
+#   fig19          area error at t = 1, 2 against Nx = 40..120 (Fig. 19)
+#   sweep          the Poiseuille sweep of Figs. 4, 7 and Table 1 (bench/poiseuille_sweep)
+# Without arguments: all but fig10 and sweep (the long ones).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SPHIB=build/sphib
+SWEEP="/usr/bin/python3 scripts/sweep.py"
+OUT=bench_out
+sections=("$@")
+[ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19)
+cmake --build build --target sphib poiseuille_sweep > /dev/null
+
+for s in "${sections[@]}"; do
+  case "$s" in
+    poiseuille)
+      $SWEEP --scene cases/poiseuille.toml --out $OUT/poiseuille --vary grid.nx=64 \
+        --report rms_error,seconds_per_step,setup_seconds ;;
+    couette)
+      $SWEEP --scene cases/couette.toml --out $OUT/couette --vary grid.nx=16,32,64 --derive grid.ny={grid.nx} \
+        --report rms_error,seconds_per_step ;;
+    cavity)
+      $SWEEP --scene cases/cavity_re100.toml --out $OUT/cavity --vary fluid.mu=1,0.01,0.0025,0.001 \
+        --report reynolds,stop_reason,time,max_deviation,rms_deviation,max_deviation_u,max_deviation_v,max_div_u ;;
+    equilibrium)
+      $SWEEP --scene cases/membrane_equilibrium.toml --out $OUT/equilibrium --vary membrane.fixed=true,false \
+        --report stop_reason,time,pressure_jump,pressure_jump_exact,pressure_mad_error,velocity_mad_error,area_relative_error,max_speed ;;
+    fig10)
+      $SWEEP --scene cases/membrane_equilibrium.toml --out $OUT/fig10 \
+        --vary grid.nx=40,60,80,100,120,140,160 --vary fluid.mu=0.25,1 --vary membrane.fixed=true,false \
+        --derive grid.ny={grid.nx} --derive time.dt=0.1*3/{grid.nx} \
+        --set kernel.h_over_dx=2.25 --set membrane.h_star_over_h=0.5 --set membrane.nb=360 --set output.interval=0 \
+        --report pressure_mad_error,velocity_mad_error,pressure_jump,area_relative_error,time ;;
+    oscillation)
+      $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation --vary fluid.mu=1,0.1,0.05,0.025 \
+        --report period,amplitude_decay,rx_first_minimum,area_relative_error_at.1,area_relative_error_at.2,area_relative_error_at.10,seconds_per_step ;;
+    fig19)
+      $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/fig19 --vary grid.nx=40,60,80,100,120 \
+        --derive grid.ny={grid.nx} --derive time.dt=0.1*3/{grid.nx} \
+        --set membrane.T0=1 --set fluid.mu=0.05 --set membrane.nb=360 --set membrane.h_star=0.0425 \
+        --set time.end=2 --set output.interval=0 \
+        --report area_relative_error_at.1,area_relative_error_at.2 ;;
+    sweep)
+      build/poiseuille_sweep --out $OUT/poiseuille_sweep ;;
+    *) echo "validate: unknown section $s" >&2; exit 2 ;;
+  esac
+done
