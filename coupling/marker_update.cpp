@@ -15,6 +15,19 @@ MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel
   interpolate_velocity(grid, W, V, u_new, X_n, U);  // U^{n+1}(X^n), Eq. (62)
   X = X_n + dt * U;                                 // Eq. (58)
   MarkerUpdateResult res;
+  auto check_moves = [&]() {
+    if (prm.max_move <= 0) return;
+    for (int k = 0; k < X.rows(); ++k) {
+      const double d = std::hypot(X(k, 0) - X_n(k, 0), X(k, 1) - X_n(k, 1));
+      if (!(d <= prm.max_move)) {
+        std::ostringstream m;
+        m << "blow-up at step " << step << ": marker " << k << " would move by " << d << " in one step (limit "
+          << prm.max_move << ", one lattice spacing)";
+        throw std::runtime_error(m.str());
+      }
+    }
+  };
+  check_moves();
   for (int I = 0; I <= prm.max_iter; ++I) {
     interpolate_velocity(grid, W, V, u_new, X, U);  // U^{n+1}(X^[I]), Eq. (63)
     // g(X) = X - X^n - dt/2 (U^n(X^n) + U^{n+1}(X)), Eq. (59)
@@ -29,6 +42,7 @@ MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel
     if (!std::isfinite(g_max)) break;
     if (g_max <= prm.eps) return res;
     X = X_n + 0.5 * dt * (U_n + U);  // fixed-point iteration X^[I+1] = X^[I] - g(X^[I])
+    check_moves();
   }
   std::ostringstream m;
   m << "marker update did not converge at step " << step << ": max |g| = " << res.residual << " after "

@@ -11,6 +11,7 @@ namespace sphib {
 struct MarkerUpdateParams {
   double eps = 1e-12;  // tolerance on max_k |g_k| (a length)
   int max_iter = 50;
+  double max_move = 0;  // > 0: a marker moving farther in one step is a blow-up (the Simulation sets dx)
 };
 
 struct MarkerUpdateResult {

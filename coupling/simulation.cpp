@@ -94,8 +94,9 @@ void Simulation::step() {
     if (s.fixed) continue;
     ScopedTimer t(prof_, k_markers_);
     // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) by fixed-point iteration (Eqs. 56-60)
-    s.last = advance_markers(grid_, fluid_.kernel(), V, fluid_.u(), s.U_n, dt, prm_.markers, fluid_.steps(), s.m.X,
-                             s.X_n, s.U);
+    MarkerUpdateParams mp = prm_.markers;
+    if (mp.max_move <= 0) mp.max_move = std::min(fluid_.lattice().dx, fluid_.lattice().dy);
+    s.last = advance_markers(grid_, fluid_.kernel(), V, fluid_.u(), s.U_n, dt, mp, fluid_.steps(), s.m.X, s.X_n, s.U);
   }
 }
 

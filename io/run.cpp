@@ -282,6 +282,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   say("  " + std::to_string(n_total) + " steps to t = " + std::to_string(n_total * fp.dt) + ", output in " + opt.out_dir);
   snapshot();
   diagnostics_row();
+  const double h_min = std::min(fl.lattice().dx, fl.lattice().dy);
   const auto t_loop = Clock::now();
   auto t_log = t_loop;
   std::string stop_reason = "end time";
@@ -290,13 +291,33 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     while (fl.steps() < n_total) {
       if (opt.stop && opt.stop->load()) { stop_reason = "interrupted"; break; }
       if (scene.steady_eps > 0) { u_prev = fl.u(); p_prev = fl.p(); }
-      sim.step();
+      const long n_before = fl.steps();
+      const double t_before = fl.time();
+      try {
+        sim.step();
+      } catch (const std::exception& e) {
+        std::ostringstream m;
+        m << "step " << n_before + 1 << " (t = " << t_before + fp.dt << "): " << e.what();
+        throw RunError(m.str());
+      }
       // A blow-up stops the run within the step it appears in, before anything of it is written.
       const double ke = fl.kinetic_energy();
       if (!std::isfinite(ke)) {
         std::ostringstream m;
         m << "the velocity field became non-finite at step " << fl.steps() << " (t = " << fl.time() << ")";
         throw RunError(m.str());
+      }
+      // Blow-up: no particle may move by more than a lattice spacing in one step (u_max dt < dx).
+      // The explicit convection (AB2) and the marker update are unstable long before that.
+      const double cfl = std::sqrt(2.0 * ke / (fp.rho * fl.lattice().volume)) * fp.dt / h_min;
+      if (cfl > 1.0) {
+        const double umax = fl.u().rowwise().norm().maxCoeff();
+        if (umax * fp.dt > h_min) {
+          std::ostringstream m;
+          m << "blow-up at step " << fl.steps() << " (t = " << fl.time() << "): max |u| = " << umax
+            << " moves a particle by " << umax * fp.dt / h_min << " lattice spacings in one step (limit 1)";
+          throw RunError(m.str());
+        }
       }
       for (size_t k = 0; k < sim.membranes().size(); ++k)
         if (!sim.membranes()[k].m.X.allFinite()) {
@@ -360,14 +381,19 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   j["setup_seconds"] = setup_seconds;
   j["loop_seconds"] = loop_seconds;
   j["seconds_per_step"] = fl.steps() ? loop_seconds / fl.steps() : 0.0;
-  j["kinetic_energy"] = fl.kinetic_energy();
-  j["max_div_u"] = fl.max_abs_divergence();
-  j["max_speed"] = fl.u().rowwise().norm().maxCoeff();
   nlohmann::json prof;
   for (const Profile* P : {&fl.profile(), &sim.profile()})
     for (size_t k = 0; k < P->names().size(); ++k) prof[P->names()[k]] = P->seconds(static_cast<int>(k));
   j["profile_seconds"] = prof;
   for (const auto& si : fl.solver_info()) j["solvers"].push_back(si.describe());
+  if (!fault.empty()) {  // the state is not trustworthy: no figures from it
+    write_json_atomic(opt.out_dir + "/summary.json", j);
+    say("  stopped by a fault at step " + std::to_string(fl.steps()) + ": " + fault);
+    throw RunError(fault + "; the last good state is in " + opt.out_dir);
+  }
+  j["kinetic_energy"] = fl.kinetic_energy();
+  j["max_div_u"] = fl.max_abs_divergence();
+  j["max_speed"] = fl.u().rowwise().norm().maxCoeff();
   if (unidirectional) j["rms_error"] = rms_error_unidirectional(scene, fl);
   if (scene.steady_eps > 0) { j["du_rms"] = du_rms; j["dp_rms"] = dp_rms; }
 
@@ -483,14 +509,22 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     } else {
       j["period"] = nullptr;  // not measurable: monotone or too short
     }
-    j["rx_first_minimum"] = te.empty() ? nlohmann::json(nullptr) : nlohmann::json(xe[0]);
+    j["rx_first_minimum"] = nullptr;
+    for (size_t k = 0; k < te.size(); ++k) {
+      const auto it = std::find_if(series.begin(), series.end(), [&](const auto& r) { return r[ct] == te[k]; });
+      const size_t i = it - series.begin();
+      if (i > 0 && series[i - 1][crx] > xe[k]) {  // a minimum
+        j["rx_first_minimum"] = xe[k];
+        j["t_first_minimum"] = te[k];
+        break;
+      }
+    }
   }
 
   write_json_atomic(opt.out_dir + "/summary.json", j);
   say("  " + stop_reason + " after " + std::to_string(fl.steps()) + " steps, t = " + std::to_string(fl.time()) +
       ", loop " + std::to_string(loop_seconds) + " s (" + std::to_string(1e6 * j["seconds_per_step"].get<double>()) +
       " us/step); output in " + opt.out_dir);
-  if (!fault.empty()) throw RunError(fault + "; the last good state is in " + opt.out_dir);
   return j;
 }
 
