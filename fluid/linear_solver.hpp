@@ -31,6 +31,7 @@ class LinearSolver {
   // which iterative solvers use (warm start) and direct ones ignore.
   virtual void solve(const double* B, double* X, int k) = 0;
   const SolverInfo& info() const { return info_; }
+  virtual double mean_iterations() const { return 0.0; }  // iterative solvers: per solve so far
   // Appends a note to the method (e.g. why it was chosen) and the set-up time of the others.
   void annotate(const std::string& note, double extra_factor_seconds) {
     info_.method += note;
@@ -41,12 +42,13 @@ class LinearSolver {
   SolverInfo info_;
 };
 
-// Auto: for a symmetric A, CHOLMOD supernodal, CHOLMOD simplicial and (if allow_pcg) Jacobi-
-// preconditioned conjugate gradients are each timed on a two-column solve (CG from a zero guess,
-// its worst case) and the fastest is kept; a non-symmetric A gets UMFPACK. Failures (not positive
-// definite, singular, CG not converging) throw std::runtime_error naming the system and size.
+// Auto: a symmetric A gets CHOLMOD (simplicial for a small factor, supernodal for a large one:
+// a deterministic rule measured on this machine, see linear_solver.cpp), any other UMFPACK.
+// Pcg (Jacobi-preconditioned conjugate gradients, warm-started) is chosen only explicitly.
+// Failures (not positive definite, singular, CG not converging) throw std::runtime_error
+// naming the system and its size.
 std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A,
-                                        SolverKind kind = SolverKind::Auto, bool allow_pcg = false);
+                                        SolverKind kind = SolverKind::Auto);
 
 bool is_symmetric(const SpMat& A, double rel_tol = 1e-12);
 

@@ -60,13 +60,14 @@ Fluid::Fluid(const FluidParams& params)
   setup_.emplace_back("assembly", since(t0));
 
   t0 = Clock::now();
-  cn_ = factorize("Crank-Nicolson", A_cn, prm_.cn_solver, /*allow_pcg=*/true);
+  cn_ = factorize("Crank-Nicolson", A_cn, prm_.cn_solver);
+  cn_iterative_ = cn_->info().nnz_factor == 0;
   poisson_ = factorize("Poisson", poisson_A_, prm_.poisson_solver);
   setup_.emplace_back("factorisation", since(t0));
 
   const int M = im_.size();
   u_ = Mat2::Zero(N, 2);
-  u_star_ = rhs_ = conv_ = conv_old_ = grad_phi_ = Mat2::Zero(N, 2);
+  u_star_ = u_star_old_ = rhs_ = conv_ = conv_old_ = grad_phi_ = Mat2::Zero(N, 2);
   c_wall_ = c_star_ = c_sum_ = Mat2::Zero(M, 2);
   image_velocity_offsets(im_, lat_.domain, nullptr, 0.0, c_wall_);  // 2 u_b: images of u^n
   phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
@@ -123,8 +124,12 @@ void Fluid::step(const Mat2& F) {
   }
   {
     ScopedTimer tm(prof_, k_solve_cn_);
-    // u and v: two right-hand sides of one factorisation; u_star_ still holds the previous u*,
-    // the warm start of an iterative solver.
+    // u and v: two right-hand sides of one factorisation. An iterative solver starts from the
+    // linear extrapolation 2 u*_{n-1} - u*_{n-2} (direct solvers ignore it).
+    if (cn_iterative_) {
+      u_star_old_ = 2.0 * u_star_ - u_star_old_;
+      u_star_old_.swap(u_star_);  // u_star_ = guess, u_star_old_ = u*_{n-1}
+    }
     cn_->solve(rhs_.data(), u_star_.data(), 2);
   }
   {

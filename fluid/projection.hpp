@@ -58,6 +58,7 @@ class Fluid {
   double poisson_residual() const;    // ||A phi - b|| / ||b|| of the last Poisson solve
 
   std::vector<SolverInfo> solver_info() const;
+  double cn_mean_iterations() const { return cn_->mean_iterations(); }
   Profile& profile() { return prof_; }
   const Profile& profile() const { return prof_; }
   double setup_seconds(const std::string& what) const;  // "neighbours", "assembly", "factorisation"
@@ -71,11 +72,12 @@ class Fluid {
   Operators op_;
   std::unique_ptr<LinearSolver> cn_, poisson_;
   SpMat poisson_A_;
+  bool cn_iterative_ = false;
   int pin_ = 0;  // gauge: phi is pinned to 0 at this particle, then shifted to zero mean
   std::vector<std::pair<std::string, double>> setup_;
 
   // state and workspace (sized once)
-  Mat2 u_, u_star_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_, c_sum_;
+  Mat2 u_, u_star_, u_star_old_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_, c_sum_;
   Vec phi_, div_, b_phi_;
   mutable Vec p_;
   mutable long p_step_ = -1;

@@ -386,6 +386,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     for (size_t k = 0; k < P->names().size(); ++k) prof[P->names()[k]] = P->seconds(static_cast<int>(k));
   j["profile_seconds"] = prof;
   for (const auto& si : fl.solver_info()) j["solvers"].push_back(si.describe());
+  if (fl.cn_mean_iterations() > 0) j["crank_nicolson_cg_iterations"] = fl.cn_mean_iterations();
   if (!fault.empty()) {  // the state is not trustworthy: no figures from it
     write_json_atomic(opt.out_dir + "/summary.json", j);
     say("  stopped by a fault at step " + std::to_string(fl.steps()) + ": " + fault);

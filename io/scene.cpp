@@ -314,9 +314,9 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   std::vector<std::string> cn_kinds(kinds);
   cn_kinds.push_back("pcg");
   f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", cn_kinds,
-                                     "Crank-Nicolson solver (auto: the fastest, timed at set-up)"));
+                                     "Crank-Nicolson solver (auto: CHOLMOD, simplicial or supernodal by the size of the factor; pcg: warm-started conjugate gradients, fast when nu dt / dx^2 is small)"));
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", kinds,
-                                          "Poisson factorisation (auto: the fastest, timed at set-up)"));
+                                          "Poisson factorisation (auto: CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
   // Output and observation
@@ -418,7 +418,12 @@ std::string describe_scene_keys() {
   build(empty, "keys", {}, &docs);
   std::ostringstream o;
   for (const auto& d : docs) {
-    o << "| `" << d.key << "` | " << d.type << " | " << d.def << " | " << d.range << " | " << d.what << " |\n";
+    auto esc = [](std::string t) {  // a '|' inside a Markdown table cell
+      for (size_t k = t.find('|'); k != std::string::npos; k = t.find('|', k + 2)) t.replace(k, 1, "\\|");
+      return t;
+    };
+    o << "| `" << d.key << "` | " << esc(d.type) << " | " << esc(d.def) << " | " << esc(d.range) << " | "
+      << esc(d.what) << " |\n";
   }
   return o.str();
 }

@@ -97,3 +97,13 @@ TEST(MembraneCases, BlowUpStopsWithDiagnostic) {
   EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "summary.json"));
   fs::remove_all(opt.out_dir);
 }
+
+// Same input, bitwise-identical results: no timing-dependent choices, no uninitialised state.
+TEST(MembraneCases, RepeatedRunsAreBitwiseIdentical) {
+  const std::vector<std::string> sets{"grid.nx=24", "grid.ny=24", "membrane.nb=48", "time.dt=1e-3",
+                                      "time.max_steps=40", "output.interval=0"};
+  const nlohmann::json a = run_case("membrane_oscillation", sets);
+  const nlohmann::json b = run_case("membrane_oscillation", sets);
+  for (const char* k : {"rx", "ry", "area", "elastic_energy", "kinetic_energy", "max_div_u"})
+    EXPECT_EQ(a[k].get<double>(), b[k].get<double>()) << k;
+}
