@@ -48,9 +48,8 @@ int main(int argc, char** argv) {
     if (check->parsed()) {
       sphib::Simulation sim(scene.sim);  // builds everything: refuses what cannot run
       const auto& f = sim.fluid();
-      std::cout << scene_path << ": ok\n  particles " << f.size() << ", images " << f.images().size()
-                << ", neighbours per particle " << static_cast<double>(f.pairs().size()) / f.size() << "\n";
-      for (const auto& si : f.solver_info()) std::cout << "  " << si.describe() << "\n";
+      std::cout << scene_path << ": ok\n";
+      for (const auto& line : f.describe()) std::cout << "  " << line << "\n";
       for (size_t k = 0; k < sim.membranes().size(); ++k) {
         const auto& m = sim.membranes()[k];
         std::cout << "  membrane " << k << ": markers per grid spacing "

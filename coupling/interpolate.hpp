@@ -11,5 +11,8 @@ namespace sphib {
 // point has no particle within 2h (a marker that left the fluid).
 void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, double V, const Mat2& u,
                           const Mat2& X, Mat2& U, bool normalised = true);
+// The same with per-particle volumes V_j = m_j / rho_j (moving particles, WCSPH).
+void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u,
+                          const Mat2& X, Mat2& U, bool normalised = true);
 
 }  // namespace sphib

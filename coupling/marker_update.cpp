@@ -8,7 +8,7 @@
 
 namespace sphib {
 
-MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, double V, const Mat2& u_new,
+MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u_new,
                                    const Mat2& U_n, double dt, const MarkerUpdateParams& prm, long step,
                                    Mat2& X, Mat2& X_n, Mat2& U) {
   X_n = X;

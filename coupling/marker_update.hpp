@@ -22,7 +22,7 @@ struct MarkerUpdateResult {
 // X holds X^n on entry and X^{n+1} on exit; U_n = U^n(X^n); U is workspace (Nb x 2) and holds
 // U^{n+1}(X^{n+1}) on exit. Throws std::runtime_error naming `step` and the residual if the
 // iteration does not reach eps in max_iter iterations.
-MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, double V, const Mat2& u_new,
+MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u_new,
                                    const Mat2& U_n, double dt, const MarkerUpdateParams& prm, long step,
                                    Mat2& X, Mat2& X_n, Mat2& U);
 

@@ -43,16 +43,16 @@ MembraneState::MembraneState(const MembraneSetup& s)
       f(Mat2::Zero(s.membrane.nb(), 2)), U_n(f), U(f), X_n(s.membrane.X), T(Vec::Zero(s.membrane.nb())) {}
 
 Simulation::Simulation(const SimulationParams& params)
-    : prm_(params), fluid_(params.fluid),
+    : prm_(params), fluid_(make_fluid(params.fluid)),
       grid_(Eigen::Vector2d(params.fluid.domain.x0, params.fluid.domain.y0),
             Eigen::Vector2d(params.fluid.domain.x1, params.fluid.domain.y1), params.fluid.domain.periodic_x,
-            params.fluid.domain.periodic_y, std::min(fluid_.lattice().dx, fluid_.lattice().dy)) {
-  const int N = fluid_.size();
+            params.fluid.domain.periodic_y, std::min(fluid_->lattice().dx, fluid_->lattice().dy)) {
+  const int N = fluid_->size();
   for (size_t k = 0; k < prm_.membranes.size(); ++k) {
-    check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_.h(), static_cast<int>(k));
+    check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
     mem_.emplace_back(prm_.membranes[k]);
   }
-  grid_.build(fluid_.lattice().x);
+  grid_.build(fluid_->x());
   F_body_ = Mat2::Zero(N, 2);
   F_ = F_body_;
   if (!prm_.body_force_field) {
@@ -67,12 +67,15 @@ Simulation::Simulation(const SimulationParams& params)
 
 void Simulation::body_force(double t) {
   if (!prm_.body_force_field) return;
-  const Mat2& x = fluid_.lattice().x;
+  const Mat2& x = fluid_->x();
   for (int i = 0; i < x.rows(); ++i) F_body_.row(i) = prm_.body_force_field(x(i, 0), x(i, 1), t).transpose();
 }
 
 void Simulation::step() {
-  const double dt = fluid_.params().dt, V = fluid_.lattice().volume;
+  FluidSolver& fluid = *fluid_;
+  const double dt = fluid.params().dt;
+  const Vec& V = fluid.volumes();
+  if (fluid.particles_move() && !mem_.empty()) grid_.build(fluid.x());  // LPSPH, WCSPH: O(N)
   body_force(time());  // F^n: external body force at t_n
   F_ = F_body_;
   for (auto& s : mem_) {
@@ -86,17 +89,18 @@ void Simulation::step() {
     }
     if (!s.fixed) {  // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
       ScopedTimer t(prof_, k_interp_);
-      interpolate_velocity(grid_, fluid_.kernel(), V, fluid_.u(), s.m.X, s.U_n);
+      interpolate_velocity(grid_, fluid.kernel(), V, fluid.u(), s.m.X, s.U_n);
     }
   }
-  fluid_.step(F_);  // PMIII with prefactored systems: u^n -> u*, phi^{n+1}, u^{n+1}, p^{n+1/2}
+  fluid.step(F_);  // PMIII with prefactored systems: u^n -> u*, phi^{n+1}, u^{n+1}, p^{n+1/2}
   for (auto& s : mem_) {
     if (s.fixed) continue;
     ScopedTimer t(prof_, k_markers_);
     // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) by fixed-point iteration (Eqs. 56-60)
     MarkerUpdateParams mp = prm_.markers;
-    if (mp.max_move <= 0) mp.max_move = std::min(fluid_.lattice().dx, fluid_.lattice().dy);
-    s.last = advance_markers(grid_, fluid_.kernel(), V, fluid_.u(), s.U_n, dt, mp, fluid_.steps(), s.m.X, s.X_n, s.U);
+    if (mp.max_move <= 0) mp.max_move = std::min(fluid.lattice().dx, fluid.lattice().dy);
+    if (fluid.particles_move()) grid_.build(fluid.x());  // the particles of u^{n+1}
+    s.last = advance_markers(grid_, fluid.kernel(), V, fluid.u(), s.U_n, dt, mp, fluid.steps(), s.m.X, s.X_n, s.U);
   }
 }
 

@@ -5,7 +5,8 @@
 #include <vector>
 
 #include "coupling/marker_update.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/solver.hpp"
+#include "fluid/neighbours.hpp"
 #include "membrane/hookean.hpp"
 
 namespace sphib {
@@ -43,19 +44,19 @@ class Simulation {
 
   void step();  // one IB time step, t_n -> t_{n+1}
 
-  Fluid& fluid() { return fluid_; }
-  const Fluid& fluid() const { return fluid_; }
+  FluidSolver& fluid() { return *fluid_; }
+  const FluidSolver& fluid() const { return *fluid_; }
   const std::vector<MembraneState>& membranes() const { return mem_; }
   const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
-  double time() const { return fluid_.time(); }
-  long steps() const { return fluid_.steps(); }
+  double time() const { return fluid_->time(); }
+  long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
 
  private:
   void body_force(double t);
 
   SimulationParams prm_;
-  Fluid fluid_;
+  std::unique_ptr<FluidSolver> fluid_;
   std::vector<MembraneState> mem_;
   CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   Mat2 F_body_, F_;

@@ -71,6 +71,7 @@ Fluid::Fluid(const FluidParams& params)
   c_wall_ = c_star_ = c_sum_ = Mat2::Zero(M, 2);
   image_velocity_offsets(im_, lat_.domain, nullptr, 0.0, c_wall_);  // 2 u_b: images of u^n
   phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
+  V_ = Vec::Constant(N, lat_.volume);
 
   k_images_ = prof_.phase("images (Eq. 42)");
   k_conv_ = prof_.phase("convection (Eqs. 39-41)");
@@ -187,6 +188,24 @@ double Fluid::poisson_residual() const {
 }
 
 std::vector<SolverInfo> Fluid::solver_info() const { return {cn_->info(), poisson_->info()}; }
+
+std::vector<std::string> Fluid::describe() const {
+  std::ostringstream m;
+  m << "EPSPH: " << lat_.nx << " x " << lat_.ny << " = " << size() << " fixed particles, " << im_.size()
+    << " images, h = " << W_.h << " (" << prm_.h_over_dx << " (dx+dy)/2), "
+    << static_cast<double>(pairs_.size()) / size() << " neighbours per particle, convection "
+    << (prm_.convection ? "on" : "off (Stokes)");
+  std::vector<std::string> lines{m.str()};
+  for (const auto& si : solver_info()) lines.push_back(si.describe());
+  return lines;
+}
+
+std::vector<std::pair<std::string, double>> Fluid::figures() const {
+  std::vector<std::pair<std::string, double>> f{{"images", im_.size()},
+                                                {"neighbours_per_particle", static_cast<double>(pairs_.size()) / size()}};
+  if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
+  return f;
+}
 
 double Fluid::setup_seconds(const std::string& what) const {
   for (const auto& [k, s] : setup_)

@@ -31,10 +31,10 @@ double rms(const Mat2& a) { return std::sqrt(a.squaredNorm() / a.rows()); }
 // ---- Exact solutions on the particles -------------------------------------------------------
 
 // Eq. (69): rms over particles of |u_ex - u|, for the unidirectional start-up flows.
-double rms_error_unidirectional(const Scene& s, const Fluid& fl) {
+double rms_error_unidirectional(const Scene& s, const FluidSolver& fl) {
   const FluidParams& p = fl.params();
   const double H = p.domain.Ly(), nu = p.mu / p.rho;
-  const Mat2& x = fl.lattice().x;
+  const Mat2& x = fl.x();
   const Mat2& u = fl.u();
   double e = 0;
   std::map<double, double> memo;  // the exact series depends on y only: once per lattice row
@@ -109,14 +109,14 @@ Equilibrium measure_equilibrium(const Scene& scene, const Simulation& sim, const
   // Regions for the measured jump: inside r < re - 2h* - 2h, outside r > re + 2h* + 2h and more
   // than 2h from a wall, r from the membrane's centroid: both clear of the smoothed jump
   // (spreading support 2h*, SPH support 2h).
-  const Fluid& fl = sim.fluid();
+  const FluidSolver& fl = sim.fluid();
   const FluidParams& fp = fl.params();
   const MembraneScene& ms = scene.membranes[0];
   const double re = ms.radius;
   Equilibrium e{};
   e.jump_exact = ms.T0 / re * (re / ms.r0 - 1.0);
   const double band = 2.0 * sim.membranes()[0].h_star + 2.0 * fl.h();
-  const Mat2& x = fl.lattice().x;
+  const Mat2& x = fl.x();
   const Vec& p = fl.p();
   const int N = fl.size();
   double pin = 0, pout = 0;
@@ -154,7 +154,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   const auto t_setup = Clock::now();
   Simulation sim(scene.sim);
   const double setup_seconds = since(t_setup);
-  Fluid& fl = sim.fluid();
+  FluidSolver& fl = sim.fluid();
   const FluidParams& fp = fl.params();
   const int N = fl.size();
   Table ghia_u, ghia_v;
@@ -179,12 +179,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   {
     std::ostringstream m;
     m << "sphib " << SPHIB_VERSION << ": " << (scene.title.empty() ? scene.path : scene.title) << "\n"
-      << "  lattice " << fp.nx << " x " << fp.ny << " = " << N << " particles, " << fl.images().size()
-      << " images, h = " << fl.h() << " (" << fp.h_over_dx << " (dx+dy)/2), "
-      << static_cast<double>(fl.pairs().size()) / N << " neighbours per particle\n"
-      << "  rho = " << fp.rho << ", mu = " << fp.mu << ", dt = " << fp.dt << ", convection "
-      << (fp.convection ? "on" : "off (Stokes)") << "\n";
-    for (const auto& si : fl.solver_info()) m << "  " << si.describe() << "\n";
+      << "  rho = " << fp.rho << ", mu = " << fp.mu << ", dt = " << fp.dt << "\n";
+    for (const auto& line : fl.describe()) m << "  " << line << "\n";
     m << "  set-up " << setup_seconds << " s (neighbours " << fl.setup_seconds("neighbours") << " s, assembly "
       << fl.setup_seconds("assembly") << " s, factorisation " << fl.setup_seconds("factorisation") << " s)";
     for (size_t k = 0; k < sim.membranes().size(); ++k) {
@@ -250,7 +246,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     }
     std::vector<MembraneSnapshot> ms;
     for (const auto& m : sim.membranes()) ms.push_back({&m.m.X, &m.f, &m.T});
-    h5.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.lattice().x, fields, ms);
+    h5.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms);
   };
 
   Mat2 u_prev;
@@ -309,7 +305,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       }
       // Blow-up: no particle may move by more than a lattice spacing in one step (u_max dt < dx).
       // The explicit convection (AB2) and the marker update are unstable long before that.
-      const double cfl = std::sqrt(2.0 * ke / (fp.rho * fl.lattice().volume)) * fp.dt / h_min;
+      const double cfl = std::sqrt(2.0 * ke / (fp.rho * fl.volumes().minCoeff())) * fp.dt / h_min;
       if (cfl > 1.0) {
         const double umax = fl.u().rowwise().norm().maxCoeff();
         if (umax * fp.dt > h_min) {
@@ -376,7 +372,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   j["steps"] = fl.steps();
   j["time"] = fl.time();
   j["particles"] = N;
-  j["images"] = fl.images().size();
+  j["method"] = fp.method;
   j["wall_seconds"] = loop_seconds + setup_seconds;
   j["setup_seconds"] = setup_seconds;
   j["loop_seconds"] = loop_seconds;
@@ -385,8 +381,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   for (const Profile* P : {&fl.profile(), &sim.profile()})
     for (size_t k = 0; k < P->names().size(); ++k) prof[P->names()[k]] = P->seconds(static_cast<int>(k));
   j["profile_seconds"] = prof;
-  for (const auto& si : fl.solver_info()) j["solvers"].push_back(si.describe());
-  if (fl.cn_mean_iterations() > 0) j["crank_nicolson_cg_iterations"] = fl.cn_mean_iterations();
+  for (const auto& line : fl.describe()) j["log"].push_back(line);
+  for (const auto& [k, v] : fl.figures()) j[k] = v;
   if (!fault.empty()) {  // the state is not trustworthy: no figures from it
     write_json_atomic(opt.out_dir + "/summary.json", j);
     say("  stopped by a fault at step " + std::to_string(fl.steps()) + ": " + fault);
@@ -403,7 +399,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     // points (boundary values, not computed) are left out.
     CellGrid grid(Eigen::Vector2d(fp.domain.x0, fp.domain.y0), Eigen::Vector2d(fp.domain.x1, fp.domain.y1),
                   fp.domain.periodic_x, fp.domain.periodic_y, 2.0 * fl.h());
-    grid.build(fl.lattice().x);
+    grid.build(fl.x());
     auto profile = [&](const Table& t, bool vertical, const std::string& col, const std::string& name) {
       std::vector<double> dev;
       Mat2 X(static_cast<int>(t.rows.size()), 2), U(static_cast<int>(t.rows.size()), 2);
@@ -412,7 +408,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
         X(k, 0) = vertical ? fp.domain.x0 + 0.5 * fp.domain.Lx() : fp.domain.x0 + c * fp.domain.Lx();
         X(k, 1) = vertical ? fp.domain.y0 + c * fp.domain.Ly() : fp.domain.y0 + 0.5 * fp.domain.Ly();
       }
-      interpolate_velocity(grid, fl.kernel(), fl.lattice().volume, fl.u(), X, U);
+      interpolate_velocity(grid, fl.kernel(), fl.volumes(), fl.u(), X, U);
       std::ofstream out(opt.out_dir + "/" + name + ".csv");
       out << (vertical ? "y,u" : "x,v") << (col.empty() ? "" : "," + col) << "\n";
       const int cc = col.empty() ? -1 : t.col(col);

@@ -276,8 +276,9 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   Scene s;
   s.path = name;
   s.title = r.text("title", "", "a one-line description");
-  s.method = r.choice("method", "eulerian", {"eulerian"},
-                      "fluid solver: eulerian (EPSPH, fixed particles)");
+  s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph"},
+                      "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
+                      "wcsph (weakly compressible SPH)");
   // Domain and walls
   FluidParams& f = s.sim.fluid;
   const Eigen::Vector2d xr = r.pair("domain.x", {0.0, 1.0}, "x extent [x0, x1]");
@@ -304,6 +305,20 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   f.mu = r.positive("fluid.mu", 1.0, "dynamic viscosity mu", true);
   s.sim.body_force = r.pair("fluid.body_force", Eigen::Vector2d::Zero(), "body force per unit volume [Fx, Fy]");
   f.convection = r.boolean("fluid.convection", true, "Navier-Stokes (true) or Stokes (false: no convection operator)");
+  f.method = s.method;
+  f.lagrangian.reinit_every = static_cast<int>(r.integer(
+      "lagrangian.reinit_every", 0, 0, "LPSPH: put the particles back on the lattice every so many steps (0: never)"));
+  f.lagrangian.min_kernel_sum = r.number("lagrangian.min_kernel_sum", 0.5, "[0, 1]",
+                                         "LPSPH: stop when a particle's kernel sum sum_j V_j W_ij falls below this",
+                                         false, 0.0, false, 1.0);
+  f.wcsph.eos = r.choice("wcsph.eos", "morris", {"morris", "tait"}, "WCSPH equation of state");
+  f.wcsph.c = r.number("wcsph.c", 0.0, ">= 0", "WCSPH speed of sound (0: 10 u_scale, about 1% density variation)",
+                       false, 0.0);
+  f.wcsph.gamma = r.positive("wcsph.gamma", 7.0, "Tait exponent");
+  f.wcsph.xsph = r.number("wcsph.xsph", 0.0, "[0, 1]", "XSPH epsilon (0: off)", false, 0.0, false, 1.0);
+  f.wcsph.walls = r.choice("wcsph.walls", "virtual", {"virtual", "lennard_jones"},
+                           "WCSPH walls: Morris virtual particles or the Lennard-Jones repulsion of Coelho et al.");
+  f.wcsph.u_scale = r.positive("wcsph.u_scale", 1.0, "expected maximum speed (sets c when wcsph.c = 0)");
   // Time
   f.dt = r.positive("time.dt", 0.0, "time step", true);
   s.t_end = r.positive("time.end", 0.0, "end time (upper bound when steady_eps is set)", true);

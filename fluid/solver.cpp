@@ -1,0 +1,14 @@
+#include "fluid/solver.hpp"
+
+#include <stdexcept>
+
+#include "fluid/projection.hpp"
+
+namespace sphib {
+
+std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params) {
+  if (params.method == "eulerian") return std::make_unique<Fluid>(params);
+  throw std::invalid_argument("method: \"" + params.method + "\" is not available (allowed: eulerian)");
+}
+
+}  // namespace sphib

@@ -1,0 +1,88 @@
+#pragma once
+// The contract every fluid method meets, so that the coupling, the runner and the cases work
+// with any of them: EPSPH (fixed particles, projection.hpp), LPSPH (moving particles,
+// lagrangian.hpp) and weakly compressible SPH (wcsph.hpp).
+//
+// A FluidSolver advances the velocity of N particles by one time step under an external force
+// per unit volume, and shows their positions, volumes, velocity, pressure and its kernel.
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fluid/kernel.hpp"
+#include "fluid/lattice.hpp"
+#include "fluid/linear_solver.hpp"
+#include "fluid/profile.hpp"
+
+namespace sphib {
+
+// LPSPH (Section 3.1): particles move with Eq. (37); neighbours, images, operators and
+// factorisations are rebuilt every step.
+struct LagrangianParams {
+  int reinit_every = 0;          // > 0: put the particles back on the lattice every so many steps (Fig. 9 C-D)
+  double min_kernel_sum = 0.5;   // breakdown: a particle whose sum_j V_j W_ij falls below this stops the run
+};
+
+// Weakly compressible SPH (Morris et al. 1997; Vukcevic et al. 2012; Coelho et al.).
+struct WcsphParams {
+  std::string eos = "morris";    // morris: p = c^2 rho; tait: p = rho0 c^2 / gamma ((rho/rho0)^gamma - 1)
+  double c = 0.0;                // speed of sound (0: chosen from the expected velocity scale, see wcsph.hpp)
+  double gamma = 7.0;            // Tait exponent
+  double xsph = 0.0;             // XSPH epsilon (0: off)
+  std::string walls = "virtual"; // virtual (Morris fixed wall particles) | lennard_jones (Coelho Eq. 20)
+  double u_scale = 1.0;          // expected maximum speed, for c when c = 0
+};
+
+struct FluidParams {
+  std::string method = "eulerian";  // eulerian (EPSPH) | lagrangian (LPSPH) | wcsph
+  Domain domain;
+  int nx = 32, ny = 32;
+  double h_over_dx = 1.2;  // h = h_over_dx * (dx + dy) / 2
+  double rho = 1.0, mu = 1.0;
+  double dt = 1e-3;
+  bool convection = true;  // false: Stokes flow, the convection operator is not even assembled
+  SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
+  LagrangianParams lagrangian;
+  WcsphParams wcsph;
+};
+
+class FluidSolver {
+ public:
+  virtual ~FluidSolver() = default;
+
+  // One step from t_n to t_{n+1}; F is the external force per unit volume at the particles (N x 2).
+  // A breakdown of the method (not a bug) throws std::runtime_error saying what and where.
+  virtual void step(const Mat2& F) = 0;
+  virtual void set_velocity(const Mat2& u0) = 0;  // initial condition
+
+  virtual const FluidParams& params() const = 0;
+  virtual const Lattice& lattice() const = 0;  // the initial lattice (domain, nx, ny, dx, dy)
+  virtual const CubicSplineKernel& kernel() const = 0;
+  virtual bool particles_move() const = 0;
+  virtual const Mat2& x() const = 0;        // current particle positions, N x 2
+  virtual const Vec& volumes() const = 0;   // V_j = m_j / rho_j
+  virtual const Mat2& u() const = 0;        // u^n
+  virtual const Vec& p() const = 0;         // pressure (projection methods: p^{n-1/2}, zero mean)
+  virtual const Vec& phi() const = 0;       // projection methods: phi^n; WCSPH: density rho
+  virtual double time() const = 0;
+  virtual long steps() const = 0;
+  virtual double kinetic_energy() const = 0;      // sum_i m_i |u_i|^2 / 2
+  virtual double max_abs_divergence() const = 0;  // max_i |(div u)_i|, Eq. (30)
+
+  // Run-log lines (particles, images, neighbours, each linear system's factorisation) and
+  // figures for the summary (name, value).
+  virtual std::vector<std::string> describe() const = 0;
+  virtual std::vector<std::pair<std::string, double>> figures() const = 0;
+  virtual Profile& profile() const = 0;
+  virtual double setup_seconds(const std::string& what) const = 0;
+
+  int size() const { return lattice().size(); }
+  double h() const { return kernel().h; }
+  double nu() const { return params().mu / params().rho; }
+};
+
+// The solver of params.method.
+std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params);
+
+}  // namespace sphib
