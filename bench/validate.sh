@@ -28,8 +28,10 @@ for s in "${sections[@]}"; do
       $SWEEP --scene cases/couette.toml --out $OUT/couette --vary grid.nx=16,32,64 --derive grid.ny={grid.nx} \
         --report rms_error,seconds_per_step ;;
     cavity)
-      $SWEEP --scene cases/cavity_re100.toml --out $OUT/cavity --vary fluid.mu=1,0.01,0.0025,0.001 \
-        --report reynolds,stop_reason,time,max_deviation,rms_deviation,max_deviation_u,max_deviation_v,max_div_u ;;
+      for re in 1 100 400 1000; do
+        $SWEEP --scene cases/cavity_re$re.toml --out $OUT/cavity_re$re --vary grid.nx=64 \
+          --report reynolds,stop_reason,time,max_deviation,rms_deviation,max_deviation_u,max_deviation_v,max_div_u
+      done ;;
     equilibrium)
       $SWEEP --scene cases/membrane_equilibrium.toml --out $OUT/equilibrium --vary membrane.fixed=true,false \
         --report stop_reason,time,pressure_jump,pressure_jump_exact,pressure_mad_error,velocity_mad_error,area_relative_error,max_speed ;;

@@ -52,7 +52,7 @@ Simulation::Simulation(const SimulationParams& params)
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
     mem_.emplace_back(prm_.membranes[k]);
   }
-  grid_.build(fluid_->x());
+  if (!mem_.empty()) grid_.build(fluid_->x());  // no membranes, no coupling
   F_body_ = Mat2::Zero(N, 2);
   F_ = F_body_;
   if (!prm_.body_force_field) {
