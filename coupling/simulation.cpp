@@ -53,6 +53,12 @@ Simulation::Simulation(const SimulationParams& params)
     mem_.emplace_back(prm_.membranes[k]);
   }
   if (!mem_.empty()) grid_.build(fluid_->x());  // no membranes, no coupling
+  if (prm_.initial_velocity) {
+    const Mat2& x = fluid_->x();
+    Mat2 u0(N, 2);
+    for (int i = 0; i < N; ++i) u0.row(i) = prm_.initial_velocity(x(i, 0), x(i, 1)).transpose();
+    fluid_->set_velocity(u0);
+  }
   F_body_ = Mat2::Zero(N, 2);
   F_ = F_body_;
   if (!prm_.body_force_field) {

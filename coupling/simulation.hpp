@@ -22,6 +22,8 @@ struct SimulationParams {
   Eigen::Vector2d body_force = Eigen::Vector2d::Zero();  // per unit volume, constant in space and time
   // Optional body force field F(x, y, t) per unit volume; replaces body_force when set.
   std::function<Eigen::Vector2d(double, double, double)> body_force_field;
+  // Optional initial velocity u0(x, y) (default: at rest).
+  std::function<Eigen::Vector2d(double, double)> initial_velocity;
   std::vector<MembraneSetup> membranes;
   MarkerUpdateParams markers;
 };

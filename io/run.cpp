@@ -205,12 +205,14 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   if (scene.steady_eps > 0) { cols.push_back("du_rms"); cols.push_back("dp_rms"); }
   const bool equilibrium = scene.exact == "membrane_equilibrium" && !scene.membranes.empty();
   if (equilibrium) { cols.push_back("pressure_jump"); cols.push_back("pressure_mad_error"); cols.push_back("velocity_mad_error"); }
+  for (const auto& o : scene.observers) cols.push_back(o.name);
   for (size_t k = 0; k < mobs.size(); ++k) {
     const std::string p = "m" + std::to_string(k) + "_";
     for (const char* c : {"rx", "ry", "cx", "cy", "area", "area_rel_error", "elastic_energy", "length", "iterations"})
       cols.push_back(p + c);
   }
 
+  const size_t col_area0 = std::find(cols.begin(), cols.end(), "m0_area_rel_error") - cols.begin();
   RunAttributes attrs;
   attrs.text.emplace_back("sphib_version", SPHIB_VERSION);
   attrs.text.emplace_back("scene", scene.path);
@@ -264,6 +266,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       r.push_back(e.p_mad);
       r.push_back(e.u_mad);
     }
+    for (const auto& o : scene.observers) r.push_back(o.value(sim));
     for (size_t k = 0; k < mobs.size(); ++k) {
       const auto& m = sim.membranes()[k];
       const MembraneShape s = mobs[k].D.measure(m.m.X, m.m.T0);
@@ -343,7 +346,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
         std::ostringstream m;
         m << std::setprecision(4) << "  step " << fl.steps() << "/" << n_total << " t = " << fl.time() << "  "
           << rate << " steps/s  ETA " << eta << " s  KE = " << ke;
-        if (!mobs.empty()) m << "  area err = " << series.back()[cols.size() - 4];
+        if (!mobs.empty()) m << "  area err = " << series.back()[col_area0];
         if (opt.progress_bar) {
           const int w = 30, done = static_cast<int>(w * fl.steps() / n_total);
           *log << "\r[" << std::string(done, '#') << std::string(w - done, ' ') << "]" << m.str() << "   " << std::flush;
@@ -392,6 +395,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   j["max_div_u"] = fl.max_abs_divergence();
   j["max_speed"] = fl.u().rowwise().norm().maxCoeff();
   if (unidirectional) j["rms_error"] = rms_error_unidirectional(scene, fl);
+  for (const auto& o : scene.observers) j[o.name] = o.value(sim);
   if (scene.steady_eps > 0) { j["du_rms"] = du_rms; j["dp_rms"] = dp_rms; }
 
   if (scene.exact == "cavity") {

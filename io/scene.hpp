@@ -3,6 +3,7 @@
 // Every key, its type, default and allowed range is listed in scene.cpp (and the README table is
 // generated from `sphib keys`). Unknown keys, wrong types and invalid values are errors that name
 // the key and its line.
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,6 +28,14 @@ struct MembraneScene {
   Mat2 points;  // shape = "points"
 };
 
+// A diagnostics column of the user's choice: evaluated with the other diagnostics, written to
+// diagnostics.csv and the HDF5 series, its last value into summary.json under `name`.
+struct Observer {
+  std::string name;
+  std::function<double(const Simulation&)> value;
+};
+
+// What to simulate and observe: read from a scene file (load_scene) or built in C++.
 struct Scene {
   std::string path, title, method = "eulerian";
   std::string exact = "none";  // none | poiseuille | couette | cavity | membrane_equilibrium | membrane_oscillation
@@ -40,6 +49,7 @@ struct Scene {
   std::vector<std::string> fields{"u", "v", "p", "phi"};
   std::string reference_dir;     // Ghia tables for the cavity
   std::vector<std::pair<std::string, std::string>> resolved;  // every key = value as used (for attributes)
+  std::vector<Observer> observers;                            // extra diagnostics (C++ scenes)
 };
 
 // Reads a scene file, applies `key=value` overrides (dotted keys, TOML values; a bare word is a
