@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   run->add_option("--out", out_dir, "output directory (default: out)");
   run->add_option("--set", sets, "override a scene value: key=value (dotted key, e.g. grid.nx=32)");
   run->add_flag("--quiet", quiet, "no run log");
+  std::string restart;
+  run->add_option("--restart", restart, "continue from a checkpoint (DIR/checkpoint.h5 of an earlier run)");
 
   auto* check = app.add_subcommand("check", "validate a scene and print what it will compute");
   check->add_option("scene", scene_path, "scene file (TOML)")->required();
@@ -63,6 +65,7 @@ int main(int argc, char** argv) {
     opt.log = quiet ? nullptr : &std::cerr;
     opt.progress_bar = isatty(2);
     opt.stop = &g_stop;
+    opt.restart = restart;
     sphib::run_scene(scene, opt);
     if (g_stop.load()) std::cerr << "sphib: interrupted; consistent output written to " << out_dir << "\n";
     return g_stop.load() ? 130 : 0;

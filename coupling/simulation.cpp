@@ -71,6 +71,12 @@ Simulation::Simulation(const SimulationParams& params)
   k_markers_ = prof_.phase("marker update (Eqs. 56-60)");
 }
 
+void Simulation::set_markers(size_t k, const Mat2& X) {
+  if (k >= mem_.size() || X.rows() != mem_[k].m.X.rows())
+    throw std::invalid_argument("membrane " + std::to_string(k) + ": markers do not match the scene");
+  mem_[k].m.X = X;
+}
+
 void Simulation::body_force(double t) {
   if (!prm_.body_force_field) return;
   const Mat2& x = fluid_->x();

@@ -49,7 +49,8 @@ class Simulation {
   FluidSolver& fluid() { return *fluid_; }
   const FluidSolver& fluid() const { return *fluid_; }
   const std::vector<MembraneState>& membranes() const { return mem_; }
-  const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
+  const Mat2& force() const { return F_; }
+  void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)  // F^n of the last step (body + membranes), N x 2
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()

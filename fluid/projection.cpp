@@ -207,6 +207,39 @@ std::vector<std::pair<std::string, double>> Fluid::figures() const {
   return f;
 }
 
+// The state after step n: u^n, the convection N^n kept for AB2 (Eq. 39), phi^n and grad phi^n
+// (Eq. 42), the last two u* (the warm start of an iterative Crank-Nicolson solver), t_n and n.
+NamedArrays Fluid::state() const {
+  Eigen::MatrixXd clock(1, 3);
+  clock << t_, static_cast<double>(n_), first_ ? 1.0 : 0.0;
+  return {{"u", u_},           {"conv_old", conv_old_}, {"phi", phi_},   {"grad_phi", grad_phi_},
+          {"u_star", u_star_}, {"u_star_old", u_star_old_}, {"clock", clock}};
+}
+
+void Fluid::restore(const NamedArrays& state) {
+  auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
+    for (const auto& [k, v] : state)
+      if (k == name) {
+        if (v.rows() != rows || v.cols() != cols)
+          throw std::runtime_error("checkpoint: " + name + " has the wrong size for this lattice");
+        return v;
+      }
+    throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
+  };
+  const int N = size();
+  u_ = get("u", N, 2);
+  conv_old_ = get("conv_old", N, 2);
+  phi_ = get("phi", N, 1);
+  grad_phi_ = get("grad_phi", N, 2);
+  u_star_ = get("u_star", N, 2);
+  u_star_old_ = get("u_star_old", N, 2);
+  const Eigen::MatrixXd& clock = get("clock", 1, 3);
+  t_ = clock(0, 0);
+  n_ = static_cast<long>(clock(0, 1));
+  first_ = clock(0, 2) != 0.0;
+  p_step_ = -1;
+}
+
 double Fluid::setup_seconds(const std::string& what) const {
   for (const auto& [k, s] : setup_)
     if (k == what) return s;

@@ -54,6 +54,8 @@ class Fluid final : public FluidSolver {
   std::vector<std::pair<std::string, double>> figures() const override;
   Profile& profile() const override { return prof_; }
   double setup_seconds(const std::string& what) const override;  // "neighbours", "assembly", "factorisation"
+  NamedArrays state() const override;
+  void restore(const NamedArrays& state) override;
 
  private:
   FluidParams prm_;

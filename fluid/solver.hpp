@@ -47,6 +47,9 @@ struct FluidParams {
   WcsphParams wcsph;
 };
 
+// Named arrays of doubles: a solver's state for checkpoints.
+using NamedArrays = std::vector<std::pair<std::string, Eigen::MatrixXd>>;
+
 class FluidSolver {
  public:
   virtual ~FluidSolver() = default;
@@ -76,6 +79,11 @@ class FluidSolver {
   virtual std::vector<std::pair<std::string, double>> figures() const = 0;
   virtual Profile& profile() const = 0;
   virtual double setup_seconds(const std::string& what) const = 0;
+
+  // Everything that determines the following steps (for checkpoints), and its restoration into a
+  // solver built from the same parameters. Methods without checkpoints throw std::runtime_error.
+  virtual NamedArrays state() const;
+  virtual void restore(const NamedArrays& state);
 
   int size() const { return lattice().size(); }
   double h() const { return kernel().h; }

@@ -13,6 +13,7 @@
 
 #include "coupling/interpolate.hpp"
 #include "fluid/exact.hpp"
+#include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/summary.hpp"
@@ -153,6 +154,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   // Set-up: everything that can refuse the scene happens before anything is written.
   const auto t_setup = Clock::now();
   Simulation sim(scene.sim);
+  if (!opt.restart.empty()) restore_checkpoint(read_checkpoint(opt.restart), opt.restart, scene.resolved, sim);
   const double setup_seconds = since(t_setup);
   FluidSolver& fl = sim.fluid();
   const FluidParams& fp = fl.params();
@@ -234,6 +236,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
                            : std::lround(scene.t_end / fp.dt);
   const long diag_every = scene.diagnostics_every > 0 ? scene.diagnostics_every : std::max<long>(1, n_total / 500);
   const long out_every = scene.output_interval > 0 ? std::max<long>(1, std::lround(scene.output_interval / fp.dt)) : 0;
+  const long ckpt_every =
+      scene.checkpoint_interval > 0 ? std::max<long>(1, std::lround(scene.checkpoint_interval / fp.dt)) : 0;
+  const std::string ckpt_path = opt.out_dir + "/checkpoint.h5";
 
   Vec u_field(N), v_field(N);
   auto snapshot = [&]() {
@@ -339,6 +344,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       const bool last = fl.steps() == n_total || steady;
       if (fl.steps() % diag_every == 0 || last) diagnostics_row();
       if (out_every && fl.steps() % out_every == 0 && !last) snapshot();
+      if (ckpt_every && fl.steps() % ckpt_every == 0 && !last) write_checkpoint(ckpt_path, sim, scene.resolved);
       if (steady) { stop_reason = "steady state"; break; }
       if (log && since(t_log) > (opt.progress_bar ? 0.5 : opt.log_every_seconds)) {
         t_log = Clock::now();
@@ -361,7 +367,16 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   }
   const double loop_seconds = since(t_loop);
   if (log && opt.progress_bar) *log << "\n";
-  if (fault.empty()) snapshot();  // the last good state (a faulty one is never written)
+  if (fault.empty()) {  // the last good state (a faulty one is never written)
+    snapshot();
+    if (fl.steps() > 0) {
+      try {
+        write_checkpoint(ckpt_path, sim, scene.resolved);
+      } catch (const std::runtime_error& e) {
+        if (fl.params().method == "eulerian") throw;  // other methods may have no checkpoints yet
+      }
+    }
+  }
   h5.write_series("diagnostics", cols, series);
   h5.close();
   csv.close();

@@ -17,6 +17,7 @@ struct RunOptions {
   bool progress_bar = false;                 // a terminal: one updating line; else periodic log lines
   double log_every_seconds = 5.0;            // plain progress lines this often
   const std::atomic<bool>* stop = nullptr;   // set (e.g. by SIGINT) to end cleanly after the current step
+  std::string restart;                       // a checkpoint to continue from (same scene and version)
 };
 
 // A run that went wrong (blow-up, solver failure) after outputs were opened; what was written
@@ -25,8 +26,9 @@ struct RunError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Runs the scene and writes DIR/output.h5 (+ .xdmf), DIR/diagnostics.csv and DIR/summary.json.
-// Returns the summary. Nothing is written if the simulation cannot be set up.
+// Runs the scene and writes DIR/output.h5 (+ .xdmf), DIR/diagnostics.csv, DIR/summary.json and,
+// every output.checkpoint_interval and at the end, DIR/checkpoint.h5. Returns the summary.
+// Nothing is written if the simulation cannot be set up (or the restart file does not match).
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
 
 }  // namespace sphib

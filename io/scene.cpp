@@ -336,6 +336,8 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
   // Output and observation
   s.output_interval = r.number("output.interval", 0.0, ">= 0", "time between HDF5 snapshots (0: first and last only)", false, 0.0);
+  s.checkpoint_interval = r.number("output.checkpoint_interval", 0.0, ">= 0",
+                                   "time between checkpoints, DIR/checkpoint.h5 (0: only at the end)", false, 0.0);
   s.diagnostics_every = r.integer("output.diagnostics_every", 0, 0, "steps between diagnostics rows (0: about 500 rows per run)");
   if (const toml::node* fl = r.raw("output.fields", "array of strings", "particle fields in snapshots, from u, v, p, phi")) {
     const toml::array* a = fl->as_array();

@@ -45,6 +45,7 @@ struct Scene {
   long max_steps = 0;        // 0: no limit
   double steady_eps = 0.0;   // > 0: stop at steady state, Eqs. (81)-(82)
   double output_interval = 0.0;  // time between HDF5 snapshots (0: first and last only)
+  double checkpoint_interval = 0.0;  // time between checkpoints (0: only at the end)
   long diagnostics_every = 0;    // steps between diagnostics rows (0: about 500 rows)
   std::vector<std::string> fields{"u", "v", "p", "phi"};
   std::string reference_dir;     // Ghia tables for the cavity

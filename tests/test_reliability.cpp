@@ -1,0 +1,117 @@
+// Checkpoints restart bit for bit; a mismatched restart is refused; a run killed at any moment
+// leaves only complete files under their final names.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "io/checkpoint.hpp"
+#include "io/run.hpp"
+#include "io/scene.hpp"
+
+extern char** environ;
+
+using namespace sphib;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = std::string(SPHIB_SOURCE_DIR) + "/cases/membrane_oscillation.toml";
+const std::vector<std::string> kSmall{"grid.nx=24", "grid.ny=24", "membrane.nb=48", "time.dt=1e-3"};
+
+nlohmann::json run(const std::string& dir, std::vector<std::string> sets, const std::string& restart = "") {
+  sets.insert(sets.begin(), kSmall.begin(), kSmall.end());
+  Scene s = load_scene(kScene, sets);
+  RunOptions o;
+  o.out_dir = dir;
+  o.restart = restart;
+  return run_scene(s, o);
+}
+
+}  // namespace
+
+TEST(Reliability, RestartReproducesTheStraightRunBitForBit) {
+  const fs::path d = fs::temp_directory_path() / "sphib_restart";
+  fs::remove_all(d);
+  const auto straight = run((d / "a").string(), {"time.max_steps=50"});
+  run((d / "b").string(), {"time.max_steps=20"});
+  const auto restarted = run((d / "c").string(), {"time.max_steps=50"}, (d / "b" / "checkpoint.h5").string());
+  EXPECT_EQ(restarted["steps"], 50);
+  for (const char* k : {"time", "rx", "ry", "area", "kinetic_energy", "max_div_u", "elastic_energy", "max_speed"})
+    EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k;
+  fs::remove_all(d);
+}
+
+TEST(Reliability, RestartWithAnotherSceneIsRefused) {
+  const fs::path d = fs::temp_directory_path() / "sphib_restart_mismatch";
+  fs::remove_all(d);
+  run((d / "a").string(), {"time.max_steps=5"});
+  try {
+    run((d / "b").string(), {"time.max_steps=10", "fluid.mu=0.2"}, (d / "a" / "checkpoint.h5").string());
+    FAIL() << "a restart with another viscosity was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("fluid.mu"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(d / "b" / "output.h5.part"));  // refused before anything was written
+  EXPECT_FALSE(fs::exists(d / "b" / "output.h5"));
+  try {
+    read_checkpoint((d / "a" / "summary.json").string());
+    FAIL() << "a JSON file was read as a checkpoint";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("summary.json"), std::string::npos) << e.what();
+  }
+  fs::remove_all(d);
+}
+
+// SIGKILL at random moments: every file left under a final name opens and is complete.
+TEST(Reliability, KilledRunsLeaveOnlyCompleteFiles) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  std::mt19937 rng(12345);
+  std::uniform_int_distribution<int> wait_ms(20, 600);
+  int checked = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const fs::path d = fs::temp_directory_path() / ("sphib_kill_" + std::to_string(trial));
+    fs::remove_all(d);
+    // A first, complete run leaves files under their final names; the killed one rewrites them.
+    std::vector<std::string> args{SPHIB_BINARY, "run", kScene, "--out", d.string(), "--quiet"};
+    for (const auto& s : kSmall) { args.push_back("--set"); args.push_back(s); }
+    for (const char* s : {"time.end=1000", "output.interval=0.005", "output.checkpoint_interval=0.003",
+                          "output.diagnostics_every=1"}) {
+      args.push_back("--set");
+      args.push_back(s);
+    }
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid;
+    ASSERT_EQ(posix_spawn(&pid, SPHIB_BINARY, nullptr, nullptr, argv.data(), environ), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms(rng)));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!fs::exists(d)) continue;
+    for (const auto& e : fs::directory_iterator(d)) {
+      const std::string p = e.path().string();
+      if (e.path().extension() == ".part") continue;  // incomplete by name
+      ++checked;
+      if (e.path().extension() == ".h5") {
+        const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+        EXPECT_GE(f, 0) << p << " does not open";
+        if (f >= 0) H5Fclose(f);
+        if (e.path().filename() == "checkpoint.h5") EXPECT_NO_THROW(read_checkpoint(p)) << p;
+      } else {
+        ADD_FAILURE() << "a killed run left " << p << " under a final name";
+      }
+    }
+    fs::remove_all(d);
+  }
+  EXPECT_GT(checked, 0) << "no checkpoint was ever complete: lengthen the waits";
+}
