@@ -252,7 +252,7 @@ def plot_series(cols, names, ylabel, title, out, logy=False):
     return True
 
 
-def plot_run(run_dir):
+def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS):
     h5_path = require(os.path.join(run_dir, "output.h5"))
     csv_path = require(os.path.join(run_dir, "diagnostics.csv"))
     summary = read_summary(run_dir)
@@ -264,7 +264,7 @@ def plot_run(run_dir):
         names = snapshot_names(h5)
         if not names:
             print("plot.py: %s has no snapshots" % h5_path, file=sys.stderr)
-        for i in pick_evenly(len(names), N_SNAPSHOT_PLOTS):
+        for i in pick_evenly(len(names), n_snapshots):
             s = Snapshot(h5["snapshots"][names[i]])
             out = os.path.join(run_dir, "snapshot_%s.png" % s.name)
             plot_snapshot(s, out)
@@ -331,13 +331,15 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("run_dir", nargs="?", help="run directory with output.h5, diagnostics.csv")
     ap.add_argument("--sweep", metavar="SWEEP_CSV", help="resolution sweep CSV (nx, *_error)")
+    ap.add_argument("--snapshots", type=int, default=N_SNAPSHOT_PLOTS,
+                    help="how many snapshots to draw, evenly spaced, always the last (default %(default)s)")
     a = ap.parse_args()
     if a.sweep:
         written = plot_sweep(a.sweep)
     elif a.run_dir:
         if not os.path.isdir(a.run_dir):
             fail("missing run directory %s" % a.run_dir)
-        written = plot_run(a.run_dir)
+        written = plot_run(a.run_dir, a.snapshots)
     else:
         ap.error("give RUN_DIR or --sweep SWEEP_CSV")
     for w in written:

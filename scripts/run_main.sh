@@ -8,4 +8,4 @@ bash scripts/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
 cmake --build build --parallel 2 --target sphib >> build.log 2>&1 || { tail -50 build.log; exit 1; }
 build/sphib run cases/membrane_oscillation.toml --out out/membrane_oscillation "$@"
-/usr/bin/python3 scripts/plot.py out/membrane_oscillation
+/usr/bin/python3 scripts/plot.py out/membrane_oscillation --snapshots 21
