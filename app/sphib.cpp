@@ -1,13 +1,17 @@
-// The sphib command: run a scene, check it, list the scene keys.
+// The sphib command: run a scene, check it, sweep its parameters, list the scene keys.
+// Exit status: 0 done, 2 bad scene or arguments (nothing run), 1 a run failed, 130 interrupted.
 #include <unistd.h>
 
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 
+#include "app/check.hpp"
+#include "app/sweep.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "sphib_version.hpp"
@@ -37,26 +41,50 @@ int main(int argc, char** argv) {
   check->add_option("scene", scene_path, "scene file (TOML)")->required();
   check->add_option("--set", sets, "override a scene value: key=value");
 
+  sphib::app::SweepOptions sw;
+  std::string report;
+  auto* sweep = app.add_subcommand("sweep", "run a scene over every combination of parameter values, in process, "
+                                            "and tabulate summary figures with observed orders");
+  sweep->add_option("scene", sw.scene, "scene file (TOML)")->required();
+  sweep->add_option("--vary", sw.vary, "key=v1,v2,... (repeatable; the first key orders the observed orders)")
+      ->required();
+  sweep->add_option("--derive", sw.derive, "key=EXPR of {varied.key}: numbers, + - * / ** ( ), sqrt, pi");
+  sweep->add_option("--set", sw.set, "key=value for every run");
+  sweep->add_option("--report", report, "comma-separated summary fields (dotted names reach into objects)")
+      ->required();
+  sweep->add_option("--out", sw.out, "output directory: DIR/run_NNN, DIR/sweep.csv, DIR/sweep.md")->required();
+  sweep->add_flag("--quiet", quiet, "no line per run");
+
   auto* keys = app.add_subcommand("keys", "list every scene key with its type, default and meaning");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help, version or the error
+    return code == 0 ? 0 : 2;
+  }
   try {
     if (keys->parsed()) {
       std::cout << "| key | type | default | allowed | meaning |\n|---|---|---|---|---|\n"
                 << sphib::describe_scene_keys();
       return 0;
     }
+    if (sweep->parsed()) {
+      std::stringstream ss(report);
+      for (std::string r; std::getline(ss, r, ',');)
+        if (!r.empty()) sw.report.push_back(r);
+      std::signal(SIGINT, on_sigint);
+      sw.log = quiet ? nullptr : &std::cerr;
+      sw.table = &std::cout;
+      sw.stop = &g_stop;
+      const auto res = sphib::app::run_sweep(sw);
+      if (g_stop.load()) return 130;
+      return res.failed ? 1 : 0;
+    }
     sphib::Scene scene = sphib::load_scene(scene_path, sets);
     if (check->parsed()) {
-      sphib::Simulation sim(scene.sim);  // builds everything: refuses what cannot run
-      const auto& f = sim.fluid();
-      std::cout << scene_path << ": ok\n";
-      for (const auto& line : f.describe()) std::cout << "  " << line << "\n";
-      for (size_t k = 0; k < sim.membranes().size(); ++k) {
-        const auto& m = sim.membranes()[k];
-        std::cout << "  membrane " << k << ": markers per grid spacing "
-                  << f.lattice().dx / m.m.ds() << ", h* = " << m.h_star << "\n";
-      }
+      const int warnings = sphib::app::check_scene(scene, std::cout);
+      if (warnings) std::cout << "  " << warnings << " warning(s)\n";
       return 0;
     }
     std::signal(SIGINT, on_sigint);
@@ -70,6 +98,9 @@ int main(int argc, char** argv) {
     if (g_stop.load()) std::cerr << "sphib: interrupted; consistent output written to " << out_dir << "\n";
     return g_stop.load() ? 130 : 0;
   } catch (const sphib::SceneError& e) {
+    std::cerr << "sphib: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {  // refused at set-up (UsageError, ExpressionError, geometry)
     std::cerr << "sphib: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

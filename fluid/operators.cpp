@@ -1,11 +1,12 @@
 #include "fluid/operators.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace sphib {
 
 ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rule, const double* a,
-                       bool difference) {
+                       bool difference, bool keep_zeros) {
   const int M = im.size();
   std::vector<Triplet> tA, tB;
   tA.reserve(P.size() + N);
@@ -30,7 +31,7 @@ ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rul
   ImageOp op;
   op.A.resize(N, N);
   op.A.setFromTriplets(tA.begin(), tA.end());  // duplicates (i, p) are summed
-  op.A.prune(0.0);
+  if (!keep_zeros) op.A.prune(0.0);
   op.B.resize(N, M);
   op.B.setFromTriplets(tB.begin(), tB.end());
   return op;
@@ -46,13 +47,13 @@ Operators build_operators(const PairList& P, const Lattice& L, const Images& im,
     gx[k] = V * P.rx[k] * F;      // Eqs. (27), (30): V (x_i - x_j) F_ij
     gy[k] = V * P.ry[k] * F;
   }
-  Operators op;
-  op.lap_u = assemble_pairs(P, N, im, ImageRule::Velocity, lap.data(), true);
-  op.grad_ux = assemble_pairs(P, N, im, ImageRule::Velocity, gx.data(), false);
-  op.grad_uy = assemble_pairs(P, N, im, ImageRule::Velocity, gy.data(), false);
+  Operators op;  // all with one pattern per image rule, for the fused products
+  op.lap_u = assemble_pairs(P, N, im, ImageRule::Velocity, lap.data(), true, true);
+  op.grad_ux = assemble_pairs(P, N, im, ImageRule::Velocity, gx.data(), false, true);
+  op.grad_uy = assemble_pairs(P, N, im, ImageRule::Velocity, gy.data(), false, true);
   op.lap_phi = assemble_pairs(P, N, im, ImageRule::Scalar, lap.data(), true).A;
-  op.grad_phix = assemble_pairs(P, N, im, ImageRule::Scalar, gx.data(), false).A;
-  op.grad_phiy = assemble_pairs(P, N, im, ImageRule::Scalar, gy.data(), false).A;
+  op.grad_phix = assemble_pairs(P, N, im, ImageRule::Scalar, gx.data(), false, true).A;
+  op.grad_phiy = assemble_pairs(P, N, im, ImageRule::Scalar, gy.data(), false, true).A;
   return op;
 }
 

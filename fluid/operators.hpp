@@ -10,6 +10,7 @@
 #include "fluid/boundary.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/neighbours.hpp"
+#include "fluid/products.hpp"
 
 namespace sphib {
 
@@ -32,8 +33,12 @@ struct OperatorRequest {
 enum class ImageRule { Velocity, Scalar };
 
 // One operator: coefficient a_k of pair k, "difference" f_i - f_j or "sum" f_i + f_j.
+// keep_zeros: explicit zeros stay, so that operators built from one pair list share one pattern
+// (the fused products below need that).
 ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rule, const double* a,
-                       bool difference);
+                       bool difference, bool keep_zeros = false);
+
+
 
 Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W);
 

@@ -71,7 +71,7 @@ class Fluid final : public FluidSolver {
   std::vector<std::pair<std::string, double>> setup_;
 
   // state and workspace (sized once)
-  Mat2 u_, u_star_, u_star_old_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_, c_sum_;
+  Mat2 u_, u_star_, u_star_old_, du_dx_, du_dy_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_, c_sum_;
   Vec phi_, div_, b_phi_, V_;
   mutable Vec p_;
   mutable long p_step_ = -1;

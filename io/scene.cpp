@@ -329,7 +329,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   std::vector<std::string> cn_kinds(kinds);
   cn_kinds.push_back("pcg");
   f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", cn_kinds,
-                                     "Crank-Nicolson solver (auto: CHOLMOD, simplicial or supernodal by the size of the factor; pcg: warm-started conjugate gradients, fast when nu dt / dx^2 is small)"));
+                                     "Crank-Nicolson solver (auto: warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", kinds,
                                           "Poisson factorisation (auto: CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");

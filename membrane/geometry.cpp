@@ -191,6 +191,39 @@ Membrane from_points(const Mat2& points, int nb, double r0, double T0) {
   return mem;
 }
 
+Membrane from_curve(const std::function<Eigen::Vector2d(double)>& curve, int nb, double r0, double T0,
+                    int samples) {
+  check_common("from_curve", nb, r0);
+  if (!curve) throw std::invalid_argument("from_curve: no curve given");
+  const int m = samples > 0 ? samples : std::max(16 * nb, 256);
+  if (m < 4) throw std::invalid_argument("from_curve: needs at least 4 samples");
+  Mat2 P(m, 2);
+  for (int i = 0; i < m; ++i) P.row(i) = curve(static_cast<double>(i) / m).transpose();
+  if (!P.allFinite()) throw std::invalid_argument("from_curve: the curve has NaN or infinite points");
+  const double size = (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm();
+  const Eigen::Vector2d gap = curve(1.0) - P.row(0).transpose();
+  if (!(gap.norm() <= 1e-6 * size))
+    throw std::invalid_argument("from_curve: the curve is not closed: |C(1) - C(0)| = " +
+                                std::to_string(gap.norm()) + " (t runs over [0, 1))");
+  try {
+    return from_points(P, nb, r0, T0);
+  } catch (const std::invalid_argument& e) {
+    std::string what = e.what();
+    throw std::invalid_argument("from_curve: " + what.substr(what.find(':') + 2));
+  }
+}
+
+Membrane from_polar(const std::function<double(double)>& r, int nb, double r0, double T0, double cx,
+                    double cy) {
+  if (!r) throw std::invalid_argument("from_polar: no radius function given");
+  return from_curve(
+      [&](double t) {
+        const double theta = 2.0 * kPi * t, rho = r(theta);
+        return Eigen::Vector2d(cx + rho * std::cos(theta), cy + rho * std::sin(theta));
+      },
+      nb, r0, T0);
+}
+
 // ---------------------------------------------------------------- polygon diagnostics
 
 double signed_area(const Mat2& X) {
@@ -225,6 +258,53 @@ bool is_simple(const Mat2& X) {
       if (segments_meet(a, b, P(j), P(j + 1))) return false;
   }
   return true;
+}
+
+ShapeMoments ellipse_fit(const Mat2& X) {
+  // Green's theorem on each edge (x_j, y_j) -> (x_k, y_k), c = x_j y_k - x_k y_j, with the
+  // coordinates taken about the vertex mean o (less cancellation):
+  //   2A = sum c,  6A cx = sum c (x_j + x_k),
+  //   12 int x^2 dA = sum c (x_j^2 + x_j x_k + x_k^2),
+  //   24 int xy dA = sum c (2 x_j y_j + x_j y_k + x_k y_j + 2 x_k y_k).
+  const int n = static_cast<int>(X.rows());
+  ShapeMoments s;
+  if (n < 3) return s;
+  const Eigen::Vector2d o = X.colwise().mean().transpose();
+  double a = 0, mx = 0, my = 0, ixx = 0, iyy = 0, ixy = 0;
+  for (int k = 0, j = n - 1; k < n; j = k++) {
+    const double xj = X(j, 0) - o.x(), yj = X(j, 1) - o.y(), xk = X(k, 0) - o.x(), yk = X(k, 1) - o.y();
+    const double c = xj * yk - xk * yj;
+    a += c;
+    mx += c * (xj + xk);
+    my += c * (yj + yk);
+    ixx += c * (xj * xj + xj * xk + xk * xk);
+    iyy += c * (yj * yj + yj * yk + yk * yk);
+    ixy += c * (2.0 * xj * yj + xj * yk + xk * yj + 2.0 * xk * yk);
+  }
+  s.area = 0.5 * a;
+  const double cx = mx / (3.0 * a), cy = my / (3.0 * a);  // about o
+  s.centroid = o + Eigen::Vector2d(cx, cy);
+  // Parallel axes: central moments = moments about o - A (c - o)(c - o)^T.
+  s.Jxx = ixx / 12.0 - s.area * cx * cx;
+  s.Jyy = iyy / 12.0 - s.area * cy * cy;
+  s.Jxy = ixy / 24.0 - s.area * cx * cy;
+  // Eigenvalues of J; an ellipse of half-axes (L, B) has lambda = A L^2/4, A B^2/4.
+  const double mean = 0.5 * (s.Jxx + s.Jyy), dev = std::hypot(0.5 * (s.Jxx - s.Jyy), s.Jxy);
+  s.L = 2.0 * std::sqrt(std::max(mean + dev, 0.0) / s.area);
+  s.B = 2.0 * std::sqrt(std::max(mean - dev, 0.0) / s.area);
+  s.theta = 0.5 * std::atan2(2.0 * s.Jxy, s.Jxx - s.Jyy);
+  if (s.theta <= -0.5 * kPi) s.theta += kPi;  // atan2(-0, x < 0): keep (-pi/2, pi/2]
+  return s;
+}
+
+double mean_angular_velocity(const Mat2& X, const Mat2& U, const Eigen::Vector2d& c) {
+  const int n = static_cast<int>(X.rows());
+  double w = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double rx = X(k, 0) - c.x(), ry = X(k, 1) - c.y();
+    w += (rx * U(k, 1) - ry * U(k, 0)) / (rx * rx + ry * ry);  // (X - c) x U / |X - c|^2
+  }
+  return n ? w / n : 0.0;
 }
 
 // ---------------------------------------------------------------- spline diagnostics

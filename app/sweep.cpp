@@ -1,0 +1,234 @@
+#include "app/sweep.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <ostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/expression.hpp"
+#include "io/atomic_file.hpp"
+#include "io/run.hpp"
+#include "io/scene.hpp"
+
+namespace sphib::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::pair<std::string, std::string> split_kv(const std::string& kv, const char* option) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == kv.size())
+    throw UsageError(std::string(option) + " " + kv + ": expected key=value");
+  return {kv.substr(0, eq), kv.substr(eq + 1)};
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// A JSON value as a table cell: numbers as Python prints them, strings bare, null empty.
+std::string cell(const nlohmann::json& v, bool markdown) {
+  if (v.is_null()) return "";
+  if (v.is_string()) {
+    std::string t = v.get<std::string>();
+    if (markdown)  // a '|' inside a Markdown table cell
+      for (size_t k = t.find('|'); k != std::string::npos; k = t.find('|', k + 2)) t.replace(k, 1, "\\|");
+    return t;
+  }
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number_integer() || v.is_number_unsigned()) return v.dump();
+  if (v.is_number_float()) {
+    if (!markdown) return format_number({v.get<double>(), false});
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v.get<double>());
+    return buf;
+  }
+  return v.dump();
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+bool as_number(const nlohmann::json& v, double& x) {
+  if (v.is_number()) { x = v.get<double>(); return true; }
+  if (!v.is_string()) return false;
+  const std::string s = v.get<std::string>();
+  char* end = nullptr;
+  x = std::strtod(s.c_str(), &end);
+  return end && *end == '\0' && end != s.c_str();
+}
+
+}  // namespace
+
+SweepResult run_sweep(const SweepOptions& o) {
+  // Keys and values
+  std::vector<std::string> keys;
+  std::vector<std::vector<std::string>> values;
+  for (const auto& v : o.vary) {
+    auto [k, list] = split_kv(v, "--vary");
+    keys.push_back(k);
+    values.push_back(split(list, ','));
+    if (values.back().empty()) throw UsageError("--vary " + v + ": no values");
+  }
+  if (keys.empty()) throw UsageError("give at least one --vary key=v1,v2,...");
+  std::vector<std::pair<std::string, std::string>> derives;
+  for (const auto& d : o.derive) derives.push_back(split_kv(d, "--derive"));
+  for (const auto& s : o.set) split_kv(s, "--set");
+  if (o.report.empty()) throw UsageError("give the summary fields to tabulate: --report a,b");
+
+  // Every combination, the last key fastest (itertools.product), set up before anything runs.
+  struct Run {
+    std::map<std::string, std::string> env;  // varied and derived values as set
+    std::vector<std::string> sets;
+    Scene scene;
+    std::string dir;
+  };
+  std::vector<Run> runs;
+  std::vector<size_t> idx(keys.size(), 0);
+  while (true) {
+    Run r;
+    for (size_t k = 0; k < keys.size(); ++k) {
+      r.env[keys[k]] = values[k][idx[k]];
+      r.sets.push_back(keys[k] + "=" + values[k][idx[k]]);
+    }
+    std::map<std::string, std::string> varied(r.env);
+    for (const auto& [dk, expr] : derives) {
+      const std::string v = format_number(evaluate(substitute(expr, varied)));
+      r.env[dk] = v;
+      r.sets.push_back(dk + "=" + v);
+    }
+    r.sets.insert(r.sets.end(), o.set.begin(), o.set.end());
+    char name[32];
+    std::snprintf(name, sizeof name, "run_%03zu", runs.size());
+    r.dir = (fs::path(o.out) / name).string();
+    r.scene = load_scene(o.scene, r.sets);  // SceneError: refused before anything runs
+    runs.push_back(std::move(r));
+    size_t k = keys.size();
+    while (k > 0 && ++idx[k - 1] == values[k - 1].size()) idx[--k] = 0;
+    if (k == 0) break;
+  }
+
+  fs::create_directories(o.out);
+  SweepResult res;
+  std::vector<nlohmann::json> rows;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    if (o.stop && o.stop->load()) break;
+    Run& r = runs[i];
+    const std::string summary_path = r.dir + "/summary.json";
+    nlohmann::json s;
+    std::string settings;
+    for (const auto& kv : r.sets) settings += " " + kv;
+    bool done = false;  // a complete earlier run (an interrupted one is run again)
+    if (fs::exists(summary_path)) {
+      std::ifstream in(summary_path);
+      try { done = nlohmann::json::parse(in).value("stop_reason", "") != "interrupted"; } catch (const std::exception&) {}
+    }
+    if (done) {
+      ++res.reused;
+      if (o.log) *o.log << "sweep: " << r.dir << ": already run (summary.json kept)" << std::endl;
+    } else {
+      if (o.log) *o.log << "sweep: " << r.dir << ":" << settings << std::endl;
+      RunOptions ro;
+      ro.out_dir = r.dir;
+      ro.stop = o.stop;
+      try {
+        run_scene(r.scene, ro);
+      } catch (const std::exception& e) {
+        ++res.failed;
+        if (o.log) *o.log << "sweep: " << r.dir << " failed: " << e.what() << std::endl;
+      }
+    }
+    if (fs::exists(summary_path)) {
+      std::ifstream in(summary_path);
+      try { s = nlohmann::json::parse(in); } catch (const std::exception&) { s = nlohmann::json::object(); }
+    } else {
+      continue;  // set-up failed before anything was written
+    }
+    ++res.runs;
+    nlohmann::json row = nlohmann::json::object();
+    for (const auto& [k, v] : r.env) row[k] = v;
+    for (const auto& rep : o.report) {  // a dotted name reaches into nested objects
+      const nlohmann::json* v = &s;
+      for (const auto& part : split(rep, '.')) {
+        if (v->is_object() && v->contains(part)) v = &(*v)[part];
+        else { v = nullptr; break; }
+      }
+      row[rep] = v ? *v : nlohmann::json();
+    }
+    row["steps"] = s.value("steps", nlohmann::json());
+    row["wall_seconds"] = s.value("wall_seconds", nlohmann::json());
+    row["run"] = r.dir;
+    rows.push_back(row);
+  }
+
+  // Tables
+  std::vector<std::string> cols(keys);
+  for (const auto& [dk, e] : derives)
+    if (std::find(cols.begin(), cols.end(), dk) == cols.end()) cols.push_back(dk);
+  cols.insert(cols.end(), o.report.begin(), o.report.end());
+  for (const char* c : {"steps", "wall_seconds", "run"}) cols.emplace_back(c);
+
+  std::ostringstream csv;
+  for (size_t c = 0; c < cols.size(); ++c) csv << (c ? "," : "") << csv_field(cols[c]);
+  csv << "\n";
+  for (const auto& row : rows) {
+    for (size_t c = 0; c < cols.size(); ++c) csv << (c ? "," : "") << csv_field(cell(row.value(cols[c], nlohmann::json()), false));
+    csv << "\n";
+  }
+  write_file_atomic((fs::path(o.out) / "sweep.csv").string(), csv.str());
+
+  std::ostringstream md;
+  md << "|";
+  for (size_t c = 0; c + 1 < cols.size(); ++c) md << " " << cols[c] << " |";
+  for (const auto& rep : o.report) md << " order " << rep << " |";
+  md << "\n|";
+  for (size_t c = 0; c + 1 < cols.size() + o.report.size(); ++c) md << "---|";
+  md << "\n";
+  const std::string& res_key = keys[0];
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const nlohmann::json* prev = nullptr;  // the last earlier row with the other varied keys equal
+    for (size_t j = i; j-- > 0;) {
+      bool same = true;
+      for (size_t k = 1; k < keys.size(); ++k) same = same && rows[j][keys[k]] == rows[i][keys[k]];
+      if (same) { prev = &rows[j]; break; }
+    }
+    md << "|";
+    for (size_t c = 0; c + 1 < cols.size(); ++c) md << " " << cell(rows[i].value(cols[c], nlohmann::json()), true) << " |";
+    for (const auto& rep : o.report) {
+      double e0, e1, n0, n1;
+      std::string order;
+      if (prev && as_number((*prev)[rep], e0) && as_number(rows[i][rep], e1) && as_number((*prev)[res_key], n0) &&
+          as_number(rows[i][res_key], n1) && e0 != 0 && e1 != 0 && n0 > 0 && n1 > 0 && n0 != n1) {
+        const double p = std::log(std::fabs(e0) / std::fabs(e1)) / std::log(n1 / n0);
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.2f", p);
+        order = buf;
+      }
+      md << " " << order << " |";
+    }
+    md << "\n";
+  }
+  res.markdown = md.str();
+  write_file_atomic((fs::path(o.out) / "sweep.md").string(), res.markdown);
+  if (o.table) *o.table << res.markdown << std::flush;
+  return res;
+}
+
+}  // namespace sphib::app

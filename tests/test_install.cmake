@@ -1,0 +1,39 @@
+# ctest install_and_use_package: installs the build tree into a temporary prefix, then configures,
+# builds and runs examples/outside against the installed package (find_package(sphib)).
+# Arguments: -DBUILD_DIR -DSOURCE_DIR -DWORK_DIR -DGENERATOR, and the build's -DCXX_FLAGS and
+# -DBUILD_TYPE (a sanitizer build's library needs the same flags in the program that links it).
+foreach(v BUILD_DIR SOURCE_DIR WORK_DIR GENERATOR)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "test_install.cmake: -D${v}=... is required")
+  endif()
+endforeach()
+
+function(step what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif()
+  message(STATUS "${what}: ok")
+  set(step_output "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+step("install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+foreach(f include/sphib/coupling/simulation.hpp include/sphib/sphib_version.hpp bin/sphib)
+  if(NOT EXISTS ${prefix}/${f})
+    message(FATAL_ERROR "install: ${prefix}/${f} is missing")
+  endif()
+endforeach()
+file(GLOB config ${prefix}/lib*/cmake/sphib/sphibConfig.cmake ${prefix}/lib/*/cmake/sphib/sphibConfig.cmake)
+if(NOT config)
+  message(FATAL_ERROR "install: no lib/cmake/sphib/sphibConfig.cmake under ${prefix}")
+endif()
+step("configure examples/outside" ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/outside -B ${WORK_DIR}/build
+     -G ${GENERATOR} -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+step("build examples/outside" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+step("run examples/outside" ${WORK_DIR}/build/outside)
+message(STATUS "${step_output}")
+step("installed sphib --version" ${prefix}/bin/sphib --version)
+message(STATUS "${step_output}")
+file(REMOVE_RECURSE ${WORK_DIR})
