@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "fluid/projection.hpp"
+#include "fluid/wcsph.hpp"
 
 namespace sphib {
 
@@ -16,7 +17,9 @@ void FluidSolver::restore(const NamedArrays&) {
 
 std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params) {
   if (params.method == "eulerian") return std::make_unique<Fluid>(params);
-  throw std::invalid_argument("method: \"" + params.method + "\" is not available (allowed: eulerian)");
+  if (params.method == "wcsph") return std::make_unique<WcsphFluid>(params);
+  throw std::invalid_argument("method: \"" + params.method +
+                              "\" is not available (allowed: eulerian, wcsph)");
 }
 
 }  // namespace sphib

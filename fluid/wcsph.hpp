@@ -1,0 +1,188 @@
+#pragma once
+// Weakly compressible SPH (WCSPH): the explicit baseline of Morris, Fox & Zhu (1997) as used by
+// Vukcevic, Werner & Degiuli (2012) ["V"] and Coelho, Oliveira, Brasil & Maruzewski ["C"], so that
+// users can see what the projection of EPSPH buys on the same scenes and diagnostics.
+//
+// Particles move. One step (V Eq. 22, drift-kick-drift leapfrog: positions at half steps,
+// velocities at whole steps, ONE neighbour search and force evaluation per step):
+//   x^{n+1/2} = x^n + dt/2 xsph(u^n)                                   V Eq. (22) 1st line, Eq. (21)
+//   neighbours at x^{n+1/2}; rho_i = sum_j m W_ij (walls included)     V Eq. (11)
+//   p_i = c^2 rho_i (Morris) or rho0 c^2/gamma ((rho_i/rho0)^gamma - 1) (Tait)   V Eq. (20), C Eqs. (3)-(4)
+//   a_i = -sum_j m (p_i/rho_i^2 + p_j/rho_j^2) grad_i W_ij              C Eq. (17), V Eq. (12)
+//         + sum_j m (mu_i + mu_j) / (rho_i rho_j) F_ij u_ij  + F_i / rho_i   (Morris viscosity, C Eq. 17)
+//   u^{n+1} = u^n + dt a_i                                             V Eq. (22) 2nd line
+//   x^{n+1} = x^{n+1/2} + dt/2 xsph(u^{n+1})                           V Eq. (22) 3rd line
+// with F_ij = (1/r) dW/dr (kernel.hpp) and xsph(u)_i = u_i - eps sum_j (m/rho_j) u_ij W_ij (V Eq. 21).
+// The acceleration a^{n+1/2} is evaluated at x^{n+1/2} with the velocities u^n (the only ones at
+// hand): second order for the pressure, first order in time for the viscous term.
+// The XSPH sum of u^{n+1} uses the neighbours and densities of x^{n+1/2} (the only ones at hand);
+// the next step's first half drift reuses it, so x^{n+3/2} = x^{n+1/2} + dt xsph(u^{n+1}).
+// Consequently rho, p and the volumes shown after a step are those of x^{n+1/2}, half a step
+// behind x(): their difference is O(dt |u| |grad rho|), far below the density variation itself.
+//
+// Masses: every particle carries m = rho0 / S with S = sum_j W(x_0 - x_j) over the infinite
+// lattice of spacings dx, dy (Eq. 68), so that the summation density of the initial lattice is
+// exactly rho0 (S dx dy - 1 is the kernel's quadrature error, reported by describe()).
+//
+// Walls (the domain's non-periodic sides): Morris virtual particles, i.e. the lattice of Eq. (68)
+// continued beyond each wall for ceil(2h / spacing) rows (corner blocks included), fixed in place,
+// with density rho0 and pressure p(rho0), carrying the wall's prescribed velocity (corner blocks:
+// the mean of the two walls' velocities) in the viscous, XSPH and divergence sums. They give every
+// fluid particle of the initial lattice a complete kernel support, so a fluid at rest is exactly at
+// rest. In the viscous term they carry Morris's extrapolated velocity by default
+// (WcsphOptions::morris_extrapolation): it continues a linear profile exactly, so V's Couette is
+// exact at steady state; with the plain wall velocity V's Poiseuille errs by 8% instead of 0.2%.
+// walls = "lennard_jones" adds the repulsive force of C Eq. (20) exerted by the innermost row of
+// virtual particles (r0 = min(dx, dy), the initial fluid-wall particle distance, so it vanishes at
+// rest; D = u_scale^2, "of the magnitude of the square of the maximum velocity"). C used it alone,
+// with the continuity equation (C Eq. 18) for the density; with the summation density of V Eq. (11)
+// a truncated kernel would read as a 28-36% density deficit in the first row (h = 1.3-2.2 dx), so
+// the virtual rows stay.
+//
+// Speed of sound: wcsph.c, or when it is 0, c = 10 u_scale (the scaling of C Eq. 5: density
+// variation ~ (u/c)^2 ~ 1%). The time step is the scene's; the constructor refuses a dt above the
+// limit of C Eq. (19), min(0.25 h/c, 0.125 h^2/nu), and step() the force term 0.25 sqrt(h/|f|).
+// The density variation max_i |rho_i/rho0 - 1| is monitored every step; above
+// WcsphOptions::max_density_variation (10%) the step throws std::runtime_error (a blow-up), and so
+// does a particle that crosses a wall.
+//
+// Which EOS (measured, see bench/wcsph_comparison.cpp): with the symmetric pressure term a uniform
+// pressure p0 does not cancel on a sheared or disordered particle set, so the Morris form, whose
+// background pressure is c^2 rho0, pushes sliding particle rows across each other with forces
+// ~ c^2 / h times the kernel's lattice error. That is harmless while c^2 is small against the
+// viscous and body forces (V's SI Poiseuille and Couette with c^2 = 5e-12), and destroys a shear
+// flow once c is chosen for incompressibility (dimensionless Couette at c = 10-50 U: rms error
+// 25-30%; the cavity's flow dies away). The Tait form has no background pressure: use it there.
+//
+// Neighbours: a cell list over fluid and wall particles (cells at least 2h wide), rebuilt every
+// step; each pair within 2h is found once (half stencil of cells) and every pair sum is
+// accumulated on both particles.
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fluid/kernel.hpp"
+#include "fluid/lattice.hpp"
+#include "fluid/profile.hpp"
+#include "fluid/solver.hpp"
+
+namespace sphib {
+
+// Choices of the C++ API only (not in scenes).
+struct WcsphOptions {
+  // Morris et al. (1997): a virtual particle B seen from fluid particle A carries
+  // u_B = u_w - (d_B/d_A)(u_A - u_w) in the viscous term, i.e. u_AB = beta (u_A - u_w) with
+  // beta = min(beta_max, 1 + d_B/d_A) (d: distances to the wall line, d_A floored at half a
+  // spacing); corner blocks keep u_w. false: every virtual particle carries u_w.
+  bool morris_extrapolation = true;
+  double beta_max = INFINITY;  // Morris et al. cap beta at 1.5
+  double max_density_variation = 0.10;  // blow-up threshold of |rho/rho0 - 1|
+  double lj_D = 0.0;                    // C Eq. (20) strength D (0: u_scale^2)
+};
+
+// Equation of state: V Eq. (20) / C Eq. (4) "morris" p = c^2 rho, or C Eq. (3) "tait".
+enum class Eos { Morris, Tait };
+inline double eos_pressure(Eos eos, double rho, double rho0, double c, double gamma) {
+  if (eos == Eos::Morris) return c * c * rho;                                         // C Eq. (4)
+  return rho0 * c * c / gamma * (std::pow(rho / rho0, gamma) - 1.0);                  // C Eq. (3)
+}
+
+// The speed of sound the solver uses for these parameters (see the header comment).
+double wcsph_sound_speed(const FluidParams& params);
+
+// C Eq. (19) without the force term: min(0.25 h / c, 0.125 h^2 / nu).
+double coelho_dt_limit(double h, double c, double nu);
+
+class WcsphFluid final : public FluidSolver {
+ public:
+  explicit WcsphFluid(const FluidParams& params, const WcsphOptions& options = {});
+
+  void step(const Mat2& F) override;  // F: force per unit volume at the particles; a_i gets F_i / rho_i
+  void set_velocity(const Mat2& u0) override;
+
+  const FluidParams& params() const override { return prm_; }
+  const Lattice& lattice() const override { return lat_; }
+  const CubicSplineKernel& kernel() const override { return W_; }
+  bool particles_move() const override { return true; }
+  const Mat2& x() const override { return x_; }           // x^n
+  const Vec& volumes() const override { return V_; }      // m / rho_i (at x^{n-1/2}, see above)
+  const Mat2& u() const override { return u_; }           // u^n
+  const Vec& p() const override { return p_; }            // EOS pressure (absolute for Morris)
+  const Vec& phi() const override { return rho_; }        // density rho_i
+  double time() const override { return t_; }
+  long steps() const override { return n_; }
+  double kinetic_energy() const override;      // sum_i m |u_i|^2 / 2
+  double max_abs_divergence() const override;  // Eq. (30) form with m/rho_j, over the last neighbours
+
+  std::vector<std::string> describe() const override;
+  std::vector<std::pair<std::string, double>> figures() const override;
+  Profile& profile() const override { return prof_; }
+  double setup_seconds(const std::string& what) const override;  // "neighbours"
+  // Checkpoints: x^n, u^n, the XSPH velocity, the positions of the last evaluation (x^{n-1/2}:
+  // its neighbours and densities are rebuilt from them exactly), t_n, n and the density monitor.
+  NamedArrays state() const override;
+  void restore(const NamedArrays& state) override;
+
+  // WCSPH specifics
+  double sound_speed() const { return c_; }
+  double rho0() const { return rho0_; }
+  double mass() const { return m_; }
+  double density_variation() const { return dvar_; }          // max_i |rho_i/rho0 - 1| of the last step
+  double max_density_variation() const { return dvar_max_; }  // the same, maximum over the run
+  double dt_limit() const { return dt_limit_; }               // C Eq. (19) without the force term
+  const Mat2& wall_x() const { return xw_; }                  // virtual particles, M x 2
+  const Mat2& wall_u() const { return uw_; }
+  double lattice_kernel_sum() const { return S_ * lat_.dx * lat_.dy; }  // S dx dy (1 for an exact quadrature)
+
+ private:
+  void build_walls();
+  void find_neighbours();     // pair lists at x_
+  void summation_density();   // V Eq. (11), then the EOS
+  void accelerations(const Mat2& F);
+  void xsph_velocity();       // V Eq. (21): u_hat_ from u_
+  void drift(double tau);     // x += tau u_hat, periodic wrap, walls checked
+  void check_density();
+
+  FluidParams prm_;
+  WcsphOptions opt_;
+  Lattice lat_;
+  CubicSplineKernel W_;
+  Eos eos_ = Eos::Morris;
+  double c_ = 0, rho0_ = 0, m_ = 0, S_ = 0, p_wall_ = 0, dt_limit_ = 0, lj_D_ = 0, lj_r0_ = 0;
+  bool lj_ = false;
+
+  // virtual wall particles (fixed): position, velocity, wall side (-1: corner block), distance to
+  // the wall line, innermost row (the C Eq. 20 particles)
+  Mat2 xw_, uw_;
+  std::vector<int> wside_;
+  std::vector<double> wdist_;
+  std::vector<char> winner_;
+
+  // Pairs closer than 2h, each once: i a fluid particle, j a fluid particle or (j >= N) the wall
+  // particle j - N, with x_i - x_j (minimum image), r, W_ij and F_ij = (1/r) dW/dr.
+  struct Pairs {
+    std::vector<int> i, j;
+    std::vector<double> rx, ry, r, W, F;
+    int size() const { return static_cast<int>(i.size()); }
+  } pairs_;
+  // Cell list over fluid and wall particles (cells at least 2h wide; along a walled axis the box
+  // grows to hold the wall rows): bins rebuilt every step, pairs found by a half stencil of cells.
+  Eigen::Vector2d lo_, cell_;
+  int nc_[2] = {1, 1};
+  Mat2 all_;
+  std::vector<int> cell_start_, cell_items_, cell_of_;
+  std::vector<double> cell_x_, cell_y_;  // positions in cell order
+  long nbrs_last_ = 0, nbrs_total_ = 0;  // neighbours summed over the fluid particles: last search, all
+
+  Mat2 x_, x_eval_, u_, u_hat_, a_;  // x_eval_: positions of the last neighbour search (x^{n-1/2})
+  Vec rho_, p_, V_, pr_;  // pr_ = p / rho^2
+  double t_ = 0, dvar_ = 0, dvar_max_ = 0, t_dvar_max_ = 0;
+  long n_ = 0;
+  std::vector<std::pair<std::string, double>> setup_;
+
+  mutable Profile prof_;
+  int k_drift_, k_neigh_, k_rho_, k_force_, k_xsph_;
+};
+
+}  // namespace sphib
