@@ -1,5 +1,6 @@
 #include "fluid/projection.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -218,6 +219,32 @@ std::vector<std::pair<std::string, double>> Fluid::figures() const {
                                                 {"neighbours_per_particle", static_cast<double>(pairs_.size()) / size()}};
   if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
   return f;
+}
+
+double Fluid::floor_seconds(int reps) const {
+  const Operators& op = op_;
+  Mat2 a = u_, b = u_, c = u_, x = u_star_;
+  Vec d(size()), f = phi_;
+  auto best = [&](auto&& kernel) {
+    double t = 1e300;
+    for (int r = 0; r < reps; ++r) {
+      const auto t0 = Clock::now();
+      kernel();
+      t = std::min(t, since(t0));
+    }
+    return t;
+  };
+  double total = 0;
+  if (prm_.convection) total += best([&] { gradient2(op.grad_ux.A, op.grad_uy.A, u_, a, b); });
+  total += best([&] { apply2(op.lap_u.A, u_, c); });
+  total += best([&] { divergence(op.grad_ux.A, op.grad_uy.A, u_star_, d); });
+  total += best([&] { gradient(op.grad_phix, op.grad_phiy, phi_, a); });
+  total += best([&] {
+    x = u_star_;  // the same warm start a step gives an iterative solver
+    cn_->solve(rhs_.data(), x.data(), 2);
+  });
+  total += best([&] { poisson_->solve(b_phi_.data(), f.data(), 1); });
+  return total;
 }
 
 // The state after step n: u^n, the convection N^n kept for AB2 (Eq. 39), phi^n and grad phi^n

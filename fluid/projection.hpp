@@ -55,6 +55,9 @@ class Fluid final : public FluidSolver {
   Profile& profile() const override { return prof_; }
   double setup_seconds(const std::string& what) const override;  // "neighbours", "assembly", "factorisation"
   NamedArrays state() const override;
+  // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and Poisson solves
+  // and the fused sparse products, on the current fields), each timed alone, best of `reps`.
+  double floor_seconds(int reps = 20) const;
   void restore(const NamedArrays& state) override;
 
  private:

@@ -13,6 +13,7 @@
 
 #include "coupling/interpolate.hpp"
 #include "fluid/exact.hpp"
+#include "fluid/projection.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_writer.hpp"
 #include "io/hdf5_writer.hpp"
@@ -400,6 +401,15 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     for (size_t k = 0; k < P->names().size(); ++k) prof[P->names()[k]] = P->seconds(static_cast<int>(k));
   j["profile_seconds"] = prof;
   for (const auto& line : fl.describe()) j["log"].push_back(line);
+  if (const auto* epsph = dynamic_cast<const Fluid*>(&fl); epsph && fl.steps() > 0) {
+    // Step time against its floor (the bare solves and products, timed alone on the final state).
+    double fluid_seconds = 0;
+    for (size_t k = 0; k < fl.profile().names().size(); ++k) fluid_seconds += fl.profile().seconds(static_cast<int>(k));
+    const double floor = epsph->floor_seconds();
+    j["floor_seconds_per_step"] = floor;
+    j["fluid_step_over_floor"] = fluid_seconds / fl.steps() / floor;
+    j["step_over_floor"] = loop_seconds / fl.steps() / floor;
+  }
   for (const auto& [k, v] : fl.figures()) j[k] = v;
   if (!fault.empty()) {  // the state is not trustworthy: no figures from it
     write_json_atomic(opt.out_dir + "/summary.json", j);
