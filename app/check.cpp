@@ -40,9 +40,8 @@ int check_scene(const Scene& scene, std::ostream& out) {
   Simulation sim(scene.sim);  // builds everything: refuses what cannot run
   const FluidSolver& f = sim.fluid();
   const FluidParams& fp = f.params();
-  const Domain& d = fp.domain;
   const int N = f.size();
-  const double dx = f.lattice().dx, dy = f.lattice().dy, h_min = std::min(dx, dy), dt = fp.dt;
+  const double dx = f.lattice().dx, dy = f.lattice().dy;
   int warnings = 0;
 
   out << (scene.path.empty() ? scene.title : scene.path) << ": ok\n";
@@ -90,6 +89,30 @@ int check_scene(const Scene& scene, std::ostream& out) {
         << " (its operators are rebuilt every step)\n";
   }
 
+  warnings += time_step_warnings(scene, sim, out);
+  return warnings;
+}
+
+int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& out) {
+  const FluidSolver& f = sim.fluid();
+  const FluidParams& fp = f.params();
+  const Domain& d = fp.domain;
+  const int N = f.size();
+  const double dx = f.lattice().dx, dy = f.lattice().dy, h_min = std::min(dx, dy), dt = fp.dt;
+  int warnings = 0;
+  // Markers farther apart than a lattice spacing let fluid through between them (documented
+  // limit: markers per grid spacing >= 1, i.e. the largest marker spacing <= min(dx, dy)).
+  for (size_t k = 0; k < sim.membranes().size(); ++k) {
+    const auto& m = sim.membranes()[k];
+    const int nb = m.m.nb();
+    double widest = 0;
+    for (int i = 0; i < nb; ++i) widest = std::max(widest, (m.m.X.row((i + 1) % nb) - m.m.X.row(i)).norm());
+    if (widest > h_min) {
+      ++warnings;
+      out << "    WARNING: membrane " << k << ": markers up to " << num(widest) << " apart, more than a lattice "
+          << "spacing (" << num(h_min) << "): raise membrane.nb to at least " << static_cast<int>(std::ceil(nb * widest / h_min)) << "\n";
+    }
+  }
   // ---- Velocity scale U for the convective CFL limit dt < h_min / U
   struct Scale { double U; std::string from; };
   std::vector<Scale> scales;

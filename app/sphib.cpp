@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet", quiet, "no run log");
   std::string restart;
   run->add_option("--restart", restart, "continue from a checkpoint (DIR/checkpoint.h5 of an earlier run)");
+  bool strict = false;
+  run->add_flag("--strict", strict, "refuse the scene when a warning is raised (sparse markers, dt above an estimate)");
 
   auto* check = app.add_subcommand("check", "validate a scene and print what it will compute");
   check->add_option("scene", scene_path, "scene file (TOML)")->required();
@@ -94,6 +96,15 @@ int main(int argc, char** argv) {
     opt.progress_bar = isatty(2);
     opt.stop = &g_stop;
     opt.restart = restart;
+    opt.before_run = [&](const sphib::Simulation& sim) {
+      std::ostringstream w;
+      const int n = sphib::app::time_step_warnings(scene, sim, w);
+      if (n == 0) return;
+      std::cerr << w.str();
+      if (strict)
+        throw sphib::SceneError(scene_path + ": refused by --strict: " + std::to_string(n) +
+                                " warning(s) above (see `sphib check`)");
+    };
     sphib::run_scene(scene, opt);
     if (g_stop.load()) std::cerr << "sphib: interrupted; consistent output written to " << out_dir << "\n";
     return g_stop.load() ? 130 : 0;

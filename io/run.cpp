@@ -156,6 +156,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   const auto t_setup = Clock::now();
   Simulation sim(scene.sim);
   if (!opt.restart.empty()) restore_checkpoint(read_checkpoint(opt.restart), opt.restart, scene.resolved, sim);
+  if (opt.before_run) opt.before_run(sim);
   const double setup_seconds = since(t_setup);
   FluidSolver& fl = sim.fluid();
   const FluidParams& fp = fl.params();

@@ -2,6 +2,7 @@
 // Runs a scene: the time loop with its observers, progress, HDF5/XDMF snapshots, CSV diagnostics
 // and the summary. Cases and the command never copy this loop.
 #include <atomic>
+#include <functional>
 #include <iosfwd>
 #include <string>
 
@@ -18,6 +19,9 @@ struct RunOptions {
   double log_every_seconds = 5.0;            // plain progress lines this often
   const std::atomic<bool>* stop = nullptr;   // set (e.g. by SIGINT) to end cleanly after the current step
   std::string restart;                       // a checkpoint to continue from (same scene and version)
+  // Called once the simulation is set up, before anything is written (e.g. warnings; a throw
+  // refuses the run with nothing written).
+  std::function<void(const Simulation&)> before_run;
 };
 
 // A run that went wrong (blow-up, solver failure) after outputs were opened; what was written

@@ -115,3 +115,23 @@ TEST(Reliability, KilledRunsLeaveOnlyCompleteFiles) {
   }
   EXPECT_GT(checked, 0) << "no checkpoint was ever complete: lengthen the waits";
 }
+
+// Markers farther apart than a lattice spacing: a warning, and with --strict a refusal (exit 2)
+// that writes nothing.
+TEST(Reliability, StrictRefusesSparseMarkers) {
+  const fs::path d = fs::temp_directory_path() / "sphib_strict";
+  fs::remove_all(d);
+  const std::string base = std::string(SPHIB_BINARY) + " run " + kScene + " --out " + d.string() +
+                           " --quiet --set membrane.nb=40 --set time.max_steps=2";
+  const int strict = std::system((base + " --strict 2> " + (fs::temp_directory_path() / "sphib_strict.err").string()).c_str());
+  EXPECT_TRUE(WIFEXITED(strict) && WEXITSTATUS(strict) == 2) << strict;
+  EXPECT_FALSE(fs::exists(d));
+  std::ifstream err(fs::temp_directory_path() / "sphib_strict.err");
+  const std::string msg((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
+  EXPECT_NE(msg.find("WARNING: membrane 0: markers"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("--strict"), std::string::npos) << msg;
+  const int lenient = std::system((base + " 2> /dev/null").c_str());
+  EXPECT_TRUE(WIFEXITED(lenient) && WEXITSTATUS(lenient) == 0) << lenient;
+  EXPECT_TRUE(fs::exists(d / "summary.json"));
+  fs::remove_all(d);
+}
