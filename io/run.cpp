@@ -289,6 +289,18 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   snapshot();
   diagnostics_row();
   const double h_min = std::min(fl.lattice().dx, fl.lattice().dy);
+  bool unforced = !mobs.empty() && !scene.sim.body_force_field && scene.sim.body_force.norm() == 0.0;
+  for (int k = 0; k < 4; ++k)
+    unforced &= !fp.domain.is_wall(static_cast<Side>(k)) || fp.domain.wall_velocity[k].norm() == 0.0;
+  double energy_bound = 0;
+  if (unforced) {
+    double E0 = fl.kinetic_energy();
+    for (size_t k = 0; k < mobs.size(); ++k) {
+      mobs[k].D.fit(sim.membranes()[k].m.X);
+      E0 += mobs[k].D.energy(sim.membranes()[k].m.T0);
+    }
+    energy_bound = E0 > 0 ? 10.0 * E0 : 0.0;
+  }
   const auto t_loop = Clock::now();
   auto t_log = t_loop;
   std::string stop_reason = "end time";
@@ -331,6 +343,21 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
           m << "membrane " << k << " markers became non-finite at step " << fl.steps() << " (t = " << fl.time() << ")";
           throw RunError(m.str());
         }
+      // Unforced membranes can only lose energy (viscous dissipation): a total energy past ten times
+      // its initial value is a blow-up of the explicit elastic force, caught before fields overflow.
+      if (energy_bound > 0) {
+        double E = ke;
+        for (size_t k = 0; k < mobs.size(); ++k) {
+          mobs[k].D.fit(sim.membranes()[k].m.X);
+          E += mobs[k].D.energy(sim.membranes()[k].m.T0);
+        }
+        if (!(E <= energy_bound)) {
+          std::ostringstream m;
+          m << "blow-up at step " << fl.steps() << " (t = " << fl.time() << "): kinetic + elastic energy " << E
+            << " exceeds ten times its initial value (" << energy_bound / 10.0 << ") in an unforced flow";
+          throw RunError(m.str());
+        }
+      }
       for (auto& o : mobs)
         for (int T : {1, 2, 5, 10})
           if (!o.area_at.count(T) && fl.time() >= T - 0.5 * fp.dt) {
