@@ -135,3 +135,36 @@ TEST(Reliability, StrictRefusesSparseMarkers) {
   EXPECT_TRUE(fs::exists(d / "summary.json"));
   fs::remove_all(d);
 }
+
+// Bad input through the command: exit status 2, a message naming the key and line (or the
+// membrane and the wall), nothing written.
+TEST(Reliability, BadScenesExitWithStatusTwoAndWriteNothing) {
+  const fs::path tmp = fs::temp_directory_path() / "sphib_bad";
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const std::string good = "[grid]\nnx = 16\nny = 16\n[fluid]\nrho = 1.0\nmu = 1.0\n[time]\ndt = 0.001\nend = 0.01\n";
+  struct Case { std::string text, expect; };
+  const std::vector<Case> cases{
+      {good + "[fluid2]\nmu = 1\n", "bad.toml:11: unknown key 'fluid2.mu'"},
+      {good + "[kernel]\nh_over_dx = -1\n", "bad.toml:11: kernel.h_over_dx: value -1 is out of range (allowed: > 0)"},
+      {good + "[walls]\nleft = [1.0, 0.0]\n", "walls.left: a wall velocity is given on a periodic side"},
+      {std::string("[grid]\nnx = 16\nny = 16\n[fluid]\nrho = 1.0\nmu = nan\n[time]\ndt = 0.001\nend = 0.01\n"),
+       "bad.toml:6: fluid.mu: must be finite"},
+      {good + "[membrane]\nr0 = 0.2\nT0 = 1.0\ncentre = [0.5, 0.1]\nradius = 0.2\n", "membrane 0: lies within"},
+      {good + "[membrane]\nr0 = 0.2\nT0 = 1.0\nnb = 3\n", "membrane.nb: value 3 is out of range"},
+  };
+  for (const auto& c : cases) {
+    const fs::path scene = tmp / "bad.toml";
+    std::ofstream(scene) << c.text;
+    const fs::path out = tmp / "out", err = tmp / "err.txt";
+    const std::string cmd = std::string(SPHIB_BINARY) + " run " + scene.string() + " --out " + out.string() +
+                            " 2> " + err.string();
+    const int status = std::system(cmd.c_str());
+    std::ifstream e(err);
+    const std::string msg((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << c.expect << " -> status " << status << ": " << msg;
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << msg;
+    EXPECT_FALSE(fs::exists(out)) << c.expect;
+  }
+  fs::remove_all(tmp);
+}
