@@ -16,7 +16,10 @@ nlohmann::json run_case(const std::string& name, const std::vector<std::string>&
   const fs::path scene = fs::path(SPHIB_SOURCE_DIR) / "cases" / (name + ".toml");
   Scene s = load_scene(scene.string(), sets);
   RunOptions opt;
-  opt.out_dir = (fs::temp_directory_path() / ("sphib_test_" + name)).string();
+  // One directory per test and call: ctest runs tests in parallel processes.
+  static int calls = 0;
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  opt.out_dir = (fs::temp_directory_path() / ("sphib_test_" + test + "_" + std::to_string(++calls))).string();
   fs::remove_all(opt.out_dir);
   nlohmann::json j = run_scene(s, opt);
   fs::remove_all(opt.out_dir);
