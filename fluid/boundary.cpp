@@ -11,8 +11,9 @@ namespace {
 double mirror(double c, double w) { return 2.0 * w - c; }
 }  // namespace
 
-Images make_images(const Lattice& L, double reach) {
-  const Domain& d = L.domain;
+Images make_images(const Lattice& L, double reach) { return make_images(L.domain, L.x, reach); }
+
+Images make_images(const Domain& d, const Mat2& X, double reach) {
   // One image layer per wall is complete only if no particle is within reach of two opposite walls.
   if ((!d.periodic_x && d.Lx() < 2.0 * reach) || (!d.periodic_y && d.Ly() < 2.0 * reach)) {
     std::ostringstream m;
@@ -29,8 +30,8 @@ Images make_images(const Lattice& L, double reach) {
     xs.push_back(x);
     ys.push_back(y);
   };
-  for (int p = 0; p < L.size(); ++p) {
-    const double x = L.x(p, 0), y = L.x(p, 1);
+  for (int p = 0; p < X.rows(); ++p) {
+    const double x = X(p, 0), y = X(p, 1);
     // Walls this particle is within `reach` of, with the mirrored coordinate.
     int xw = -1, yw = -1;
     double xm = 0, ym = 0;

@@ -30,6 +30,10 @@ struct Images {
 // Images of every particle closer than `reach` (= 2h) to a wall.
 Images make_images(const Lattice& lattice, double reach);
 
+// The same for arbitrary particle positions x (N x 2) in the domain: the moving particles of LPSPH,
+// whose images are made again every step.
+Images make_images(const Domain& domain, const Mat2& x, double reach);
+
 // The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
 // plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,

@@ -1,4 +1,5 @@
 #include "fluid/linear_solver.hpp"
+#include "fluid/products.hpp"
 
 #include <cholmod.h>
 #include <umfpack.h>
@@ -42,37 +43,48 @@ class CholmodSolver final : public LinearSolver {
     lower_ = ColMat(A).triangularView<Eigen::Lower>();
     lower_.makeCompressed();
     info_.nnz_used = lower_.nonZeros();
-    cholmod_sparse S{};
-    S.nrow = S.ncol = A.rows();
-    S.nzmax = lower_.nonZeros();
-    S.p = lower_.outerIndexPtr();
-    S.i = lower_.innerIndexPtr();
-    S.x = lower_.valuePtr();
-    S.stype = -1;  // symmetric, lower triangle stored
-    S.itype = CHOLMOD_INT;
-    S.xtype = CHOLMOD_REAL;
-    S.dtype = CHOLMOD_DOUBLE;
-    S.sorted = 1;
-    S.packed = 1;
+    cholmod_sparse S = view();
     auto t0 = Clock::now();
     L_ = cholmod_analyze(&S, &c_);
     if (!L_) { release(); fail(info_, "CHOLMOD analysis failed"); }
     info_.analyse_seconds = since(t0);
-    t0 = Clock::now();
-    cholmod_factorize(&S, L_, &c_);
-    info_.factor_seconds = since(t0);
-    if (c_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
-      std::ostringstream m;
-      m << "matrix is not positive definite (CHOLMOD stopped at column " << L_->minor << ")";
+    try {
+      numeric(S);
+    } catch (...) {
       release();
-      fail(info_, m.str());
+      throw;
     }
-    if (c_.status < CHOLMOD_OK) { release(); fail(info_, "CHOLMOD factorisation failed"); }
     info_.method = L_->is_super ? "CHOLMOD supernodal LL'" : (L_->is_ll ? "CHOLMOD simplicial LL'"
                                                                        : "CHOLMOD simplicial LDL'");
-    info_.nnz_factor = static_cast<long>(c_.lnz);
   }
   ~CholmodSolver() override { release(); }
+  bool refactorize(const SpMat& A) override {
+    if (A.rows() != info_.n || A.cols() != info_.n) fail(info_, "refactorize: the matrix changed size");
+    ColMat lower = ColMat(A).triangularView<Eigen::Lower>();
+    lower.makeCompressed();
+    const int n = info_.n;
+    const bool same = lower.nonZeros() == lower_.nonZeros() &&
+                      std::equal(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1, lower_.outerIndexPtr()) &&
+                      std::equal(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros(), lower_.innerIndexPtr());
+    if (same) {
+      std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), lower_.valuePtr());
+    } else {
+      lower_.swap(lower);
+    }
+    info_.nnz_A = A.nonZeros();
+    info_.nnz_used = lower_.nonZeros();
+    cholmod_sparse S = view();
+    if (!same) {  // a new pattern: a new symbolic analysis (fill-reducing ordering and all)
+      auto t0 = Clock::now();
+      cholmod_factor* L = cholmod_analyze(&S, &c_);
+      if (!L) fail(info_, "CHOLMOD analysis failed");
+      cholmod_free_factor(&L_, &c_);
+      L_ = L;
+      info_.analyse_seconds = since(t0);
+    }
+    numeric(S);  // the numeric factorisation into the kept (or new) symbolic factor
+    return same;
+  }
   void release() {
     if (X_) cholmod_free_dense(&X_, &c_);
     if (Y_) cholmod_free_dense(&Y_, &c_);
@@ -96,6 +108,34 @@ class CholmodSolver final : public LinearSolver {
   }
 
  private:
+  cholmod_sparse view() {  // CHOLMOD's view of lower_ (no copy)
+    cholmod_sparse S{};
+    S.nrow = S.ncol = info_.n;
+    S.nzmax = lower_.nonZeros();
+    S.p = lower_.outerIndexPtr();
+    S.i = lower_.innerIndexPtr();
+    S.x = lower_.valuePtr();
+    S.stype = -1;  // symmetric, lower triangle stored
+    S.itype = CHOLMOD_INT;
+    S.xtype = CHOLMOD_REAL;
+    S.dtype = CHOLMOD_DOUBLE;
+    S.sorted = 1;
+    S.packed = 1;
+    return S;
+  }
+  void numeric(cholmod_sparse& S) {
+    const auto t0 = Clock::now();
+    cholmod_factorize(&S, L_, &c_);
+    info_.factor_seconds = since(t0);
+    if (c_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
+      std::ostringstream m;
+      m << "matrix is not positive definite (CHOLMOD stopped at column " << L_->minor << ")";
+      fail(info_, m.str());
+    }
+    if (c_.status < CHOLMOD_OK) fail(info_, "CHOLMOD factorisation failed");
+    info_.nnz_factor = static_cast<long>(c_.lnz);
+  }
+
   cholmod_common c_{};
   bool started_ = false;
   cholmod_factor* L_ = nullptr;
@@ -112,31 +152,29 @@ class UmfpackSolver final : public LinearSolver {
     info_.n = static_cast<int>(A.rows());
     info_.nnz_A = info_.nnz_used = A.nonZeros();
     umfpack_di_defaults(control_);
-    void* symbolic = nullptr;
-    auto t0 = Clock::now();
-    int st = umfpack_di_symbolic(info_.n, info_.n, A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(),
-                                 &symbolic, control_, nullptr);
-    if (st != UMFPACK_OK) {
-      if (symbolic) umfpack_di_free_symbolic(&symbolic);
-      fail(info_, "UMFPACK symbolic analysis failed (status " + std::to_string(st) + ")");
-    }
-    info_.analyse_seconds = since(t0);
-    t0 = Clock::now();
-    st = umfpack_di_numeric(A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(), symbolic, &numeric_,
-                            control_, nullptr);
-    umfpack_di_free_symbolic(&symbolic);
-    info_.factor_seconds = since(t0);
-    if (st != UMFPACK_OK && numeric_) umfpack_di_free_numeric(&numeric_);
-    if (st == UMFPACK_WARNING_singular_matrix) fail(info_, "matrix is singular");
-    if (st != UMFPACK_OK) fail(info_, "UMFPACK factorisation failed (status " + std::to_string(st) + ")");
-    int lnz = 0, unz = 0, nr = 0, nc = 0, nzud = 0;
-    umfpack_di_get_lunz(&lnz, &unz, &nr, &nc, &nzud, numeric_);
-    info_.nnz_factor = static_cast<long>(lnz) + unz;
+    analyse();
+    numeric();
     Wi_.resize(info_.n);
     W_.resize(5 * static_cast<size_t>(info_.n));
   }
   ~UmfpackSolver() override {
     if (numeric_) umfpack_di_free_numeric(&numeric_);
+    if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
+  }
+  bool refactorize(const SpMat& A) override {
+    if (A.rows() != info_.n || A.cols() != info_.n) fail(info_, "refactorize: the matrix changed size");
+    ColMat B(A);
+    B.makeCompressed();
+    const int n = info_.n;
+    const bool same = B.nonZeros() == A_.nonZeros() &&
+                      std::equal(B.outerIndexPtr(), B.outerIndexPtr() + n + 1, A_.outerIndexPtr()) &&
+                      std::equal(B.innerIndexPtr(), B.innerIndexPtr() + B.nonZeros(), A_.innerIndexPtr());
+    if (same) std::copy(B.valuePtr(), B.valuePtr() + B.nonZeros(), A_.valuePtr());
+    else A_.swap(B);
+    info_.nnz_A = info_.nnz_used = A_.nonZeros();
+    if (!same) analyse();
+    numeric();
+    return same;
   }
   void solve(const double* B, double* X, int k) override {
     for (int c = 0; c < k; ++c) {
@@ -148,7 +186,33 @@ class UmfpackSolver final : public LinearSolver {
   }
 
  private:
+  void analyse() {
+    if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
+    const auto t0 = Clock::now();
+    const int st = umfpack_di_symbolic(info_.n, info_.n, A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(),
+                                       &symbolic_, control_, nullptr);
+    if (st != UMFPACK_OK) {
+      if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
+      fail(info_, "UMFPACK symbolic analysis failed (status " + std::to_string(st) + ")");
+    }
+    info_.analyse_seconds = since(t0);
+  }
+  void numeric() {
+    if (numeric_) umfpack_di_free_numeric(&numeric_);
+    const auto t0 = Clock::now();
+    const int st = umfpack_di_numeric(A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(), symbolic_, &numeric_,
+                                      control_, nullptr);
+    info_.factor_seconds = since(t0);
+    if (st != UMFPACK_OK && numeric_) umfpack_di_free_numeric(&numeric_);
+    if (st == UMFPACK_WARNING_singular_matrix) fail(info_, "matrix is singular");
+    if (st != UMFPACK_OK) fail(info_, "UMFPACK factorisation failed (status " + std::to_string(st) + ")");
+    int lnz = 0, unz = 0, nr = 0, nc = 0, nzud = 0;
+    umfpack_di_get_lunz(&lnz, &unz, &nr, &nc, &nzud, numeric_);
+    info_.nnz_factor = static_cast<long>(lnz) + unz;
+  }
+
   ColMat A_;
+  void* symbolic_ = nullptr;  // kept for refactorize()
   void* numeric_ = nullptr;
   double control_[UMFPACK_CONTROL];
   std::vector<int> Wi_;
@@ -170,6 +234,14 @@ class PcgSolver final : public LinearSolver {
     if ((A_.diagonal().array() <= 0).any()) fail(info_, "conjugate gradients need a positive diagonal");
     inv_diag_ = A_.diagonal().cwiseInverse();
   }
+  bool refactorize(const SpMat& A) override {  // nothing to analyse: the matrix and its diagonal
+    if (A.rows() != info_.n || A.cols() != info_.n) fail(info_, "refactorize: the matrix changed size");
+    if ((A.diagonal().array() <= 0).any()) fail(info_, "conjugate gradients need a positive diagonal");
+    A_ = A;
+    info_.nnz_A = info_.nnz_used = A_.nonZeros();
+    inv_diag_ = A_.diagonal().cwiseInverse();
+    return true;
+  }
   // The k columns are k independent CG iterations run in lockstep, so that each iteration reads
   // the matrix once for all of them.
   void solve(const double* B, double* X, int k) override {
@@ -177,7 +249,12 @@ class PcgSolver final : public LinearSolver {
     if (R_.cols() != k) { R_.resize(n, k); Z_.resize(n, k); P_.resize(n, k); Q_.resize(n, k); }
     Eigen::Map<const Eigen::MatrixXd> b(B, n, k);
     Eigen::Map<Eigen::MatrixXd> x(X, n, k);
-    R_.noalias() = b - A_ * x;
+    if (k == 2) {  // one pass over the matrix for both columns
+      apply2(A_, x.data(), R_.data());
+      R_ = b - R_;
+    } else {
+      R_.noalias() = b - A_ * x;
+    }
     Z_ = inv_diag_.asDiagonal() * R_;
     P_ = Z_;
     double rz[8], bnorm[8];
@@ -197,7 +274,8 @@ class PcgSolver final : public LinearSolver {
         m << "conjugate gradients did not converge in " << max_iter_ << " iterations";
         fail(info_, m.str());
       }
-      Q_.noalias() = A_ * P_;
+      if (k == 2) apply2(A_, P_.data(), Q_.data());
+      else Q_.noalias() = A_ * P_;
       for (int c = 0; c < k; ++c) {
         if (done[c]) continue;
         const double alpha = rz[c] / P_.col(c).dot(Q_.col(c));

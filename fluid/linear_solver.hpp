@@ -32,6 +32,11 @@ class LinearSolver {
   virtual void solve(const double* B, double* X, int k) = 0;
   const SolverInfo& info() const { return info_; }
   virtual double mean_iterations() const { return 0.0; }  // iterative solvers: per solve so far
+  // A new matrix of the same size and kind (LPSPH: every step). The symbolic analysis (ordering,
+  // elimination tree, supernodes) is kept when A has the sparsity pattern of the analysed matrix,
+  // then only the numeric factorisation is redone; returns whether it was kept (always true for an
+  // iterative solver, which has none). Failures throw as factorize() does.
+  virtual bool refactorize(const SpMat& A) = 0;
   // Appends a note to the method (e.g. why it was chosen) and the set-up time of the others.
   void annotate(const std::string& note, double extra_factor_seconds) {
     info_.method += note;

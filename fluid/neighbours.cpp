@@ -41,7 +41,12 @@ void CellGrid::build(const Mat2& points) {
 }
 
 PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
-  const Domain& d = L.domain;
+  PairList P;
+  find_pairs(L.domain, L.x, image_x, support, P);
+  return P;
+}
+
+void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double support, PairList& P) {
   if (d.periodic_x && !(support <= 0.5 * d.Lx())) {
     std::ostringstream m;
     m << "kernel support 2h = " << support << " must not exceed half the periodic length Lx = " << d.Lx();
@@ -52,9 +57,9 @@ PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
     m << "kernel support 2h = " << support << " must not exceed half the periodic length Ly = " << d.Ly();
     throw std::invalid_argument(m.str());
   }
-  const int N = L.size(), M = static_cast<int>(image_x.rows());
+  const int N = static_cast<int>(x.rows()), M = static_cast<int>(image_x.rows());
   Mat2 all(N + M, 2);
-  all.topRows(N) = L.x;
+  all.topRows(N) = x;
   if (M) all.bottomRows(M) = image_x;
   // Bounded axes: the box grows by the support so images get cells of their own.
   Eigen::Vector2d lo(d.x0, d.y0), hi(d.x1, d.y1);
@@ -63,34 +68,29 @@ PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
   CellGrid grid(lo, hi, d.periodic_x, d.periodic_y, support);
   grid.build(all);
 
-  PairList P;
+  struct Near { int j; double rx, ry, r; };
+  std::vector<Near> near;  // the pairs of one particle
   P.offset.resize(N + 1);
   P.offset[0] = 0;
+  P.j.clear();
+  P.rx.clear();
+  P.ry.clear();
+  P.r.clear();
   for (int i = 0; i < N; ++i) {
-    const int begin = P.size();
-    grid.for_each_near(L.x(i, 0), L.x(i, 1), support, [&](int j, double dx, double dy, double r) {
-      if (j == i) return;
-      P.j.push_back(j);
-      P.rx.push_back(dx);
-      P.ry.push_back(dy);
-      P.r.push_back(r);
+    near.clear();
+    grid.for_each_near(x(i, 0), x(i, 1), support, [&](int j, double dx, double dy, double r) {
+      if (j != i) near.push_back({j, dx, dy, r});
     });
     // Sort each particle's pairs by j: a deterministic order, and a cache-friendly assembly.
-    std::vector<int> idx(P.size() - begin);
-    for (size_t k = 0; k < idx.size(); ++k) idx[k] = begin + static_cast<int>(k);
-    std::sort(idx.begin(), idx.end(), [&](int a, int b) { return P.j[a] < P.j[b]; });
-    auto permute = [&](auto& v) {
-      std::vector<std::decay_t<decltype(v[0])>> tmp(idx.size());
-      for (size_t k = 0; k < idx.size(); ++k) tmp[k] = v[idx[k]];
-      std::copy(tmp.begin(), tmp.end(), v.begin() + begin);
-    };
-    permute(P.j);
-    permute(P.rx);
-    permute(P.ry);
-    permute(P.r);
+    std::sort(near.begin(), near.end(), [](const Near& a, const Near& b) { return a.j < b.j; });
+    for (const Near& n : near) {
+      P.j.push_back(n.j);
+      P.rx.push_back(n.rx);
+      P.ry.push_back(n.ry);
+      P.r.push_back(n.r);
+    }
     P.offset[i + 1] = P.size();
   }
-  return P;
 }
 
 }  // namespace sphib

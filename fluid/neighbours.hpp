@@ -95,4 +95,8 @@ struct PairList {
 // Throws std::invalid_argument if 2h exceeds half a periodic period (minimum image would fail).
 PairList find_pairs(const Lattice& lattice, const Mat2& image_x, double support);
 
+// The same for arbitrary particle positions x (N x 2) in the domain: the moving particles of LPSPH,
+// searched again every step (cell list, O(N)). `out` is overwritten, reusing its storage.
+void find_pairs(const Domain& domain, const Mat2& x, const Mat2& image_x, double support, PairList& out);
+
 }  // namespace sphib
