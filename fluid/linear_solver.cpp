@@ -152,8 +152,14 @@ class UmfpackSolver final : public LinearSolver {
     info_.n = static_cast<int>(A.rows());
     info_.nnz_A = info_.nnz_used = A.nonZeros();
     umfpack_di_defaults(control_);
-    analyse();
-    numeric();
+    try {
+      analyse();
+      numeric();
+    } catch (...) {  // the destructor does not run for a constructor that throws
+      if (numeric_) umfpack_di_free_numeric(&numeric_);
+      if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
+      throw;
+    }
     Wi_.resize(info_.n);
     W_.resize(5 * static_cast<size_t>(info_.n));
   }
