@@ -1,0 +1,537 @@
+// Benchmark (not a test): how EPSPH's cost grows with the number of particles N (issue 6).
+//
+// Two cases, Nx = Ny from 32 to 512 (N = 1 024 to 262 144), one core:
+//   poiseuille  cases/poiseuille.toml (h = 1.525 dx, Stokes, dt = 1.25e-6, mu = 80: the
+//               Crank-Nicolson system is far from the identity, CHOLMOD under `auto`);
+//   membrane    cases/membrane_oscillation.toml (h = 1.2 dx, convection on, dt = 1e-4,
+//               Nb = 2 Nx markers: 1.9 per grid spacing as the 64 x 64 case; Crank-Nicolson by
+//               warm-started Jacobi-PCG under `auto`).
+// Every (case, Nx, solvers) runs in a fresh process (this program re-executed with --child), so
+// that its peak memory is its own: VmHWM of /proc/self/status at the end, and ru_maxrss from
+// wait4() in the parent. The child builds the Simulation (timed: neighbour search, assembly,
+// analysis + factorisation from Fluid::setup_seconds and solver_info()), takes 3 warm-up steps,
+// then enough steps for about --seconds of loop (at least 5), and reports the time per step and per
+// phase (Profile, warm-up subtracted).
+//
+// Part S compares, on the same matrices (the same scene and size, so the same operators), CHOLMOD
+// supernodal against simplicial for both systems, and Jacobi-PCG for Crank-Nicolson
+// (solver.crank_nicolson = "pcg", Poisson by `auto`): factorisation time, factor size, memory and
+// the time per solve in the running step.
+//
+//   scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane]
+//           [--seconds S] [--out DIR]
+//
+// Fits time ~ N^a by least squares of log(time) against log N over the sizes from 64^2 up (the
+// smallest sizes are dominated by fixed overheads). Writes DIR/scaling.csv, DIR/solvers.csv,
+// DIR/scaling.md atomically after every child. Times are wall seconds of a single-threaded child
+// on a 2-core machine shared with other jobs (CPU seconds of the loop are reported beside them).
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "coupling/simulation.hpp"
+#include "fluid/projection.hpp"
+#include "io/atomic_file.hpp"
+#include "io/scene.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+}
+long status_kb(const char* key) {  // VmHWM, VmRSS of this process in kB
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  const std::string k = std::string(key) + ":";
+  while (std::getline(f, line))
+    if (line.rfind(k, 0) == 0) return std::strtol(line.c_str() + k.size(), nullptr, 10);
+  return -1;
+}
+std::string num(double v, int prec = 10) {
+  std::ostringstream s;
+  s << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string fix(double v, int prec = 2) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string sci(double v, int prec = 2) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string csv_num(double v) { return std::isfinite(v) ? num(v, 10) : std::string(); }
+double jnum(const json& j, const char* k) { return j.contains(k) && j[k].is_number() ? j[k].get<double>() : NAN; }
+
+std::vector<std::string> scene_sets(const std::string& c, int nx, const std::string& cn, const std::string& poisson) {
+  std::vector<std::string> s{"grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx),
+                             "solver.crank_nicolson=" + cn, "solver.poisson=" + poisson};
+  if (c == "membrane") s.push_back("membrane.nb=" + std::to_string(2 * nx));
+  return s;
+}
+std::string scene_file(const std::string& c) {
+  return c == "poiseuille" ? "poiseuille.toml" : "membrane_oscillation.toml";
+}
+
+// ---- the child: one case, one size, one pair of solvers; a JSON line on stdout ------------------
+int child(const fs::path& cases, const std::string& c, int nx, const std::string& cn, const std::string& poisson,
+          long steps) {
+  json j;
+  j["case"] = c;
+  j["nx"] = nx;
+  j["cn"] = cn;
+  j["poisson"] = poisson;
+  j["rss_start_kb"] = status_kb("VmRSS");
+  try {
+    const sphib::Scene s = sphib::load_scene((cases / scene_file(c)).string(), scene_sets(c, nx, cn, poisson));
+    auto t0 = Clock::now();
+    sphib::Simulation sim(s.sim);
+    j["setup_s"] = since(t0);
+    j["rss_after_setup_kb"] = status_kb("VmRSS");
+    const auto* f = dynamic_cast<const sphib::Fluid*>(&sim.fluid());
+    if (!f) throw std::runtime_error("not an EPSPH fluid");
+    j["n"] = f->size();
+    j["images"] = f->images().size();
+    j["pairs_per_particle"] = static_cast<double>(f->pairs().size()) / f->size();
+    j["h_over_dx"] = f->params().h_over_dx;
+    j["dt"] = f->params().dt;
+    for (const char* k : {"neighbours", "assembly", "factorisation"}) j[std::string("setup_") + k + "_s"] = f->setup_seconds(k);
+    for (const auto& si : f->solver_info()) {
+      json x;
+      x["system"] = si.system;
+      x["method"] = si.method;
+      x["n"] = si.n;
+      x["nnz_A"] = si.nnz_A;
+      x["nnz_used"] = si.nnz_used;
+      x["nnz_factor"] = si.nnz_factor;
+      x["analyse_s"] = si.analyse_seconds;
+      x["factor_s"] = si.factor_seconds;
+      j["solvers"].push_back(x);
+    }
+    auto profile = [&]() {
+      std::map<std::string, double> p;
+      for (const sphib::Profile* P : {&sim.fluid().profile(), &sim.profile()})
+        for (size_t k = 0; k < P->names().size(); ++k) p[P->names()[k]] += P->seconds(static_cast<int>(k));
+      return p;
+    };
+    for (int k = 0; k < 3; ++k) sim.step();  // warm-up: the first AB2 step, first solves
+    const auto p0 = profile();
+    const double c0 = cpu_seconds();
+    t0 = Clock::now();
+    for (long k = 0; k < steps; ++k) sim.step();
+    const double loop = since(t0);
+    j["steps"] = steps;
+    j["loop_s"] = loop;
+    j["loop_cpu_s"] = cpu_seconds() - c0;
+    j["per_step_s"] = loop / steps;
+    for (const auto& [name, sec] : profile()) j["phases"][name] = (sec - (p0.count(name) ? p0.at(name) : 0.0)) / steps;
+    j["cn_mean_iterations"] = f->cn_mean_iterations();
+    j["ok"] = std::isfinite(f->kinetic_energy());
+  } catch (const std::exception& e) {
+    j["error"] = e.what();
+  }
+  j["vmhwm_kb"] = status_kb("VmHWM");
+  std::printf("%s\n", j.dump().c_str());
+  std::fflush(stdout);
+  return 0;
+}
+
+// ---- the parent -----------------------------------------------------------------------------------
+struct Options {
+  std::string parts = "NS";
+  std::vector<int> nx{32, 64, 128, 256, 512};
+  std::vector<int> compare_nx{32, 64, 128, 256};
+  std::vector<std::string> cases{"poiseuille", "membrane"};
+  double seconds = 3.0;
+  fs::path out = "bench_out/scaling";
+  fs::path cases_dir = "cases";
+};
+
+// Runs one child; returns its JSON with the parent's wall time and wait4's ru_maxrss added.
+json spawn(const Options& o, const std::string& c, int nx, const std::string& cn, const std::string& poisson, long steps) {
+  int fd[2];
+  if (pipe(fd) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  const std::vector<std::string> args{"/proc/self/exe", "--child",  c, std::to_string(nx), cn, poisson,
+                                      std::to_string(steps), "--cases", o.cases_dir.string()};
+  const auto t0 = Clock::now();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    dup2(fd[1], 1);
+    close(fd[0]);
+    close(fd[1]);
+    std::vector<char*> av;
+    for (const auto& a : args) av.push_back(const_cast<char*>(a.c_str()));
+    av.push_back(nullptr);
+    execv(av[0], av.data());
+    _exit(127);
+  }
+  close(fd[1]);
+  std::string out;
+  char buf[4096];
+  for (ssize_t n; (n = read(fd[0], buf, sizeof buf)) > 0;) out.append(buf, n);
+  close(fd[0]);
+  int st = 0;
+  rusage ru{};
+  wait4(pid, &st, 0, &ru);
+  json j;
+  {  // the child's last line is its JSON
+    std::stringstream ss(out);
+    std::string last;
+    for (std::string line; std::getline(ss, line);)
+      if (!line.empty() && line[0] == '{') last = line;
+    if (!last.empty()) j = json::parse(last, nullptr, false);
+  }
+  if (j.is_discarded() || j.is_null()) {
+    j = json::object();
+    j["case"] = c;
+    j["nx"] = nx;
+    j["cn"] = cn;
+    j["poisson"] = poisson;
+    j["error"] = "child failed (status " + std::to_string(st) + ")";
+  }
+  j["child_wall_s"] = since(t0);
+  j["ru_maxrss_kb"] = ru.ru_maxrss;
+  return j;
+}
+
+// least squares of log y against log N: the exponent a of y ~ N^a
+double exponent(const std::vector<std::pair<double, double>>& pts) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (auto [N, y] : pts) {
+    if (!(y > 0) || !(N > 0)) continue;
+    const double lx = std::log(N), ly = std::log(y);
+    sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly; ++n;
+  }
+  return n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : NAN;
+}
+
+struct Bench {
+  Options o;
+  std::vector<json> scale, compare;
+
+  static double phase_sum(const json& j, const std::string& prefix) {
+    double s = 0;
+    if (j.contains("phases"))
+      for (auto it = j["phases"].begin(); it != j["phases"].end(); ++it)
+        if (it.key().rfind(prefix, 0) == 0) s += it.value().get<double>();
+    return s;
+  }
+  static const json* solver(const json& j, const std::string& system) {
+    if (j.contains("solvers"))
+      for (const auto& s : j["solvers"])
+        if (s["system"] == system) return &s;
+    return nullptr;
+  }
+  static double sv(const json& j, const std::string& system, const char* key) {
+    const json* s = solver(j, system);
+    return s && s->contains(key) ? (*s)[key].get<double>() : NAN;
+  }
+
+  long steps_for(const std::string& c, int nx) const {
+    // a guess from the last measured size of this case: time per step ~ N^1.1
+    double per = 1e-3 * std::pow(nx / 64.0, 2.2) * (c == "membrane" ? 1.0 : 1.2);
+    for (const json& j : scale)
+      if (j["case"] == c && j.contains("per_step_s"))
+        per = j["per_step_s"].get<double>() * std::pow(static_cast<double>(nx) / j["nx"].get<int>(), 2.2);
+    return std::clamp(std::lround(o.seconds / per), 5L, 3000L);
+  }
+
+  void print(const json& j) {
+    std::printf("  %-10s Nx %4d  cn %-18s poisson %-18s", j.value("case", "").c_str(), j.value("nx", 0),
+                j.value("cn", "").c_str(), j.value("poisson", "").c_str());
+    if (j.contains("error")) {
+      std::printf(" FAILED: %s\n", j["error"].get<std::string>().c_str());
+    } else {
+      std::printf(" set-up %7.3f s (nb %.3f asm %.3f fact %.3f)  %9.3f ms/step (%ld steps)  peak %7.1f MB\n",
+                  jnum(j, "setup_s"), jnum(j, "setup_neighbours_s"), jnum(j, "setup_assembly_s"),
+                  jnum(j, "setup_factorisation_s"), 1e3 * jnum(j, "per_step_s"), j.value("steps", 0L),
+                  jnum(j, "vmhwm_kb") / 1024.0);
+    }
+    std::fflush(stdout);
+  }
+
+  void part_n() {
+    std::printf("N: time per step, set-up and peak memory against N (solvers auto)\n");
+    for (const std::string& c : o.cases)
+      for (int nx : o.nx) {
+        json j = spawn(o, c, nx, "auto", "auto", steps_for(c, nx));
+        print(j);
+        scale.push_back(j);
+        write();
+      }
+  }
+
+  void part_s() {
+    std::printf("S: CHOLMOD supernodal vs simplicial, and Jacobi-PCG for Crank-Nicolson, on the same matrices\n");
+    const std::vector<std::pair<std::string, std::string>> variants{
+        {"cholmod_supernodal", "cholmod_supernodal"}, {"cholmod_simplicial", "cholmod_simplicial"}, {"pcg", "auto"}};
+    for (const std::string& c : o.cases)
+      for (int nx : o.compare_nx)
+        for (const auto& [cn, p] : variants) {
+          json j = spawn(o, c, nx, cn, p, std::max(5L, steps_for(c, nx) / 2));
+          print(j);
+          compare.push_back(j);
+          write();
+        }
+  }
+
+  std::string markdown() const {
+    std::ostringstream m;
+    m << "# Scaling of EPSPH with the number of particles (issue 6)\n\nGenerated by `bench/scaling`. One core "
+         "(single-threaded CHOLMOD/BLAS), a fresh process per row; wall times on a 2-core machine shared with "
+         "other jobs (expect ±20-50%; the loop's CPU time is in the CSV). Peak memory = VmHWM of the child "
+         "(the process before building anything: " << (scale.empty() ? std::string("–") : fix(jnum(scale[0], "rss_start_kb") / 1024.0, 1))
+      << " MB).\n\n";
+    for (const std::string& c : o.cases) {
+      std::vector<const json*> rs;
+      for (const json& j : scale)
+        if (j["case"] == c && !j.contains("error")) rs.push_back(&j);
+      if (rs.empty()) continue;
+      m << "## " << c << " (" << (c == "poiseuille" ? "cases/poiseuille.toml, h = 1.525 dx, Stokes" : "cases/membrane_oscillation.toml, h = 1.2 dx, Nb = 2 Nx")
+        << "), solvers auto\n\n"
+        << "| Nx | N | pairs/particle | steps | ms/step | µs/step/particle | solves ms/step | membrane ms/step | "
+           "neighbours s | assembly s | factorisation s | CN: method, nnz(L) | Poisson: method, nnz(L) | peak MB | "
+           "peak − start MB | ru_maxrss MB |\n"
+        << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|\n";
+      for (const json* j : rs) {
+        const double N = jnum(*j, "n"), per = jnum(*j, "per_step_s");
+        const double memb = phase_sum(*j, "membrane") + phase_sum(*j, "spread") + phase_sum(*j, "interpolat") +
+                            phase_sum(*j, "marker");
+        auto meth = [&](const std::string& sys) {
+          const json* s = solver(*j, sys);
+          if (!s) return std::string();
+          std::string mth = (*s)["method"].get<std::string>();
+          mth = mth.substr(0, mth.find(" ("));
+          return mth + ", " + ((*s)["nnz_factor"].get<long>() > 0 ? sci((*s)["nnz_factor"].get<double>()) : "–");
+        };
+        m << "| " << (*j)["nx"].get<int>() << " | " << static_cast<long>(N) << " | " << fix(jnum(*j, "pairs_per_particle"), 1)
+          << " | " << (*j)["steps"].get<long>() << " | " << fix(1e3 * per, 3) << " | " << fix(1e6 * per / N, 3) << " | "
+          << fix(1e3 * phase_sum(*j, "solve"), 3) << " | " << fix(1e3 * memb, 3) << " | "
+          << fix(jnum(*j, "setup_neighbours_s"), 3) << " | " << fix(jnum(*j, "setup_assembly_s"), 3) << " | "
+          << fix(jnum(*j, "setup_factorisation_s"), 3) << " | " << meth("Crank-Nicolson") << " | " << meth("Poisson")
+          << " | " << fix(jnum(*j, "vmhwm_kb") / 1024, 1) << " | "
+          << fix((jnum(*j, "vmhwm_kb") - jnum(*j, "rss_start_kb")) / 1024, 1) << " | "
+          << fix(jnum(*j, "ru_maxrss_kb") / 1024, 1) << " |\n";
+      }
+      // exponents over Nx >= 64
+      auto fit = [&](const std::function<double(const json&)>& y) {
+        std::vector<std::pair<double, double>> pts;
+        for (const json* j : rs)
+          if ((*j)["nx"].get<int>() >= 64) pts.emplace_back(jnum(*j, "n"), y(*j));
+        return exponent(pts);
+      };
+      m << "\nObserved exponents a in y ~ N^a (least squares over Nx ≥ 64):\n\n"
+        << "- time per step: **" << fix(fit([](const json& j) { return jnum(j, "per_step_s"); }), 2) << "**"
+        << "; solves: " << fix(fit([](const json& j) { return phase_sum(j, "solve"); }), 2)
+        << "; everything but the solves: "
+        << fix(fit([](const json& j) { return jnum(j, "per_step_s") - phase_sum(j, "solve"); }), 2) << "\n"
+        << "- set-up: neighbours " << fix(fit([](const json& j) { return jnum(j, "setup_neighbours_s"); }), 2)
+        << ", assembly " << fix(fit([](const json& j) { return jnum(j, "setup_assembly_s"); }), 2)
+        << ", analysis + factorisation " << fix(fit([](const json& j) { return jnum(j, "setup_factorisation_s"); }), 2)
+        << ", total " << fix(fit([](const json& j) { return jnum(j, "setup_s"); }), 2) << "\n"
+        << "- factor non-zeros: Crank-Nicolson "
+        << fix(fit([](const json& j) { return sv(j, "Crank-Nicolson", "nnz_factor"); }), 2) << ", Poisson "
+        << fix(fit([](const json& j) { return sv(j, "Poisson", "nnz_factor"); }), 2) << "\n"
+        << "- peak memory above the start: "
+        << fix(fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }), 2) << "\n\n";
+    }
+    if (!compare.empty()) {
+      m << "## Linear solvers on the same matrices\n\n"
+           "Per solve = one call per step (Crank-Nicolson: both velocity components at once; Poisson: one). "
+           "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by `auto`.\n\n"
+           "| case | Nx | variant | CN method | CN analyse+factor s | CN nnz(L) | CN ms/solve | PCG iterations | "
+           "Poisson method | Poisson analyse+factor s | Poisson nnz(L) | Poisson ms/solve | ms/step | peak MB |\n"
+           "|---|---:|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n";
+      for (const json& j : compare) {
+        m << "| " << j["case"].get<std::string>() << " | " << j["nx"].get<int>() << " | " << j["cn"].get<std::string>()
+          << " | ";
+        if (j.contains("error")) {
+          m << "failed: " << j["error"].get<std::string>().substr(0, 80) << " | | | | | | | | | | |\n";
+          continue;
+        }
+        auto meth = [&](const std::string& sys) {
+          const json* s = solver(j, sys);
+          if (!s) return std::string();
+          const std::string mth = (*s)["method"].get<std::string>();
+          return mth.substr(0, mth.find(" ("));
+        };
+        auto nnz = [&](const std::string& sys) {
+          const double v = sv(j, sys, "nnz_factor");
+          return v > 0 ? sci(v) : std::string("–");
+        };
+        m << meth("Crank-Nicolson") << " | "
+          << fix(sv(j, "Crank-Nicolson", "analyse_s") + sv(j, "Crank-Nicolson", "factor_s"), 3) << " | "
+          << nnz("Crank-Nicolson") << " | " << fix(1e3 * phase_sum(j, "solve Crank"), 3) << " | "
+          << (j["cn"] == "pcg" ? fix(jnum(j, "cn_mean_iterations"), 1) : std::string("–")) << " | " << meth("Poisson")
+          << " | " << fix(sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"), 3) << " | " << nnz("Poisson")
+          << " | " << fix(1e3 * phase_sum(j, "solve Poisson"), 3) << " | " << fix(1e3 * jnum(j, "per_step_s"), 3)
+          << " | " << fix(jnum(j, "vmhwm_kb") / 1024, 1) << " |\n";
+      }
+      m << "\n";
+    }
+    return m.str();
+  }
+
+  void write() const {
+    std::ostringstream c;
+    c << "case,nx,n,cn,poisson,steps,pairs_per_particle,setup_s,setup_neighbours_s,setup_assembly_s,"
+         "setup_factorisation_s,per_step_s,loop_s,loop_cpu_s,solves_per_step_s,cn_solve_per_step_s,"
+         "poisson_solve_per_step_s,membrane_per_step_s,cn_method,cn_nnz_A,cn_nnz_factor,cn_analyse_s,cn_factor_s,"
+         "poisson_method,poisson_nnz_A,poisson_nnz_factor,poisson_analyse_s,poisson_factor_s,cn_mean_iterations,"
+         "rss_start_kb,rss_after_setup_kb,vmhwm_kb,ru_maxrss_kb,child_wall_s,error\n";
+    auto row = [&](std::ostringstream& o, const json& j) {
+      auto method = [&](const std::string& sys) {
+        const json* s = solver(j, sys);
+        std::string mth = s ? (*s)["method"].get<std::string>() : "";
+        for (char& ch : mth)
+          if (ch == ',') ch = ';';
+        return mth;
+      };
+      const double memb = phase_sum(j, "membrane") + phase_sum(j, "spread") + phase_sum(j, "interpolat") +
+                          phase_sum(j, "marker");
+      o << j.value("case", "") << ',' << j.value("nx", 0) << ',' << csv_num(jnum(j, "n")) << ',' << j.value("cn", "")
+        << ',' << j.value("poisson", "") << ',' << csv_num(jnum(j, "steps")) << ','
+        << csv_num(jnum(j, "pairs_per_particle")) << ',' << csv_num(jnum(j, "setup_s")) << ','
+        << csv_num(jnum(j, "setup_neighbours_s")) << ',' << csv_num(jnum(j, "setup_assembly_s")) << ','
+        << csv_num(jnum(j, "setup_factorisation_s")) << ',' << csv_num(jnum(j, "per_step_s")) << ','
+        << csv_num(jnum(j, "loop_s")) << ',' << csv_num(jnum(j, "loop_cpu_s")) << ','
+        << csv_num(phase_sum(j, "solve")) << ',' << csv_num(phase_sum(j, "solve Crank")) << ','
+        << csv_num(phase_sum(j, "solve Poisson")) << ',' << csv_num(memb) << ',' << method("Crank-Nicolson") << ','
+        << csv_num(sv(j, "Crank-Nicolson", "nnz_A")) << ',' << csv_num(sv(j, "Crank-Nicolson", "nnz_factor")) << ','
+        << csv_num(sv(j, "Crank-Nicolson", "analyse_s")) << ',' << csv_num(sv(j, "Crank-Nicolson", "factor_s")) << ','
+        << method("Poisson") << ',' << csv_num(sv(j, "Poisson", "nnz_A")) << ','
+        << csv_num(sv(j, "Poisson", "nnz_factor")) << ',' << csv_num(sv(j, "Poisson", "analyse_s")) << ','
+        << csv_num(sv(j, "Poisson", "factor_s")) << ',' << csv_num(jnum(j, "cn_mean_iterations")) << ','
+        << csv_num(jnum(j, "rss_start_kb")) << ',' << csv_num(jnum(j, "rss_after_setup_kb")) << ','
+        << csv_num(jnum(j, "vmhwm_kb")) << ',' << csv_num(jnum(j, "ru_maxrss_kb")) << ','
+        << csv_num(jnum(j, "child_wall_s")) << ',';
+      std::string e = j.value("error", "");
+      for (char& ch : e)
+        if (ch == ',' || ch == '\n') ch = ';';
+      o << e << '\n';
+    };
+    std::ostringstream s = std::ostringstream(c.str(), std::ios::ate);
+    for (const json& j : scale) row(c, j);
+    for (const json& j : compare) row(s, j);
+    sphib::write_file_atomic((o.out / "scaling.csv").string(), c.str());
+    sphib::write_file_atomic((o.out / "solvers.csv").string(), s.str());
+    sphib::write_file_atomic((o.out / "scaling.md").string(), markdown());
+  }
+};
+
+template <class T>
+std::vector<T> parse_list(const std::string& s) {
+  std::vector<T> v;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) {
+      if constexpr (std::is_same_v<T, int>) v.push_back(std::stoi(item));
+      else v.push_back(item);
+    }
+  return v;
+}
+
+[[noreturn]] void usage(int code) {
+  (code ? std::cerr : std::cout)
+      << "usage: scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane] [--seconds S]\n"
+         "               [--out DIR] [--cases-dir DIR]\n"
+         "  --parts       N time per step / set-up / memory against N, S solver comparison (default NS)\n"
+         "  --nx          sizes for N (default 32,64,128,256,512)\n"
+         "  --compare-nx  sizes for S (default 32,64,128,256)\n"
+         "  --seconds     loop time to aim for per run (default 3)\n"
+         "  --out         output directory (default bench_out/scaling)\n";
+  std::exit(code);
+}
+
+void ensure_single_thread(char** argv) {
+  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
+  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
+  setenv("OMP_NUM_THREADS", "1", 1);
+  setenv("OPENBLAS_NUM_THREADS", "1", 1);
+  setenv("MKL_NUM_THREADS", "1", 1);
+  setenv("GOTO_NUM_THREADS", "1", 1);
+  execv("/proc/self/exe", argv);
+  std::fprintf(stderr, "scaling: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 8 && std::string(argv[1]) == "--child") {
+    fs::path cases = "cases";
+    if (argc >= 10 && std::string(argv[8]) == "--cases") cases = argv[9];
+    return child(cases, argv[2], std::atoi(argv[3]), argv[4], argv[5], std::atol(argv[6]));
+  }
+  Options o;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) usage(2);
+        return argv[++i];
+      };
+      if (a == "--help" || a == "-h") usage(0);
+      else if (a == "--parts") o.parts = value();
+      else if (a == "--nx") o.nx = parse_list<int>(value());
+      else if (a == "--compare-nx") o.compare_nx = parse_list<int>(value());
+      else if (a == "--cases") o.cases = parse_list<std::string>(value());
+      else if (a == "--seconds") o.seconds = std::stod(value());
+      else if (a == "--out") o.out = value();
+      else if (a == "--cases-dir") o.cases_dir = value();
+      else {
+        std::cerr << "scaling: unknown option " << a << "\n";
+        usage(2);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "scaling: " << e.what() << "\n";
+    usage(2);
+  }
+  ensure_single_thread(argv);
+  fs::create_directories(o.out);
+  Bench b{o, {}, {}};
+  const auto t0 = Clock::now();
+  try {
+    if (o.parts.find('N') != std::string::npos) b.part_n();
+    if (o.parts.find('S') != std::string::npos) b.part_s();
+    b.write();
+  } catch (const std::exception& e) {
+    std::cerr << "scaling: " << e.what() << "\n";
+    return 1;
+  }
+  std::printf("\n%s\ntotal %.0f s wall; wrote %s/scaling.csv, solvers.csv, scaling.md\n", b.markdown().c_str(), since(t0),
+              o.out.c_str());
+  return 0;
+}

@@ -1,0 +1,816 @@
+// Benchmark (not a test): where the EPSPH immersed-boundary step is stable (issue 6).
+//
+// A coarse, short version of the oscillating membrane (cases/membrane_oscillation.toml: the
+// ellipse rx = 0.75, ry = 0.5, r0 = 0.5 in [-1.5, 1.5]^2; here 32 x 32 particles, Nb = 64, i.e.
+// 1.91 markers per grid spacing as the 64 x 64 case with Nb = 128, h = 1.2 dx, h* = 1.4 h,
+// T0 = 10, mu = 0.1, rho = 1, default dt = 1e-4) run to t = 0.5 but for no fewer than 500 and no
+// more than 4000 steps. Every run is classified automatically:
+//   unstable  the runner stopped it (sphib::RunError from run_scene: non-finite values, a particle
+//             or a marker moving more than a lattice spacing in one step, a marker with no fluid
+//             particle within 2h, a fixed point that does not converge), or the total energy
+//             kinetic + elastic (diagnostics.csv, every step up to 100 rows) exceeded 10 times its
+//             initial value;
+//   stable    otherwise;
+//   refused   the scene was refused at set-up (e.g. a kernel reaching the walls): no verdict.
+//
+//  G  classification grid: dt in {1e-5, 3.16e-5, 1e-4, 3.16e-4, 1e-3} (two decades around the
+//     default) against each parameter in turn, the others at the default: T0 in 1..1e4, mu in
+//     1e-3..10, markers per grid spacing 0.25..4 (membrane.nb), h/dx 1..5 (h* held at its default
+//     value 0.1575 so that the support fits between membrane and walls), h*/h 0.5..2;
+//  T  the largest stable dt for every (T0, mu) pair, T0 in {1, 10, ..., 1e4}, mu in {1e-3, ..., 10}:
+//     bracketing by factors of 4 from the estimate of `sphib check` (app/check.cpp), then geometric
+//     bisection until the bracket is within a factor 1.1; fitted to the explicit-IB estimates
+//       viscous   dt ~ C_v mu dx / T0,   inertial   dt ~ C_i sqrt(rho dx^3 / T0)
+//     (Stockie & Wetton 1999) as dt_max = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0), least squares
+//     in log dt over the bracketed pairs; compared with `sphib check`'s
+//     max(sqrt(rho h*^3/T0), 10 mu h*/T0);
+//  X  the largest stable dt against Nx (24..64, Nb = 2 Nx), markers per grid spacing, h/dx and
+//     h*/h at an inertial point (T0 = 1e3, mu = 1e-3) and a viscous point (T0 = 1e3, mu = 10):
+//     which length (dx, h, h*, marker spacing) sets the limit.
+//
+//  E  as T with the bench's own loop instead of run_scene, without the runner's dx-per-step guards
+//     (a particle or marker moving more than dx in a step): near the limit of T the runner stops
+//     runs whose *physical* speed reaches dx/dt (a CFL guard, not a blow-up); here only non-finite
+//     values, energy above the bound, a failing fixed point or a marker leaving the fluid count.
+//  S  as E with convection off.
+//
+//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick]
+//
+// Writes DIR/stability_runs.csv (every run: parameters, verdict, reason), DIR/stability_dtmax.csv
+// (one row per bisection), DIR/stability_map.md, each atomically after every run; plots:
+// scripts/plot_bench.py. Run directories are scratch (DIR/scratch, removed). Single-threaded.
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/atomic_file.hpp"
+#include "io/run.hpp"
+#include "io/scene.hpp"
+#include "membrane/geometry.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+}
+std::string num(double v, int prec = 10) {
+  std::ostringstream s;
+  s << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string sci(double v, int prec = 2) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string fix(double v, int prec = 2) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(prec) << v;
+  return s.str();
+}
+std::string csv_num(double v) { return std::isfinite(v) ? num(v, 10) : std::string(); }
+std::string csv_text(std::string s) {
+  for (char& c : s)
+    if (c == ',' || c == '\n' || c == '"') c = ';';
+  return s;
+}
+
+constexpr double kL = 3.0;           // domain width
+constexpr double kR0 = 0.5;          // rest radius: L0 = 2 pi r0
+constexpr double kEnergyBound = 10;  // unstable: total energy above 10 x its initial value
+constexpr double kDtCap = 1.0;       // the bisection does not look above this dt
+constexpr double kDtFloor = 1e-7;
+
+// The parameters of one run (the coarse membrane, changed from its defaults).
+struct Params {
+  double T0 = 10, mu = 0.1, rho = 1.0;
+  int nx = 32;
+  int nb = 64;
+  double hdx = 1.2;
+  double hsh = 1.4;        // h*/h (when h_star == 0)
+  double h_star_abs = 0;   // > 0: h* fixed
+  double dt = 1e-4;
+  bool convection = true;  // false: Stokes (no AB2 convection: no convective CFL instability)
+  bool guard = true;       // true: run_scene and its checks; false: the bench's own loop without the
+                           // dx-per-step guards (non-finite values, energy growth, fixed point, markers leaving)
+  double dx() const { return kL / nx; }
+  double h() const { return hdx * dx(); }
+  double h_star() const { return h_star_abs > 0 ? h_star_abs : hsh * h(); }
+  double markers_per_dx() const { return dx() / (2 * M_PI * kR0 / nb); }
+  // `sphib check`'s estimate (app/check.cpp)
+  double check_estimate() const {
+    const double hs = h_star();
+    return std::max(std::sqrt(rho * hs * hs * hs / T0), 10.0 * mu * hs / T0);
+  }
+  long steps() const { return std::clamp(std::lround(0.5 / dt), 500L, 4000L); }
+  std::vector<std::string> sets() const {
+    std::vector<std::string> s{"grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx),
+                               "membrane.nb=" + std::to_string(nb), "membrane.T0=" + num(T0), "fluid.mu=" + num(mu),
+                               "kernel.h_over_dx=" + num(hdx), "time.dt=" + num(dt, 12),
+                               "time.end=" + num(steps() * dt * (1 + 1e-9), 15),
+                               "time.max_steps=" + std::to_string(steps()), "output.interval=0",
+                               "output.diagnostics_every=" + std::to_string(std::max(1L, steps() / 100)),
+                               "output.fields=[\"u\"]"};
+    if (!convection) s.push_back("fluid.convection=false");
+    if (h_star_abs > 0) s.push_back("membrane.h_star=" + num(h_star_abs, 12));
+    else s.push_back("membrane.h_star_over_h=" + num(hsh));
+    return s;
+  }
+};
+
+struct Verdict {
+  std::string part, axis;  // which study, which parameter is varied
+  Params p;
+  std::string verdict = "stable";  // stable | unstable | refused
+  std::string reason;              // for unstable: non-finite | particle CFL | marker CFL | marker left fluid | fixed point | energy growth
+  std::string message;
+  long steps_done = 0;
+  double t_done = 0, energy_ratio = NAN, area_error = NAN, cpu = 0;
+  double max_speed = NAN;  // largest max |u| of the diagnostics rows (the last good state for an unstable run)
+  double cfl() const { return max_speed * p.dt / p.dx(); }
+  double u_fail = NAN;     // particle CFL failures: the max |u| the runner reported
+  bool stable() const { return verdict == "stable"; }
+};
+
+std::string classify(const std::string& msg) {
+  auto has = [&](const char* s) { return msg.find(s) != std::string::npos; };
+  if (has("non-finite")) return "non-finite";
+  if (has("moves a particle")) return "particle CFL";
+  if (has("marker") && has("would move")) return "marker CFL";
+  if (has("no fluid particle")) return "marker left fluid";
+  if (has("did not converge")) return "fixed point";
+  if (has("energy")) return "energy growth";  // the runner's own bound (kinetic + elastic > 10 x initial)
+  return "other";
+}
+
+struct DtMax {
+  std::string part, axis;
+  Params p;       // dt unused
+  double lo = NAN, hi = NAN;  // largest stable, smallest unstable dt found
+  std::string reason;         // why the smallest unstable run failed
+  double cfl_stable = NAN;    // max |u| dt / dx of the largest stable run
+  double u_stable = NAN, u_fail = NAN;  // max |u| of the largest stable run; reported at the failure
+  int runs = 0;
+  double estimate() const { return std::isfinite(lo) && std::isfinite(hi) ? std::sqrt(lo * hi) : NAN; }
+};
+
+struct Options {
+  std::string parts = "GTESX";
+  fs::path out = "bench_out/stability_map";
+  fs::path cases = "cases";
+  bool quick = false;
+};
+
+class Bench {
+ public:
+  explicit Bench(Options o) : o_(std::move(o)) { fs::create_directories(o_.out); }
+
+  Verdict run(const std::string& part, const std::string& axis, const Params& p) {
+    std::string key = p.guard ? "guard;" : "noguard;";
+    for (const auto& s : p.sets()) key += s + ";";
+    if (auto it = memo_.find(key); it != memo_.end()) {
+      Verdict v = it->second;
+      v.part = part;
+      v.axis = axis;
+      return v;
+    }
+    Verdict v;
+    v.part = part;
+    v.axis = axis;
+    v.p = p;
+    const fs::path dir = o_.out / "scratch";
+    fs::remove_all(dir);
+    const double c0 = cpu_seconds();
+    sphib::Scene s;
+    try {
+      s = sphib::load_scene((o_.cases / "membrane_oscillation.toml").string(), p.sets());
+    } catch (const std::exception& e) {
+      v.verdict = "refused";
+      v.message = e.what();
+    }
+    if (v.verdict != "refused" && !p.guard) {
+      direct(s, v);
+    } else if (v.verdict != "refused") {
+      sphib::RunOptions ro;
+      ro.out_dir = dir.string();
+      try {
+        const nlohmann::json j = sphib::run_scene(s, ro);
+        v.area_error = j.value("area_relative_error", NAN);
+      } catch (const sphib::RunError& e) {
+        v.verdict = "unstable";
+        v.message = e.what();
+        v.reason = classify(v.message);
+        if (const auto k = v.message.find("max |u| = "); k != std::string::npos)
+          v.u_fail = std::strtod(v.message.c_str() + k + 10, nullptr);
+      } catch (const std::exception& e) {  // set-up refused (std::invalid_argument from the constructors)
+        v.verdict = "refused";
+        v.message = e.what();
+      }
+      // the energy: kinetic + elastic, against its initial value
+      std::ifstream in(dir / "diagnostics.csv");
+      std::string line;
+      if (std::getline(in, line)) {
+        std::vector<std::string> cols;
+        std::stringstream ss(line);
+        for (std::string c; std::getline(ss, c, ',');) cols.push_back(c);
+        auto col = [&](const char* n) { return std::find(cols.begin(), cols.end(), n) - cols.begin(); };
+        const long ik = col("kinetic_energy"), ie = col("m0_elastic_energy"), is = col("step"), it = col("t"),
+                   iu = col("max_speed");
+        double e0 = NAN, emax = 0;
+        while (std::getline(in, line)) {
+          std::vector<double> r;
+          std::stringstream rs(line);
+          for (std::string c; std::getline(rs, c, ',');) r.push_back(c.empty() ? NAN : std::strtod(c.c_str(), nullptr));
+          if (static_cast<long>(r.size()) <= std::max({ik, ie, is, it, iu})) continue;
+          v.max_speed = std::isfinite(v.max_speed) ? std::max(v.max_speed, r[iu]) : r[iu];
+          const double e = r[ik] + r[ie];
+          if (!std::isfinite(e0)) e0 = e;
+          emax = std::isfinite(e) ? std::max(emax, e) : INFINITY;
+          v.steps_done = static_cast<long>(r[is]);
+          v.t_done = r[it];
+        }
+        if (e0 > 0) v.energy_ratio = emax / e0;
+        if (v.verdict == "stable" && !(v.energy_ratio <= kEnergyBound)) {
+          v.verdict = "unstable";
+          v.reason = "energy growth";
+          v.message = "total energy reached " + num(v.energy_ratio, 3) + " x its initial value";
+        }
+      }
+    }
+    v.cpu = cpu_seconds() - c0;
+    fs::remove_all(dir);
+    memo_[key] = v;
+    return v;
+  }
+
+  // The bench's own loop (no run_scene): the runner's dx-per-step guards are off (markers may move
+  // any distance, fluid speed is not checked), so only a genuine blow-up stops the run: a step
+  // that throws (fixed point not converging, a marker with no fluid within 2h), non-finite
+  // values, or energy above the bound. Checked after every step.
+  static void direct(sphib::Scene& s, Verdict& v) {
+    s.sim.markers.max_move = 1e300;
+    std::unique_ptr<sphib::Simulation> sim;
+    try {
+      sim = std::make_unique<sphib::Simulation>(s.sim);
+    } catch (const std::exception& e) {
+      v.verdict = "refused";
+      v.message = e.what();
+      return;
+    }
+    const auto& m0 = sim->membranes()[0];
+    sphib::MembraneDiagnostics D(m0.m.nb(), m0.m.L0);
+    auto energy = [&]() {
+      D.fit(sim->membranes()[0].m.X);
+      return sim->fluid().kinetic_energy() + D.energy(sim->membranes()[0].m.T0);
+    };
+    const double e0 = energy();
+    double emax = e0;
+    v.max_speed = 0;
+    const long n = v.p.steps();
+    try {
+      for (long k = 0; k < n; ++k) {
+        sim->step();
+        v.steps_done = k + 1;
+        v.t_done = sim->time();
+        const double e = energy();
+        emax = std::isfinite(e) ? std::max(emax, e) : INFINITY;
+        if (!std::isfinite(e) || !sim->membranes()[0].m.X.allFinite()) {
+          v.verdict = "unstable";
+          v.reason = "non-finite";
+          v.message = "non-finite energy or markers at step " + std::to_string(k + 1);
+          break;
+        }
+        v.max_speed = std::max(v.max_speed, sim->fluid().u().rowwise().norm().maxCoeff());
+        if (e > kEnergyBound * e0) {
+          v.verdict = "unstable";
+          v.reason = "energy growth";
+          v.message = "total energy reached " + num(e / e0, 3) + " x its initial value at step " + std::to_string(k + 1);
+          break;
+        }
+      }
+    } catch (const std::exception& e) {
+      v.verdict = "unstable";
+      v.message = e.what();
+      v.reason = classify(v.message);
+    }
+    v.energy_ratio = e0 > 0 ? emax / e0 : NAN;
+  }
+
+  void record(const Verdict& v) {
+    all_.push_back(v);
+    std::printf("  %s %-9s T0 %-6s mu %-6s Nx %-3d nb %-4d h/dx %-5s h*/h %-6s dt %-9s %-8s %-17s steps %5ld E/E0 %-9s cpu %.1f s\n",
+                v.part.c_str(), v.axis.c_str(), num(v.p.T0, 4).c_str(), num(v.p.mu, 4).c_str(), v.p.nx, v.p.nb,
+                num(v.p.hdx, 4).c_str(), num(v.p.h_star() / v.p.h(), 3).c_str(), num(v.p.dt, 4).c_str(),
+                v.verdict.c_str(), v.reason.c_str(), v.steps_done, sci(v.energy_ratio).c_str(), v.cpu);
+    std::fflush(stdout);
+  }
+
+  // Largest stable dt with the other parameters of p: bracket by factors of 4 from the estimate,
+  // then bisect geometrically to a factor 1.1. Assumes stability is monotone in dt (the grid G
+  // checks that).
+  DtMax bisect(const std::string& part, const std::string& axis, Params p) {
+    DtMax d;
+    d.part = part;
+    d.axis = axis;
+    d.p = p;
+    auto probe = [&](double dt) {
+      p.dt = dt;
+      Verdict v = run(part, axis, p);
+      record(v);
+      ++d.runs;
+      if (v.verdict == "refused") throw std::runtime_error("refused: " + v.message);
+      if (!v.stable()) d.reason = v.reason;
+      if (v.stable() && !(dt < d.lo)) { d.cfl_stable = v.cfl(); d.u_stable = v.max_speed; }
+      return v.stable();
+    };
+    try {
+      double g = std::clamp(p.check_estimate(), kDtFloor, kDtCap);
+      if (probe(g)) {
+        d.lo = g;
+        for (double t = g * 4; ; t *= 4) {
+          if (t > kDtCap) { d.hi = NAN; break; }  // stable up to the cap
+          if (probe(t)) d.lo = t;
+          else { d.hi = t; break; }
+        }
+      } else {
+        d.hi = g;
+        for (double t = g / 4; ; t /= 4) {
+          if (t < kDtFloor) { d.lo = NAN; break; }
+          if (!probe(t)) d.hi = t;
+          else { d.lo = t; break; }
+        }
+      }
+      std::string reason = d.reason;
+      while (std::isfinite(d.lo) && std::isfinite(d.hi) && d.hi / d.lo > 1.1) {
+        const double mid = std::sqrt(d.lo * d.hi);
+        if (probe(mid)) d.lo = mid;
+        else { d.hi = mid; reason = d.reason; }
+      }
+      // the reason of the smallest unstable dt
+      if (std::isfinite(d.hi)) {
+        Params q = d.p;
+        q.dt = d.hi;
+        const Verdict v = run(part, axis, q);
+        d.reason = v.reason;
+        d.u_fail = v.u_fail;
+      }
+    } catch (const std::exception& e) {
+      d.reason = e.what();
+    }
+    dtmax_.push_back(d);
+    std::printf("  => %s %s: largest stable dt in [%s, %s) (%s), check estimate %s\n", part.c_str(), axis.c_str(),
+                sci(d.lo, 3).c_str(), sci(d.hi, 3).c_str(), d.reason.c_str(), sci(d.p.check_estimate(), 3).c_str());
+    write();
+    return d;
+  }
+
+  // ---- G ----
+  void part_g() {
+    std::printf("G: classification grid, dt x one parameter at a time (32 x 32, default T0 = 10, mu = 0.1)\n");
+    // two decades around the default 1e-4, and on to 0.1 (at 32 x 32 the default T0, mu are stable far above it)
+    const std::vector<double> dts = o_.quick ? std::vector<double>{1e-4, 1e-3}
+                                             : std::vector<double>{1e-5, 3.16e-5, 1e-4, 3.16e-4, 1e-3, 3.16e-3, 1e-2,
+                                                                   3.16e-2, 1e-1};
+    const double hs_default = Params().h_star();
+    struct Axis {
+      std::string name;
+      std::vector<double> values;
+      std::function<void(Params&, double)> set;
+    };
+    std::vector<Axis> axes = {
+        {"T0", {1, 10, 100, 1e3, 1e4}, [](Params& p, double v) { p.T0 = v; }},
+        {"mu", {1e-3, 1e-2, 0.1, 1, 10}, [](Params& p, double v) { p.mu = v; }},
+        {"markers/dx", {0.25, 0.5, 1, 2, 4},
+         [](Params& p, double v) { p.nb = std::max(4, static_cast<int>(std::lround(v * 2 * M_PI * kR0 / p.dx()))); }},
+        {"h/dx", {1, 1.5, 2, 3, 5}, [hs_default](Params& p, double v) { p.hdx = v; p.h_star_abs = hs_default; }},
+        {"h*/h", {0.5, 0.7, 1, 1.4, 2}, [](Params& p, double v) { p.hsh = v; }},
+    };
+    if (o_.quick) axes.resize(1);
+    for (const Axis& a : axes)
+      for (double v : a.values)
+        for (double dt : dts) {
+          Params p;
+          a.set(p, v);
+          p.dt = dt;
+          Verdict r = run("G", a.name, p);
+          record(r);
+          write();
+        }
+  }
+
+  // ---- T ----
+  void part_t(const std::string& part) {
+    const bool stokes = part == "S", guard = part == "T";
+    std::printf("%s: largest stable dt over (T0, mu) (32 x 32%s%s)\n", part.c_str(), stokes ? ", convection off" : "",
+                guard ? ", the runner's checks" : ", no dx-per-step guards");
+    const std::vector<double> T0s = o_.quick ? std::vector<double>{10, 1000} : std::vector<double>{1, 10, 100, 1e3, 1e4};
+    const std::vector<double> mus = o_.quick ? std::vector<double>{0.1} : std::vector<double>{1e-3, 1e-2, 0.1, 1, 10};
+    for (double T0 : T0s)
+      for (double mu : mus) {
+        Params p;
+        p.T0 = T0;
+        p.mu = mu;
+        p.convection = !stokes;
+        p.guard = guard;
+        bisect(part, "T0,mu", p);
+      }
+  }
+
+  // ---- X ----
+  void part_x() {
+    std::printf("X: largest stable dt against Nx, markers per dx, h/dx, h*/h at an inertial and a viscous point,\n"
+                "   with the runner's checks (convection on) and without guards (convection off: the elastic limit)\n");
+    const double hs_default = Params().h_star();
+    const std::vector<std::pair<double, double>> points =
+        o_.quick ? std::vector<std::pair<double, double>>{{1e3, 1e-3}}
+                 : std::vector<std::pair<double, double>>{{1e3, 1e-3}, {1e3, 10}};
+    for (const std::string mode : {"runner", "elastic"})
+      for (auto [T0, mu] : points) {
+        Params base;
+        base.T0 = T0;
+        base.mu = mu;
+        base.guard = mode == "runner";
+        base.convection = mode == "runner";
+        const std::string where = mode + "/" + (mu < 1 ? "inertial" : "viscous");
+        for (int n : o_.quick ? std::vector<int>{24, 32} : std::vector<int>{24, 32, 48, 64}) {
+          Params p = base;
+          p.nx = n;
+          p.nb = 2 * n;
+          bisect("X", where + ":Nx", p);
+        }
+        if (o_.quick) continue;
+        for (double m : {0.25, 0.5, 1.0, 1.91, 4.0}) {
+          Params p = base;
+          p.nb = std::max(4, static_cast<int>(std::lround(m * 2 * M_PI * kR0 / p.dx())));
+          bisect("X", where + ":markers/dx", p);
+        }
+        for (double h : {1.0, 1.2, 1.5, 2.0, 3.0, 5.0}) {
+          Params p = base;
+          p.hdx = h;
+          p.h_star_abs = hs_default;
+          bisect("X", where + ":h/dx", p);
+        }
+        for (double r : {0.5, 0.7, 1.0, 1.4, 2.0}) {
+          Params p = base;
+          p.hsh = r;
+          bisect("X", where + ":h*/h", p);
+        }
+      }
+  }
+
+  // ---- fits ----
+  struct Fit {
+    double Ci = NAN, Cv = NAN, rms_log = NAN;  // dt = max(Ci sqrt(rho L^3/T0), Cv mu L / T0)
+    int n = 0;
+  };
+  // least squares in log dt over the bracketed (T0, mu) pairs, with L = dx (use_hstar false) or h*
+  // The (T0, mu) pair of `part` with the same parameters, if bisected.
+  const DtMax* find_pair(const std::string& part, const Params& p) const {
+    for (const DtMax& d : dtmax_)
+      if (d.part == part && d.p.T0 == p.T0 && d.p.mu == p.mu) return &d;
+    return nullptr;
+  }
+  // With convection (T, E): the limit lies well below the Stokes one (S) of the same pair, so the
+  // explicit convection, not the membrane force, sets it.
+  bool convection_limited(const DtMax& d) const {
+    if (d.part == "S") return false;
+    const DtMax* s = find_pair("S", d.p);
+    return s && std::isfinite(s->estimate()) && std::isfinite(d.estimate()) && d.estimate() < s->estimate() / 1.3;
+  }
+  Fit fit_tmu(const std::string& part, bool use_hstar, bool skip_convective = true) const {
+    std::vector<std::array<double, 3>> d;  // sqrt(rho L^3/T0), mu L/T0, measured dt_max
+    for (const DtMax& m : dtmax_)
+      if (m.part == part && std::isfinite(m.estimate()) && !(skip_convective && convection_limited(m))) {
+        const double L = use_hstar ? m.p.h_star() : m.p.dx();
+        d.push_back({std::sqrt(m.p.rho * L * L * L / m.p.T0), m.p.mu * L / m.p.T0, m.estimate()});
+      }
+    Fit f;
+    f.n = static_cast<int>(d.size());
+    if (d.size() < 2) return f;
+    auto cost = [&](double li, double lv) {
+      const double Ci = std::pow(10.0, li), Cv = std::pow(10.0, lv);
+      double s = 0;
+      for (const auto& r : d) {
+        const double e = std::log(r[2] / std::max(Ci * r[0], Cv * r[1]));
+        s += e * e;
+      }
+      return s;
+    };
+    // coarse grid, then a fine one around its minimum
+    double best = INFINITY, bi = 0, bv = 0;
+    for (double li = -4; li <= 4; li += 0.05)
+      for (double lv = -4; lv <= 5; lv += 0.05)
+        if (const double c = cost(li, lv); c < best) { best = c; bi = li; bv = lv; }
+    const double ci = bi, cv = bv;
+    for (double li = ci - 0.1; li <= ci + 0.1; li += 0.002)
+      for (double lv = cv - 0.1; lv <= cv + 0.1; lv += 0.002)
+        if (const double c = cost(li, lv); c < best) { best = c; bi = li; bv = lv; }
+    f.Ci = std::pow(10.0, bi);
+    f.Cv = std::pow(10.0, bv);
+    f.rms_log = std::sqrt(best / d.size());
+    return f;
+  }
+
+  std::string markdown() const {
+    std::ostringstream m;
+    const Params def;
+    m << "# Stability map of the EPSPH immersed-boundary step (issue 6)\n\n"
+      << "Generated by `bench/stability_map`. The oscillating membrane (`cases/membrane_oscillation.toml`) on a "
+         "coarse lattice: " << def.nx << " x " << def.nx << " (dx = " << num(def.dx(), 4) << "), Nb = " << def.nb
+      << " (" << fix(def.markers_per_dx(), 2) << " markers per grid spacing), h = 1.2 dx, h* = 1.4 h = "
+      << num(def.h_star(), 4) << ", rho = 1; defaults T0 = 10, mu = 0.1, dt = 1e-4. Each run goes to t = 0.5 "
+         "with at least 500 and at most 4000 steps. **Unstable**: stopped by the runner (RunError: non-finite "
+         "values, a particle or marker moving more than dx in a step, a marker with no fluid within 2h, a "
+         "fixed point not converging) or total energy (kinetic + elastic) above "
+      << kEnergyBound << " x its initial value. **Refused**: the scene was refused at set-up.\n\n";
+    // G
+    std::map<std::string, std::vector<const Verdict*>> g;
+    std::vector<std::string> order;
+    for (const Verdict& v : all_)
+      if (v.part == "G") {
+        if (!g.count(v.axis)) order.push_back(v.axis);
+        g[v.axis].push_back(&v);
+      }
+    if (!g.empty()) {
+      m << "## G: classification, dt against one parameter at a time\n\n"
+           "S = stable, U = unstable (reason: N non-finite, P particle CFL, M marker CFL, L marker left the "
+           "fluid, F fixed point, E energy growth), R = refused.\n\n";
+      for (const std::string& a : order) {
+        std::vector<double> vals, dts;
+        auto value = [&](const Verdict& v) {
+          if (a == "T0") return v.p.T0;
+          if (a == "mu") return v.p.mu;
+          if (a == "markers/dx") return v.p.markers_per_dx();
+          if (a == "h/dx") return v.p.hdx;
+          return v.p.h_star() / v.p.h();
+        };
+        for (const Verdict* v : g[a]) {
+          if (std::find(vals.begin(), vals.end(), value(*v)) == vals.end()) vals.push_back(value(*v));
+          if (std::find(dts.begin(), dts.end(), v->p.dt) == dts.end()) dts.push_back(v->p.dt);
+        }
+        m << "| " << a << " \\ dt |";
+        for (double dt : dts) m << " " << num(dt, 3) << " |";
+        m << "\n|---|";
+        for (size_t k = 0; k < dts.size(); ++k) m << "---|";
+        m << "\n";
+        for (double x : vals) {
+          m << "| " << num(x, 3) << " |";
+          for (double dt : dts) {
+            std::string c = " ";
+            for (const Verdict* v : g[a])
+              if (value(*v) == x && v->p.dt == dt) {
+                if (v->verdict == "stable") c = "S";
+                else if (v->verdict == "refused") c = "R";
+                else {
+                  const std::map<std::string, std::string> code{{"non-finite", "N"}, {"particle CFL", "P"},
+                                                                {"marker CFL", "M"}, {"marker left fluid", "L"},
+                                                                {"fixed point", "F"}, {"energy growth", "E"}};
+                  c = "U" + (code.count(v->reason) ? code.at(v->reason) : std::string("?"));
+                }
+              }
+            m << " " << c << " |";
+          }
+          m << "\n";
+        }
+        m << "\n";
+      }
+    }
+    for (const std::string part : {"T", "E", "S"}) {
+    std::vector<const DtMax*> t;
+    for (const DtMax& d : dtmax_)
+      if (d.part == part) t.push_back(&d);
+    const Fit fd = fit_tmu(part, false), fh = fit_tmu(part, true);
+    if (!t.empty()) {
+      m << "## " << part << ": largest stable dt over (T0, mu)"
+        << (part == "T"   ? ", run_scene's verdict (convection on)"
+            : part == "E" ? ", no dx-per-step guards (the bench's loop: blow-up = non-finite, energy > 10 E0, fixed "
+                            "point failing, marker leaving the fluid), convection on"
+                          : ", no dx-per-step guards, convection off (Stokes: only the elastic limit is left)")
+        << "\n\n"
+           "Bracket [largest stable, smallest unstable) from a bisection to a factor 1.1; `check` = "
+           "max(sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`; fit = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0) "
+           "with the constants below; regime = the larger term of the fit, or `convection` where the limit is "
+           "below the Stokes (part S) limit of the same pair by more than a factor 1.3.\n\n"
+           "| T0 | mu | stable dt | unstable dt | failure at the limit | check estimate | measured / check | "
+           "fit | measured / fit | regime | max\\|u\\| dt/dx at the stable dt | max\\|u\\| stable / at failure | runs |\n|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---|---:|\n";
+      for (const DtMax* d : t) {
+        const double dx = d->p.dx(), inert = fd.Ci * std::sqrt(d->p.rho * dx * dx * dx / d->p.T0),
+                     visc = fd.Cv * d->p.mu * dx / d->p.T0, model = std::max(inert, visc);
+        m << "| " << num(d->p.T0) << " | " << num(d->p.mu) << " | " << sci(d->lo) << " | "
+          << (std::isfinite(d->hi) ? sci(d->hi) : "> " + num(kDtCap)) << " | " << d->reason << " | "
+          << sci(d->p.check_estimate()) << " | " << fix(d->estimate() / d->p.check_estimate(), 2) << " | "
+          << sci(model) << " | " << fix(d->estimate() / model, 2) << " | "
+          << (convection_limited(*d) ? "convection (Stokes limit " + sci(find_pair("S", d->p)->estimate()) + ")"
+              : std::isfinite(model) ? (inert >= visc ? "inertial" : "viscous") : "")
+          << " | " << fix(d->cfl_stable, 3)
+          << " | " << sci(d->u_stable) << " / " << sci(d->u_fail) << " | " << d->runs << " |\n";
+      }
+      m << "\n### Fitted constants\n\n";
+      if (fd.n >= 2) {
+        const Fit fa = fit_tmu(part, false, false);
+        m << "Over " << fd.n << " bracketed pairs (dt_max = geometric mean of the bracket"
+          << (fa.n != fd.n ? ", convection-limited pairs left out" : "") << "), least squares in log dt:\n\n"
+          << "- with dx = " << num(def.dx(), 4) << ": **C_i = " << fix(fd.Ci, 3) << "**, **C_v = " << fix(fd.Cv, 3)
+          << "**; rms misfit a factor " << fix(std::exp(fd.rms_log), 2);
+        if (fa.n != fd.n)
+          m << " (all " << fa.n << " pairs: C_i = " << fix(fa.Ci, 3) << ", C_v = " << fix(fa.Cv, 3) << ", misfit a factor "
+            << fix(std::exp(fa.rms_log), 2) << ")";
+        m << ";\n"
+          << "- the same with h* = " << num(def.h_star(), 4) << " as the length (check's form): C_i = " << fix(fh.Ci, 3)
+          << ", C_v = " << fix(fh.Cv, 3) << " (check uses 1 and 10);\n"
+          << "- crossover viscosity mu* = (C_i/C_v) sqrt(rho dx T0): viscous above, inertial below: ";
+        for (double T0 : {1.0, 10.0, 100.0, 1e3, 1e4})
+          m << "T0 = " << num(T0) << ": " << sci(fd.Ci / fd.Cv * std::sqrt(def.rho * def.dx() * T0)) << (T0 < 1e4 ? "; " : ".\n");
+        double lo = INFINITY, hi = 0;
+        for (const DtMax* d : t)
+          if (std::isfinite(d->estimate()) && !convection_limited(*d)) {
+            lo = std::min(lo, d->estimate() / d->p.check_estimate());
+            hi = std::max(hi, d->estimate() / d->p.check_estimate());
+          }
+        m << "- measured / `sphib check` estimate: " << fix(lo, 2) << " to " << fix(hi, 2)
+          << (fa.n != fd.n ? " (convection-limited pairs left out)" : "") << ".\n";
+      }
+      m << "\n";
+    }
+    }
+
+    // X
+    std::vector<const DtMax*> x;
+    for (const DtMax& d : dtmax_)
+      if (d.part == "X") x.push_back(&d);
+    if (!x.empty()) {
+      m << "## X: largest stable dt against resolution parameters (T0 = 1e3; inertial: mu = 1e-3, viscous: "
+           "mu = 10; runner: run_scene's verdict, convection on; elastic: the bench's loop without dx-per-step "
+           "guards, convection off)\n\n"
+           "| point : axis | Nx | Nb | markers/dx | h/dx | h*/h | h* | stable dt | unstable dt | failure | "
+           "check estimate | measured / check | max\\|u\\| dt/dx at the stable dt | max\\|u\\| stable / at failure |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---|\n";
+      for (const DtMax* d : x)
+        m << "| " << d->axis << " | " << d->p.nx << " | " << d->p.nb << " | " << fix(d->p.markers_per_dx(), 2) << " | "
+          << num(d->p.hdx, 3) << " | " << fix(d->p.h_star() / d->p.h(), 2) << " | " << num(d->p.h_star(), 4) << " | "
+          << sci(d->lo) << " | " << (std::isfinite(d->hi) ? sci(d->hi) : "> " + num(kDtCap)) << " | " << d->reason
+          << " | " << sci(d->p.check_estimate()) << " | " << fix(d->estimate() / d->p.check_estimate(), 2) << " | "
+          << fix(d->cfl_stable, 3) << " | " << sci(d->u_stable) << " / " << sci(d->u_fail) << " |\n";
+      // exponents against dx (Nx axis), h* (h*/h axis), h (h/dx axis at fixed h*)
+      m << "\nObserved exponents (least squares of log dt_max):\n\n";
+      for (const std::string where : {"runner/inertial", "runner/viscous", "elastic/inertial", "elastic/viscous"})
+        for (const auto& [axis, what] : std::vector<std::pair<std::string, std::string>>{
+                 {"Nx", "dx (h, h*, marker spacing in proportion)"}, {"h*/h", "h* (dx, h fixed)"},
+                 {"h/dx", "h (dx, h* fixed)"}, {"markers/dx", "marker spacing ds (dx, h, h* fixed)"}}) {
+          // all points, and those with h* >= 0.8 h (a spreading kernel much narrower than the fluid's
+          // destabilises on its own, see the table)
+          for (const bool wide : {false, true}) {
+            double sx = 0, sy = 0, sxx = 0, sxy = 0;
+            int n = 0, all = 0;
+            for (const DtMax* d : x) {
+              if (d->axis != where + ":" + axis || !std::isfinite(d->estimate())) continue;
+              ++all;
+              if (wide && d->p.h_star() < 0.8 * d->p.h()) continue;
+              double len = d->p.dx();
+              if (axis == "h*/h") len = d->p.h_star();
+              if (axis == "h/dx") len = d->p.h();
+              if (axis == "markers/dx") len = 2 * M_PI * kR0 / d->p.nb;
+              const double lx = std::log(len), ly = std::log(d->estimate());
+              sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly; ++n;
+            }
+            if (wide && n == all) continue;  // nothing left out
+            if (n >= 2)
+              m << "- " << where << ", dt_max ~ " << what << "^a: a = "
+                << fix((n * sxy - sx * sy) / (n * sxx - sx * sx), 2) << " (" << n << " points"
+                << (wide ? ", h* >= 0.8 h only" : "") << ")\n";
+          }
+        }
+      m << "\n";
+    }
+    return m.str();
+  }
+
+  void write() const {
+    std::ostringstream c;
+    c << "part,axis,T0,mu,nx,dx,nb,markers_per_dx,h_over_dx,h,h_star,h_star_over_h,dt,steps,verdict,reason,"
+         "steps_done,t_done,energy_ratio,max_speed,cfl,area_error,cpu_s,check_estimate,message\n";
+    for (const Verdict& v : all_)
+      c << v.part << ',' << csv_text(v.axis) << ',' << num(v.p.T0) << ',' << num(v.p.mu) << ',' << v.p.nx << ','
+        << csv_num(v.p.dx()) << ',' << v.p.nb << ',' << csv_num(v.p.markers_per_dx()) << ',' << num(v.p.hdx) << ','
+        << csv_num(v.p.h()) << ',' << csv_num(v.p.h_star()) << ',' << csv_num(v.p.h_star() / v.p.h()) << ','
+        << csv_num(v.p.dt) << ',' << v.p.steps() << ',' << v.verdict << ',' << v.reason << ',' << v.steps_done << ','
+        << csv_num(v.t_done) << ',' << csv_num(v.energy_ratio) << ',' << csv_num(v.max_speed) << ','
+        << csv_num(v.cfl()) << ',' << csv_num(v.area_error) << ','
+        << csv_num(v.cpu) << ',' << csv_num(v.p.check_estimate()) << ',' << csv_text(v.message.substr(0, 200)) << '\n';
+    sphib::write_file_atomic((o_.out / "stability_runs.csv").string(), c.str());
+    std::ostringstream d;
+    std::map<std::string, Fit> fits;
+    for (const char* part : {"T", "E", "S"}) fits[part] = fit_tmu(part, false);
+    d << "part,axis,T0,mu,nx,dx,nb,markers_per_dx,h_over_dx,h,h_star,h_star_over_h,dt_stable,dt_unstable,dt_max,"
+         "reason,runs,cfl_at_stable,u_stable,u_fail,check_estimate,fit_inertial,fit_viscous,fit_Ci,fit_Cv\n";
+    for (const DtMax& m : dtmax_) {
+      const double dx = m.p.dx();
+      const Fit f = fits.count(m.part) ? fits[m.part] : fits["T"];
+      d << m.part << ',' << csv_text(m.axis) << ',' << num(m.p.T0) << ',' << num(m.p.mu) << ',' << m.p.nx << ','
+        << csv_num(dx) << ',' << m.p.nb << ',' << csv_num(m.p.markers_per_dx()) << ',' << num(m.p.hdx) << ','
+        << csv_num(m.p.h()) << ',' << csv_num(m.p.h_star()) << ',' << csv_num(m.p.h_star() / m.p.h()) << ','
+        << csv_num(m.lo) << ',' << csv_num(m.hi) << ',' << csv_num(m.estimate()) << ',' << csv_text(m.reason) << ','
+        << m.runs << ',' << csv_num(m.cfl_stable) << ',' << csv_num(m.u_stable) << ',' << csv_num(m.u_fail) << ',' << csv_num(m.p.check_estimate()) << ','
+        << csv_num(f.Ci * std::sqrt(m.p.rho * dx * dx * dx / m.p.T0)) << ',' << csv_num(f.Cv * m.p.mu * dx / m.p.T0)
+        << ',' << csv_num(f.Ci) << ',' << csv_num(f.Cv) << '\n';
+    }
+    sphib::write_file_atomic((o_.out / "stability_dtmax.csv").string(), d.str());
+    sphib::write_file_atomic((o_.out / "stability_map.md").string(), markdown());
+  }
+
+  void run_all() {
+    const auto t0 = Clock::now();
+    if (o_.parts.find('G') != std::string::npos) part_g();
+    if (o_.parts.find('T') != std::string::npos) part_t("T");
+    if (o_.parts.find('E') != std::string::npos) part_t("E");
+    if (o_.parts.find('S') != std::string::npos) part_t("S");
+    if (o_.parts.find('X') != std::string::npos) part_x();
+    write();
+    std::printf("\n%s\n%zu runs, total %.0f s wall\n", markdown().c_str(), memo_.size(), since(t0));
+  }
+
+ private:
+  Options o_;
+  std::map<std::string, Verdict> memo_;
+  std::vector<Verdict> all_;
+  std::vector<DtMax> dtmax_;
+};
+
+[[noreturn]] void usage(int code) {
+  (code ? std::cerr : std::cout)
+      << "usage: stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick]\n"
+         "  --parts  G classification grid (dt x one parameter), T largest stable dt over (T0, mu),\n"
+         "           E as T without the runner's dx-per-step guards (the bench's loop), S as E with\n"
+         "           convection off, X largest stable dt against Nx, markers/dx, h/dx, h*/h (default GTESX)\n"
+         "  --out    output directory (default bench_out/stability_map)\n"
+         "  --cases  scene directory (default cases)\n"
+         "  --quick  a few runs per part (smoke test)\n";
+  std::exit(code);
+}
+
+void ensure_single_thread(char** argv) {
+  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
+  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
+  setenv("OMP_NUM_THREADS", "1", 1);
+  setenv("OPENBLAS_NUM_THREADS", "1", 1);
+  setenv("MKL_NUM_THREADS", "1", 1);
+  setenv("GOTO_NUM_THREADS", "1", 1);
+  execv("/proc/self/exe", argv);
+  std::fprintf(stderr, "stability_map: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(2);
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-h") usage(0);
+    else if (a == "--parts") o.parts = value();
+    else if (a == "--out") o.out = value();
+    else if (a == "--cases") o.cases = value();
+    else if (a == "--quick") o.quick = true;
+    else {
+      std::cerr << "stability_map: unknown option " << a << "\n";
+      usage(2);
+    }
+  }
+  ensure_single_thread(argv);
+  try {
+    Bench(o).run_all();
+  } catch (const std::exception& e) {
+    std::cerr << "stability_map: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
