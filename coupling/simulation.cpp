@@ -75,6 +75,7 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
   if (k >= mem_.size() || X.rows() != mem_[k].m.X.rows())
     throw std::invalid_argument("membrane " + std::to_string(k) + ": markers do not match the scene");
   mem_[k].m.X = X;
+  mem_[k].U_revision = -1;
 }
 
 void Simulation::body_force(double t) {
@@ -101,7 +102,8 @@ void Simulation::step() {
     }
     if (!s.fixed) {  // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
       ScopedTimer t(prof_, k_interp_);
-      interpolate_velocity(grid_, fluid.kernel(), V, fluid.u(), s.m.X, s.U_n);
+      if (s.U_revision == fluid.revision()) s.U_n = s.U;  // the last marker iterate: u^n at X^n, bit for bit
+      else interpolate_velocity(grid_, fluid.kernel(), V, fluid.u(), s.m.X, s.U_n);
     }
   }
   fluid.step(F_);  // PMIII with prefactored systems: u^n -> u*, phi^{n+1}, u^{n+1}, p^{n+1/2}
@@ -112,7 +114,9 @@ void Simulation::step() {
     MarkerUpdateParams mp = prm_.markers;
     if (mp.max_move <= 0) mp.max_move = std::min(fluid.lattice().dx, fluid.lattice().dy);
     if (fluid.particles_move()) grid_.build(fluid.x());  // the particles of u^{n+1}
+    s.U_revision = -1;
     s.last = advance_markers(grid_, fluid.kernel(), V, fluid.u(), s.U_n, dt, mp, fluid.steps(), s.m.X, s.X_n, s.U);
+    s.U_revision = fluid.revision();  // converged: U = u^{n+1}(X^{n+1}), the next step's U^n(X^n)
   }
 }
 

@@ -36,6 +36,7 @@ struct MembraneState {
   CubicSplineKernel W_star;
   HookeanForce hooke;
   Mat2 f, U_n, U, X_n;  // force density, u^n(X^n), u^{n+1}(X^{n+1}), workspace
+  long U_revision = -1;  // U = u(X) of the fluid at this revision, at the current markers (-1: not known)
   Vec T;                // tension at the markers
   MarkerUpdateResult last;
 };

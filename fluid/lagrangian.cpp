@@ -305,6 +305,7 @@ void LagrangianFluid::wrap_into_domain(Mat2& X, double t) const {
 }
 
 void LagrangianFluid::set_velocity(const Mat2& u0) {
+  ++revision_;
   if (u0.rows() != u_.rows()) throw std::invalid_argument("fluid: initial velocity has the wrong size");
   u_ = u0;
   u_star_ = u_star_old_ = u0;  // PCG warm start
@@ -320,6 +321,7 @@ void LagrangianFluid::set_positions(const Mat2& x) {
 }
 
 void LagrangianFluid::step(const Mat2& F) {
+  ++revision_;
   const double dt = prm_.dt, rho = prm_.rho, a = 0.5 * nu() * dt;
   {
     // The step's geometry at the predicted positions x* = x^n + dt u^n (see the header): images,
@@ -512,6 +514,7 @@ NamedArrays LagrangianFluid::state() const {
 }
 
 void LagrangianFluid::restore(const NamedArrays& state) {
+  ++revision_;
   auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
     for (const auto& [k, v] : state)
       if (k == name) {

@@ -5,6 +5,7 @@
 #include <umfpack.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <sstream>
 #include <stdexcept>
@@ -239,6 +240,7 @@ class PcgSolver final : public LinearSolver {
     info_.method = "Jacobi-PCG";
     if ((A_.diagonal().array() <= 0).any()) fail(info_, "conjugate gradients need a positive diagonal");
     inv_diag_ = A_.diagonal().cwiseInverse();
+    st_ = find_row_stencil({&A_});
   }
   bool refactorize(const SpMat& A) override {  // nothing to analyse: the matrix and its diagonal
     if (A.rows() != info_.n || A.cols() != info_.n) fail(info_, "refactorize: the matrix changed size");
@@ -246,29 +248,29 @@ class PcgSolver final : public LinearSolver {
     A_ = A;
     info_.nnz_A = info_.nnz_used = A_.nonZeros();
     inv_diag_ = A_.diagonal().cwiseInverse();
+    st_ = find_row_stencil({&A_});
     return true;
   }
   // The k columns are k independent CG iterations run in lockstep, so that each iteration reads
   // the matrix once for all of them.
   void solve(const double* B, double* X, int k) override {
     const int n = info_.n;
-    if (R_.cols() != k) { R_.resize(n, k); Z_.resize(n, k); P_.resize(n, k); Q_.resize(n, k); }
+    if (R_.cols() != k) { R_.resize(n, k); P_.resize(n, k); Q_.resize(n, k); }
     Eigen::Map<const Eigen::MatrixXd> b(B, n, k);
     Eigen::Map<Eigen::MatrixXd> x(X, n, k);
     if (k == 2) {  // one pass over the matrix for both columns
-      apply2(A_, x.data(), R_.data());
+      apply2(A_, x.data(), R_.data(), &st_);
       R_ = b - R_;
     } else {
       R_.noalias() = b - A_ * x;
     }
-    Z_ = inv_diag_.asDiagonal() * R_;
-    P_ = Z_;
+    P_ = inv_diag_.asDiagonal() * R_;  // z = D^-1 r, the first direction
     double rz[8], bnorm[8];
     bool done[8];
     if (k > 8) fail(info_, "at most 8 right-hand sides at once");
     int active = 0;
     for (int c = 0; c < k; ++c) {
-      rz[c] = R_.col(c).dot(Z_.col(c));
+      rz[c] = R_.col(c).dot(P_.col(c));
       bnorm[c] = b.col(c).norm();
       done[c] = R_.col(c).norm() <= rtol_ * bnorm[c];
       active += !done[c];
@@ -280,17 +282,27 @@ class PcgSolver final : public LinearSolver {
         m << "conjugate gradients did not converge in " << max_iter_ << " iterations";
         fail(info_, m.str());
       }
-      if (k == 2) apply2(A_, P_.data(), Q_.data());
+      if (k == 2) apply2(A_, P_.data(), Q_.data(), &st_);
       else Q_.noalias() = A_ * P_;
       for (int c = 0; c < k; ++c) {
         if (done[c]) continue;
         const double alpha = rz[c] / P_.col(c).dot(Q_.col(c));
-        x.col(c) += alpha * P_.col(c);
-        R_.col(c) -= alpha * Q_.col(c);
-        if (R_.col(c).norm() <= rtol_ * bnorm[c]) { done[c] = true; --active; continue; }
-        Z_.col(c) = inv_diag_.cwiseProduct(R_.col(c));
-        const double rz_new = R_.col(c).dot(Z_.col(c));
-        P_.col(c) = Z_.col(c) + (rz_new / rz[c]) * P_.col(c);
+        // One pass: x += alpha p, r -= alpha q, |r|^2 and r.z with z = D^-1 r (not stored); a
+        // second: p = z + beta p.
+        double* xc = x.col(c).data();
+        double *rc = R_.col(c).data(), *pc = P_.col(c).data();
+        const double *qc = Q_.col(c).data(), *id = inv_diag_.data();
+        double rr = 0, rz_new = 0;
+        for (int i = 0; i < n; ++i) {
+          xc[i] += alpha * pc[i];
+          const double r = rc[i] - alpha * qc[i];
+          rc[i] = r;
+          rr += r * r;
+          rz_new += r * (id[i] * r);
+        }
+        if (std::sqrt(rr) <= rtol_ * bnorm[c]) { done[c] = true; --active; continue; }
+        const double beta = rz_new / rz[c];
+        for (int i = 0; i < n; ++i) pc[i] = id[i] * rc[i] + beta * pc[i];
         rz[c] = rz_new;
       }
     }
@@ -301,8 +313,9 @@ class PcgSolver final : public LinearSolver {
 
  private:
   SpMat A_;
+  RowStencil st_;  // A's lattice rows (fluid/products.hpp)
   Vec inv_diag_;
-  Eigen::MatrixXd R_, Z_, P_, Q_;
+  Eigen::MatrixXd R_, P_, Q_;
   double rtol_;
   int max_iter_;
   long iterations_ = 0, solves_ = 0;

@@ -1,6 +1,7 @@
 #include "fluid/neighbours.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -43,6 +44,21 @@ void CellGrid::build(const Mat2& points) {
 PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
   PairList P;
   find_pairs(L.domain, L.x, image_x, support, P);
+  // Particle pairs: x_i - x_j from the lattice indices, (i_x - j_x) dx (minimum image), instead of a
+  // difference of rounded positions, so that every pair of one lattice offset carries the same
+  // bits and the operators' rows away from walls are exact translates (fluid/products.hpp).
+  const int N = L.size();
+  for (int i = 0; i < N; ++i)
+    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+      const int j = P.j[k];
+      if (j >= N) continue;  // an image: reflected positions, left as found
+      int di = i % L.nx - j % L.nx, dj = i / L.nx - j / L.nx;
+      if (L.domain.periodic_x) di -= L.nx * static_cast<int>(std::lround(static_cast<double>(di) / L.nx));
+      if (L.domain.periodic_y) dj -= L.ny * static_cast<int>(std::lround(static_cast<double>(dj) / L.ny));
+      P.rx[k] = di * L.dx;
+      P.ry[k] = dj * L.dy;
+      P.r[k] = std::sqrt(P.rx[k] * P.rx[k] + P.ry[k] * P.ry[k]);
+    }
   return P;
 }
 

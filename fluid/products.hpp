@@ -3,20 +3,44 @@
 // sparsity pattern (operators.cpp keeps explicit zeros for that), so one pass over the pattern
 // serves several operators and both velocity components. Results equal the separate Eigen
 // products term by term (same summation order).
+//
+// On the fixed lattice most rows of an operator are translates of one another: away from walls
+// and periodic seams row i has the columns i + o_s and, bit for bit, the coefficients of a
+// reference row. A RowStencil lists those rows; the products then apply them as a stencil (the
+// coefficients of the reference row, no column indices, contiguous loads that vectorise) and only
+// the remaining rows from the compressed arrays. The summation order of every row is unchanged,
+// so the results are bitwise those of the plain products.
+#include <array>
+#include <initializer_list>
+#include <vector>
+
 #include "fluid/types.hpp"
 
 namespace sphib {
 
-// Fused products over operators of one sparsity pattern: each reads the pattern once.
+struct RowStencil {
+  int ref = -1;                          // the reference row (-1: no stencil rows)
+  std::vector<int> offset;               // its column offsets j - ref, ascending
+  std::vector<std::array<int, 2>> runs;  // [begin, end): consecutive rows equal to ref's translate
+  std::vector<int> rest;                 // every other row, applied from the compressed arrays
+  int stencil_rows() const;
+};
+
+// The rows that are translates of the middle row in every operator of `ops` (one pattern, checked).
+// Operators whose middle row has its own pattern shared by fewer than half the rows get no stencil.
+RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
+
+// Fused products over operators of one sparsity pattern: each reads the pattern once. `st`, when
+// given, must come from find_row_stencil over these operators (or a superset of them).
 //   y = A x for both columns of x
-void apply2(const SpMat& A, const Mat2& x, Mat2& y);
-void apply2(const SpMat& A, const double* x, double* y);  // x, y: n x 2, column-major
+void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st = nullptr);
+void apply2(const SpMat& A, const double* x, double* y, const RowStencil* st = nullptr);  // n x 2, column-major
 //   dx = Gx u, dy = Gy u for both columns of u (the four derivatives of a velocity field)
-void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& dy);
+void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& dy, const RowStencil* st = nullptr);
 //   d = Gx u_x + Gy u_y (the divergence, Eq. 30)
-void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d);
+void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const RowStencil* st = nullptr);
 //   g = (Gx f, Gy f) (a scalar's gradient, Eq. 27)
-void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g);
+void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st = nullptr);
 bool same_pattern(const SpMat& A, const SpMat& B);
 
 }  // namespace sphib

@@ -61,6 +61,8 @@ Fluid::Fluid(const FluidParams& params)
   if (!same_pattern(op_.lap_u.A, op_.grad_ux.A) || !same_pattern(op_.grad_ux.A, op_.grad_uy.A) ||
       !same_pattern(op_.grad_phix, op_.grad_phiy))
     throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
+  vel_st_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
+  phi_st_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
   setup_.emplace_back("assembly", since(t0));
 
   t0 = Clock::now();
@@ -101,12 +103,14 @@ Fluid::Fluid(const FluidParams& params)
 }
 
 void Fluid::set_velocity(const Mat2& u0) {
+  ++revision_;
   if (u0.rows() != u_.rows()) throw std::invalid_argument("fluid: initial velocity has the wrong size");
   u_ = u0;
   first_ = true;
 }
 
 void Fluid::step(const Mat2& F) {
+  ++revision_;
   const double dt = prm_.dt, rho = prm_.rho, a = 0.5 * nu() * dt;
   const Operators& op = op_;
   {
@@ -118,7 +122,7 @@ void Fluid::step(const Mat2& F) {
   if (prm_.convection) {
     ScopedTimer tm(prof_, k_conv_);
     // Eqs. (40)-(41): (u.grad)u_i = u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values)
-    gradient2(op.grad_ux.A, op.grad_uy.A, u_, du_dx_, du_dy_);  // one pass for the four derivatives
+    gradient2(op.grad_ux.A, op.grad_uy.A, u_, du_dx_, du_dy_, &vel_st_);  // one pass for the four derivatives
     du_dx_.noalias() += op.grad_ux.B * c_wall_;
     du_dy_.noalias() += op.grad_uy.B * c_wall_;
     conv_ = du_dx_.array().colwise() * u_.col(0).array() + du_dy_.array().colwise() * u_.col(1).array();
@@ -131,7 +135,7 @@ void Fluid::step(const Mat2& F) {
   {
     ScopedTimer tm(prof_, k_rhs_);
     // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
-    apply2(op.lap_u.A, u_, rhs_);  // lap u^n, both components in one pass
+    apply2(op.lap_u.A, u_, rhs_, &vel_st_);  // lap u^n, both components in one pass
     rhs_.noalias() += op.lap_u.B * c_sum_;
     rhs_ *= a;
     rhs_ += u_;
@@ -151,7 +155,7 @@ void Fluid::step(const Mat2& F) {
   {
     ScopedTimer tm(prof_, k_div_);
     // Eq. (30): div u* with images of u* (offsets c*); Eq. (32): -lap phi = -(rho/dt) div u*
-    divergence(op.grad_ux.A, op.grad_uy.A, u_star_, div_);
+    divergence(op.grad_ux.A, op.grad_uy.A, u_star_, div_, &vel_st_);
     div_.noalias() += op.grad_ux.B * c_star_.col(0);
     div_.noalias() += op.grad_uy.B * c_star_.col(1);
     b_phi_ = (-rho / dt) * div_;
@@ -166,7 +170,7 @@ void Fluid::step(const Mat2& F) {
   {
     ScopedTimer tm(prof_, k_project_);
     // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
-    gradient(op.grad_phix, op.grad_phiy, phi_, grad_phi_);
+    gradient(op.grad_phix, op.grad_phiy, phi_, grad_phi_, &phi_st_);
     u_ = u_star_ - (dt / rho) * grad_phi_;
   }
   first_ = false;
@@ -187,7 +191,7 @@ const Vec& Fluid::p() const {
 
 double Fluid::max_abs_divergence() const {
   Vec d(size());
-  divergence(op_.grad_ux.A, op_.grad_uy.A, u_, d);
+  divergence(op_.grad_ux.A, op_.grad_uy.A, u_, d, &vel_st_);
   d += op_.grad_ux.B * c_wall_.col(0) + op_.grad_uy.B * c_wall_.col(1);
   return d.cwiseAbs().maxCoeff();
 }
@@ -208,7 +212,8 @@ std::vector<std::string> Fluid::describe() const {
   m << "EPSPH: " << lat_.nx << " x " << lat_.ny << " = " << size() << " fixed particles, " << im_.size()
     << " images, h = " << W_.h << " (" << prm_.h_over_dx << " (dx+dy)/2), "
     << static_cast<double>(pairs_.size()) / size() << " neighbours per particle, convection "
-    << (prm_.convection ? "on" : "off (Stokes)");
+    << (prm_.convection ? "on" : "off (Stokes)") << "; products: " << vel_st_.stencil_rows() << " velocity and "
+    << phi_st_.stencil_rows() << " phi rows of " << size() << " applied as a lattice stencil";
   std::vector<std::string> lines{m.str()};
   for (const auto& si : solver_info()) lines.push_back(si.describe());
   return lines;
@@ -235,10 +240,10 @@ double Fluid::floor_seconds(int reps) const {
     return t;
   };
   double total = 0;
-  if (prm_.convection) total += best([&] { gradient2(op.grad_ux.A, op.grad_uy.A, u_, a, b); });
-  total += best([&] { apply2(op.lap_u.A, u_, c); });
-  total += best([&] { divergence(op.grad_ux.A, op.grad_uy.A, u_star_, d); });
-  total += best([&] { gradient(op.grad_phix, op.grad_phiy, phi_, a); });
+  if (prm_.convection) total += best([&] { gradient2(op.grad_ux.A, op.grad_uy.A, u_, a, b, &vel_st_); });
+  total += best([&] { apply2(op.lap_u.A, u_, c, &vel_st_); });
+  total += best([&] { divergence(op.grad_ux.A, op.grad_uy.A, u_star_, d, &vel_st_); });
+  total += best([&] { gradient(op.grad_phix, op.grad_phiy, phi_, a, &phi_st_); });
   total += best([&] {
     x = u_star_;  // the same warm start a step gives an iterative solver
     cn_->solve(rhs_.data(), x.data(), 2);
@@ -257,6 +262,7 @@ NamedArrays Fluid::state() const {
 }
 
 void Fluid::restore(const NamedArrays& state) {
+  ++revision_;
   auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
     for (const auto& [k, v] : state)
       if (k == name) {

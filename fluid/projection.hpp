@@ -12,6 +12,7 @@
 #include "fluid/linear_solver.hpp"
 #include "fluid/neighbours.hpp"
 #include "fluid/operators.hpp"
+#include "fluid/products.hpp"
 #include "fluid/profile.hpp"
 #include "fluid/solver.hpp"
 
@@ -67,6 +68,7 @@ class Fluid final : public FluidSolver {
   Images im_;
   PairList pairs_;
   Operators op_;
+  RowStencil vel_st_, phi_st_;  // the lattice rows of the velocity and phi operator patterns
   std::unique_ptr<LinearSolver> cn_, poisson_;
   SpMat poisson_A_;
   bool cn_iterative_ = false;

@@ -88,6 +88,12 @@ class FluidSolver {
   int size() const { return lattice().size(); }
   double h() const { return kernel().h; }
   double nu() const { return params().mu / params().rho; }
+  // Changes with every change of the state (step, set_velocity, restore): callers that keep
+  // quantities derived from u or x (the coupling's u^n(X^n)) check it before reusing them.
+  long revision() const { return revision_; }
+
+ protected:
+  long revision_ = 0;
 };
 
 // The solver of params.method.

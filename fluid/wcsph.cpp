@@ -402,12 +402,14 @@ void WcsphFluid::check_density() {
 }
 
 void WcsphFluid::set_velocity(const Mat2& u0) {
+  ++revision_;
   if (u0.rows() != u_.rows() || u0.cols() != 2) throw std::invalid_argument("fluid: initial velocity has the wrong size");
   u_ = u0;
   xsph_velocity();  // with the neighbours of the current positions
 }
 
 void WcsphFluid::step(const Mat2& F) {
+  ++revision_;
   const double dt = prm_.dt;
   if (F.rows() != u_.rows()) throw std::invalid_argument("WCSPH: force field has the wrong size");
   // C Eq. (19), force term: dt <= 0.25 sqrt(h / |f|), f = F / rho0 the external acceleration
@@ -523,6 +525,7 @@ NamedArrays WcsphFluid::state() const {
 }
 
 void WcsphFluid::restore(const NamedArrays& state) {
+  ++revision_;
   auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
     for (const auto& [k, v] : state)
       if (k == name) {
