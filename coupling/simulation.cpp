@@ -52,7 +52,10 @@ Simulation::Simulation(const SimulationParams& params)
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
     mem_.emplace_back(prm_.membranes[k]);
   }
-  if (!mem_.empty()) grid_.build(fluid_->x());  // no membranes, no coupling
+  if (!mem_.empty()) {  // no membranes, no coupling
+    if (fluid_->particles_move()) grid_.build(fluid_->x());
+    else grid_.use_lattice(fluid_->lattice());  // EPSPH: index arithmetic on the fixed lattice
+  }
   if (prm_.initial_velocity) {
     const Mat2& x = fluid_->x();
     Mat2 u0(N, 2);

@@ -17,7 +17,21 @@ CellGrid::CellGrid(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, bool px
   }
 }
 
+void CellGrid::use_lattice(const Lattice& L) {
+  if (L.domain.periodic_x != periodic_[0] || L.domain.periodic_y != periodic_[1])
+    throw std::logic_error("CellGrid::use_lattice: the lattice's periodic axes differ from the grid's");
+  lat_.n[0] = L.nx;
+  lat_.n[1] = L.ny;
+  lat_.x0[0] = L.domain.x0;
+  lat_.x0[1] = L.domain.y0;
+  lat_.d[0] = L.dx;
+  lat_.d[1] = L.dy;
+  lat_.o[0] = L.domain.periodic_x ? 0.0 : 0.5;  // Eq. (68), as make_lattice
+  lat_.o[1] = L.domain.periodic_y ? 0.0 : 0.5;
+}
+
 void CellGrid::build(const Mat2& points) {
+  lat_.n[0] = lat_.n[1] = 0;
   const int n = static_cast<int>(points.rows());
   const int ncell = nc_[0] * nc_[1];
   start_.assign(ncell + 1, 0);

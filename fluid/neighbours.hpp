@@ -2,6 +2,7 @@
 // Neighbour search with a cell grid (periodic axes wrap by the minimum-image convention).
 // EPSPH builds the particle pair list once; markers query the same kind of grid each step in O(Nb).
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "fluid/lattice.hpp"
@@ -18,6 +19,9 @@ class CellGrid {
            double min_cell_size);
 
   void build(const Mat2& points);  // allocates only when the point count grows
+  // The points are the fixed lattice L (EPSPH): queries walk the lattice indices inside the query's
+  // box directly, without cells (the markers' queries every step). build() leaves this mode.
+  void use_lattice(const Lattice& L);
 
   // Calls f(j, dx, dy, r) for every point j with r = |q - x_j| < radius (minimum image),
   // where (dx, dy) = q - x_j. Any radius below half a periodic period: the cells overlapping the
@@ -25,6 +29,30 @@ class CellGrid {
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
     const double r2max = radius * radius;
+    if (lat_.n[0] > 0) {  // lattice: x_i = lo + (i + o) d, indices unwrapped around the query
+      int lo[2], hi[2];
+      const double q[2] = {qx, qy};
+      for (int a = 0; a < 2; ++a) {
+        lo[a] = static_cast<int>(std::ceil((q[a] - radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
+        hi[a] = static_cast<int>(std::floor((q[a] + radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
+        if (!periodic_[a]) { lo[a] = std::max(lo[a], 0); hi[a] = std::min(hi[a], lat_.n[a] - 1); }
+        else if (hi[a] - lo[a] >= lat_.n[a]) throw std::invalid_argument("CellGrid: query radius exceeds half a period");
+      }
+      const int nx = lat_.n[0], ny = lat_.n[1];
+      for (int b = lo[1]; b <= hi[1]; ++b) {
+        const double dy = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]);
+        const double dy2 = dy * dy;
+        if (dy2 >= r2max) continue;
+        const int row = nx * (periodic_[1] ? ((b % ny) + ny) % ny : b);
+        int iw = periodic_[0] ? ((lo[0] % nx) + nx) % nx : lo[0];
+        for (int a = lo[0]; a <= hi[0]; ++a, iw = iw + 1 == nx ? 0 : iw + 1) {
+          const double dx = qx - (lat_.x0[0] + (a + lat_.o[0]) * lat_.d[0]);
+          const double r2 = dx * dx + dy2;
+          if (r2 < r2max) f(row + iw, dx, dy, std::sqrt(r2));
+        }
+      }
+      return;
+    }
     int xs[kMaxSpan], ys[kMaxSpan];
     double xsh[kMaxSpan], ysh[kMaxSpan];
     const int nxs = span(qx, radius, 0, xs, xsh), nys = span(qy, radius, 1, ys, ysh);
@@ -75,6 +103,10 @@ class CellGrid {
     return n;
   }
 
+  struct {
+    int n[2] = {0, 0};  // 0: cells (build); > 0: lattice mode (use_lattice)
+    double x0[2], d[2], o[2];
+  } lat_;
   Eigen::Vector2d lo_, period_;
   bool periodic_[2];
   int nc_[2];

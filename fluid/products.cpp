@@ -14,6 +14,27 @@ bool same_pattern(const SpMat& A, const SpMat& B) {
          std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), B.innerIndexPtr());
 }
 
+std::vector<int> nonempty_rows(const SpMat& B) {
+  std::vector<int> rows;
+  for (int i = 0; i < B.outerSize(); ++i)
+    if (B.outerIndexPtr()[i + 1] > B.outerIndexPtr()[i] || (!B.isCompressed() && B.innerNonZeroPtr()[i] > 0))
+      rows.push_back(i);
+  return rows;
+}
+
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y) {
+  for (int i : rows) {
+    double s = 0;
+    for (SpMat::InnerIterator it(B, i); it; ++it) s += it.value() * c[it.col()];
+    y[i] += s;
+  }
+}
+
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y) {
+  add_image_terms(B, rows, c.data(), y.data());
+  add_image_terms(B, rows, c.data() + c.rows(), y.data() + y.rows());
+}
+
 int RowStencil::stencil_rows() const {
   int m = 0;
   for (const auto& r : runs) m += r[1] - r[0];

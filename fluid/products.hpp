@@ -43,4 +43,10 @@ void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const R
 void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st = nullptr);
 bool same_pattern(const SpMat& A, const SpMat& B);
 
+// Image terms: an image operator B (N x M) has entries only in the rows near walls. y += B c
+// over those rows (`rows` = nonempty_rows(B)); c is M x 2 (both columns) or one column.
+std::vector<int> nonempty_rows(const SpMat& B);
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y);
+
 }  // namespace sphib

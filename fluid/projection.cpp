@@ -87,8 +87,15 @@ Fluid::Fluid(const FluidParams& params)
   const int M = im_.size();
   u_ = Mat2::Zero(N, 2);
   du_dx_ = du_dy_ = u_star_ = u_star_old_ = rhs_ = conv_ = conv_old_ = grad_phi_ = Mat2::Zero(N, 2);
-  c_wall_ = c_star_ = c_sum_ = Mat2::Zero(M, 2);
+  c_wall_ = c_star_ = Mat2::Zero(M, 2);
   image_velocity_offsets(im_, lat_.domain, nullptr, 0.0, c_wall_);  // 2 u_b: images of u^n
+  lap_b_rows_ = nonempty_rows(op_.lap_u.B);
+  gx_b_rows_ = nonempty_rows(op_.grad_ux.B);
+  gy_b_rows_ = nonempty_rows(op_.grad_uy.B);
+  conv_wall_x_ = conv_wall_y_ = lap_wall_ = Mat2::Zero(N, 2);  // the wall values' terms, once
+  add_image_terms(op_.grad_ux.B, gx_b_rows_, c_wall_, conv_wall_x_);
+  add_image_terms(op_.grad_uy.B, gy_b_rows_, c_wall_, conv_wall_y_);
+  add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
   phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
   V_ = Vec::Constant(N, lat_.volume);
 
@@ -117,30 +124,29 @@ void Fluid::step(const Mat2& F) {
     ScopedTimer tm(prof_, k_images_);
     // Eq. (42): images of u* carry 2 (u_b + dt/rho [grad phi~]_tau) - u*, with phi~ = phi^n.
     image_velocity_offsets(im_, lat_.domain, &grad_phi_, dt / rho, c_star_);
-    c_sum_ = c_wall_ + c_star_;
   }
+  const int N = size();
   if (prm_.convection) {
     ScopedTimer tm(prof_, k_conv_);
-    // Eqs. (40)-(41): (u.grad)u_i = u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values)
+    // Eqs. (40)-(41): (u.grad)u_i = u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values);
+    // Eq. (39): AB2, 3/2 N^n - 1/2 N^{n-1} (first step: Euler, N^{-1} = N^0); conv_old_ keeps N^n.
     gradient2(op.grad_ux.A, op.grad_uy.A, u_, du_dx_, du_dy_, &vel_st_);  // one pass for the four derivatives
-    du_dx_.noalias() += op.grad_ux.B * c_wall_;
-    du_dy_.noalias() += op.grad_uy.B * c_wall_;
-    conv_ = du_dx_.array().colwise() * u_.col(0).array() + du_dy_.array().colwise() * u_.col(1).array();
-    if (first_) conv_old_ = conv_;  // first step: Euler, (u.grad u)^{-1} = (u.grad u)^0
-    // Eq. (39): AB2, 3/2 N^n - 1/2 N^{n-1}; conv_old_ keeps N^n for the next step
-    rhs_ = 1.5 * conv_ - 0.5 * conv_old_;
-    conv_old_.swap(conv_);
-    conv_.swap(rhs_);  // conv_ = AB2 combination
+    for (int c = 0; c < 2; ++c)
+      for (int i = 0; i < N; ++i) {
+        const double n = (du_dx_(i, c) + conv_wall_x_(i, c)) * u_(i, 0) + (du_dy_(i, c) + conv_wall_y_(i, c)) * u_(i, 1);
+        conv_(i, c) = 1.5 * n - 0.5 * (first_ ? n : conv_old_(i, c));
+        conv_old_(i, c) = n;
+      }
   }
   {
     ScopedTimer tm(prof_, k_rhs_);
     // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
     apply2(op.lap_u.A, u_, rhs_, &vel_st_);  // lap u^n, both components in one pass
-    rhs_.noalias() += op.lap_u.B * c_sum_;
-    rhs_ *= a;
-    rhs_ += u_;
-    rhs_ += (dt / rho) * F;
-    if (prm_.convection) rhs_ -= dt * conv_;
+    add_image_terms(op.lap_u.B, lap_b_rows_, c_star_, rhs_);
+    const double k = dt / rho, kc = prm_.convection ? dt : 0.0;
+    for (int c = 0; c < 2; ++c)
+      for (int i = 0; i < N; ++i)
+        rhs_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * a + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
   }
   {
     ScopedTimer tm(prof_, k_solve_cn_);
@@ -156,10 +162,12 @@ void Fluid::step(const Mat2& F) {
     ScopedTimer tm(prof_, k_div_);
     // Eq. (30): div u* with images of u* (offsets c*); Eq. (32): -lap phi = -(rho/dt) div u*
     divergence(op.grad_ux.A, op.grad_uy.A, u_star_, div_, &vel_st_);
-    div_.noalias() += op.grad_ux.B * c_star_.col(0);
-    div_.noalias() += op.grad_uy.B * c_star_.col(1);
-    b_phi_ = (-rho / dt) * div_;
-    b_phi_.array() -= b_phi_.mean();  // onto the range of the singular operator (gauge, see constructor)
+    add_image_terms(op.grad_ux.B, gx_b_rows_, c_star_.col(0).data(), div_.data());
+    add_image_terms(op.grad_uy.B, gy_b_rows_, c_star_.col(1).data(), div_.data());
+    double sum = 0;
+    for (int i = 0; i < N; ++i) sum += b_phi_[i] = (-rho / dt) * div_[i];
+    const double mean = sum / N;
+    for (int i = 0; i < N; ++i) b_phi_[i] -= mean;  // onto the range of the singular operator (gauge, see constructor)
     b_phi_[pin_] = 0.0;
   }
   {
@@ -171,7 +179,7 @@ void Fluid::step(const Mat2& F) {
     ScopedTimer tm(prof_, k_project_);
     // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
     gradient(op.grad_phix, op.grad_phiy, phi_, grad_phi_, &phi_st_);
-    u_ = u_star_ - (dt / rho) * grad_phi_;
+    u_.noalias() = u_star_ - (dt / rho) * grad_phi_;
   }
   first_ = false;
   t_ += dt;
@@ -192,7 +200,8 @@ const Vec& Fluid::p() const {
 double Fluid::max_abs_divergence() const {
   Vec d(size());
   divergence(op_.grad_ux.A, op_.grad_uy.A, u_, d, &vel_st_);
-  d += op_.grad_ux.B * c_wall_.col(0) + op_.grad_uy.B * c_wall_.col(1);
+  add_image_terms(op_.grad_ux.B, gx_b_rows_, c_wall_.col(0).data(), d.data());
+  add_image_terms(op_.grad_uy.B, gy_b_rows_, c_wall_.col(1).data(), d.data());
   return d.cwiseAbs().maxCoeff();
 }
 

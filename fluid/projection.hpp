@@ -69,6 +69,8 @@ class Fluid final : public FluidSolver {
   PairList pairs_;
   Operators op_;
   RowStencil vel_st_, phi_st_;  // the lattice rows of the velocity and phi operator patterns
+  std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
+  Mat2 conv_wall_x_, conv_wall_y_, lap_wall_;  // B c_wall of grad_ux, grad_uy, lap_u: constant
   std::unique_ptr<LinearSolver> cn_, poisson_;
   SpMat poisson_A_;
   bool cn_iterative_ = false;
@@ -76,7 +78,7 @@ class Fluid final : public FluidSolver {
   std::vector<std::pair<std::string, double>> setup_;
 
   // state and workspace (sized once)
-  Mat2 u_, u_star_, u_star_old_, du_dx_, du_dy_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_, c_sum_;
+  Mat2 u_, u_star_, u_star_old_, du_dx_, du_dy_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_;
   Vec phi_, div_, b_phi_, V_;
   mutable Vec p_;
   mutable long p_step_ = -1;
