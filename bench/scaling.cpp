@@ -14,12 +14,17 @@
 // phase (Profile, warm-up subtracted).
 //
 // Part S compares, on the same matrices (the same scene and size, so the same operators), CHOLMOD
-// supernodal against simplicial for both systems, and Jacobi-PCG for Crank-Nicolson
-// (solver.crank_nicolson = "pcg", Poisson by `auto`): factorisation time, factor size, memory and
-// the time per solve in the running step.
+// supernodal against simplicial for both systems, Jacobi-PCG for Crank-Nicolson
+// (solver.crank_nicolson = "pcg", Poisson by `auto`), and Eigen's own SimplicialLDLT (AMD ordering)
+// on both matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them:
+// factorisation time, factor size, memory and the time per solve (CHOLMOD and PCG: in the running
+// step; Eigen: repeated solves of the same systems outside the step).
 //
 //   scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane]
-//           [--seconds S] [--out DIR]
+//           [--variants LIST] [--seconds S] [--out DIR] [--keep | --report-only]
+//
+// --keep reads DIR/scaling.csv and DIR/solvers.csv back and runs only the rows they lack;
+// --report-only reads them back and rewrites them and DIR/scaling.md without running anything.
 //
 // Fits time ~ N^a by least squares of log(time) against log N over the sizes from 64^2 up (the
 // smallest sizes are dominated by fixed overheads). Writes DIR/scaling.csv, DIR/solvers.csv,
@@ -47,6 +52,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include <Eigen/SparseCholesky>
 
 #include "coupling/simulation.hpp"
 #include "fluid/projection.hpp"
@@ -94,13 +101,53 @@ std::string csv_num(double v) { return std::isfinite(v) ? num(v, 10) : std::stri
 double jnum(const json& j, const char* k) { return j.contains(k) && j[k].is_number() ? j[k].get<double>() : NAN; }
 
 std::vector<std::string> scene_sets(const std::string& c, int nx, const std::string& cn, const std::string& poisson) {
+  // eigen_ldlt is this bench's, not a scene value: the simulation is built with `auto`
   std::vector<std::string> s{"grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx),
-                             "solver.crank_nicolson=" + cn, "solver.poisson=" + poisson};
+                             "solver.crank_nicolson=" + (cn == "eigen_ldlt" ? std::string("auto") : cn),
+                             "solver.poisson=" + (poisson == "eigen_ldlt" ? std::string("auto") : poisson)};
   if (c == "membrane") s.push_back("membrane.nb=" + std::to_string(2 * nx));
   return s;
 }
 std::string scene_file(const std::string& c) {
   return c == "poiseuille" ? "poiseuille.toml" : "membrane_oscillation.toml";
+}
+
+// Eigen's SimplicialLDLT (AMD ordering) on A: analysis, factorisation, the factor's size and the RSS it
+// adds, then the time per solve of A X = B with k right-hand sides (repeated for about 0.3 s).
+json eigen_ldlt(const std::string& system, const sphib::SpMat& A_rows, int k) {
+  using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+  using LDLT = Eigen::SimplicialLDLT<ColMat, Eigen::Lower, Eigen::AMDOrdering<int>>;
+  const ColMat A = A_rows;  // symmetric: the same matrix, column-major as Eigen's Cholesky wants it
+  json x;
+  x["system"] = system;
+  x["method"] = "Eigen SimplicialLDLT (AMD)";
+  x["n"] = A.rows();
+  x["nnz_A"] = A.nonZeros();
+  x["nnz_used"] = A.nonZeros();
+  const long rss0 = status_kb("VmRSS");
+  LDLT ldlt;
+  auto t0 = Clock::now();
+  ldlt.analyzePattern(A);
+  x["analyse_s"] = since(t0);
+  t0 = Clock::now();
+  ldlt.factorize(A);
+  x["factor_s"] = since(t0);
+  if (ldlt.info() != Eigen::Success) throw std::runtime_error("Eigen SimplicialLDLT failed on " + system);
+  // L is stored without its unit diagonal; CHOLMOD's nnz(L) counts the diagonal
+  x["nnz_factor"] = static_cast<long>(ldlt.matrixL().nestedExpression().nonZeros()) + A.rows();
+  x["factor_rss_kb"] = status_kb("VmRSS") - rss0;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), k), X(A.rows(), k);
+  X = ldlt.solve(B);  // first solve (allocations) not timed
+  long reps = 0;
+  t0 = Clock::now();
+  do {
+    X = ldlt.solve(B);
+    ++reps;
+  } while (since(t0) < 0.3 || reps < 5);
+  x["solve_s"] = since(t0) / reps;
+  x["solve_reps"] = reps;
+  x["residual"] = (A * X - B).norm() / B.norm();
+  return x;
 }
 
 // ---- the child: one case, one size, one pair of solvers; a JSON line on stdout ------------------
@@ -126,6 +173,36 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     j["h_over_dx"] = f->params().h_over_dx;
     j["dt"] = f->params().dt;
     for (const char* k : {"neighbours", "assembly", "factorisation"}) j[std::string("setup_") + k + "_s"] = f->setup_seconds(k);
+    if (cn == "eigen_ldlt") {
+      // The two matrices as fluid/projection.cpp builds them: A_cn = I - (nu dt / 2) lap_u (Eq. 28);
+      // Poisson -lap_phi with the gauge row and column of particle 0 replaced by the identity (Eq. 32).
+      const sphib::Operators& op = f->operators();
+      const int N = f->size();
+      sphib::SpMat I(N, N);
+      I.setIdentity();
+      const sphib::SpMat A_cn = I - (0.5 * f->params().mu / f->params().rho * f->params().dt) * op.lap_u.A;
+      sphib::SpMat A_p = -op.lap_phi;
+      const int pin = 0;
+      for (int c = 0; c < A_p.outerSize(); ++c)
+        for (sphib::SpMat::InnerIterator it(A_p, c); it; ++it)
+          if (it.row() == pin || it.col() == pin) it.valueRef() = (it.row() == it.col()) ? 1.0 : 0.0;
+      A_p.prune(0.0);
+      bool match = true;  // the same non-zero counts as the matrices the fluid factorised
+      for (const auto& si : f->solver_info())
+        match = match && si.nnz_A == (si.system == "Poisson" ? A_p.nonZeros() : A_cn.nonZeros());
+      j["matrices_match"] = match;
+      j["solvers"].push_back(eigen_ldlt("Crank-Nicolson", A_cn, 2));
+      j["solvers"].push_back(eigen_ldlt("Poisson", A_p, 1));
+      j["phases"]["solve Crank-Nicolson"] = j["solvers"][0]["solve_s"];
+      j["phases"]["solve Poisson"] = j["solvers"][1]["solve_s"];
+      j["factor_rss_kb"] = j["solvers"][0]["factor_rss_kb"].get<double>() + j["solvers"][1]["factor_rss_kb"].get<double>();
+      j["residual_cn"] = j["solvers"][0]["residual"];
+      j["residual_poisson"] = j["solvers"][1]["residual"];
+      j["vmhwm_kb"] = status_kb("VmHWM");
+      std::printf("%s\n", j.dump().c_str());
+      std::fflush(stdout);
+      return 0;
+    }
     for (const auto& si : f->solver_info()) {
       json x;
       x["system"] = si.system;
@@ -172,6 +249,8 @@ struct Options {
   std::vector<int> nx{32, 64, 128, 256, 512};
   std::vector<int> compare_nx{32, 64, 128, 256};
   std::vector<std::string> cases{"poiseuille", "membrane"};
+  std::vector<std::string> variants{"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt"};
+  bool keep = false, report_only = false;
   double seconds = 3.0;
   fs::path out = "bench_out/scaling";
   fs::path cases_dir = "cases";
@@ -282,29 +361,120 @@ struct Bench {
     std::fflush(stdout);
   }
 
+  static bool has(const std::vector<json>& v, const std::string& c, int nx, const std::string& cn) {
+    for (const json& j : v)
+      if (j.value("case", "") == c && j.value("nx", 0) == nx && j.value("cn", "") == cn && !j.contains("error")) return true;
+    return false;
+  }
+
   void part_n() {
     std::printf("N: time per step, set-up and peak memory against N (solvers auto)\n");
     for (const std::string& c : o.cases)
       for (int nx : o.nx) {
+        if (o.keep && has(scale, c, nx, "auto")) continue;
         json j = spawn(o, c, nx, "auto", "auto", steps_for(c, nx));
         print(j);
-        scale.push_back(j);
+        put(scale, j);
         write();
       }
   }
 
   void part_s() {
-    std::printf("S: CHOLMOD supernodal vs simplicial, and Jacobi-PCG for Crank-Nicolson, on the same matrices\n");
-    const std::vector<std::pair<std::string, std::string>> variants{
-        {"cholmod_supernodal", "cholmod_supernodal"}, {"cholmod_simplicial", "cholmod_simplicial"}, {"pcg", "auto"}};
+    std::printf("S: CHOLMOD supernodal vs simplicial, Jacobi-PCG for Crank-Nicolson and Eigen's SimplicialLDLT, "
+                "on the same matrices\n");
     for (const std::string& c : o.cases)
       for (int nx : o.compare_nx)
-        for (const auto& [cn, p] : variants) {
+        for (const std::string& cn : o.variants) {
+          const std::string p = cn == "pcg" ? "auto" : cn;
+          if (o.keep && has(compare, c, nx, cn)) continue;
           json j = spawn(o, c, nx, cn, p, std::max(5L, steps_for(c, nx) / 2));
           print(j);
-          compare.push_back(j);
+          put(compare, j);
           write();
         }
+  }
+
+  // part S's rows in a stable order: case, Nx, variant (rows added by --keep come last otherwise)
+  std::vector<json> sorted_compare() const {
+    static const std::vector<std::string> order{"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt"};
+    auto rank = [&](const json& j) {
+      const auto c = std::find(o.cases.begin(), o.cases.end(), j.value("case", ""));
+      const auto v = std::find(order.begin(), order.end(), j.value("cn", ""));
+      return std::make_tuple(c - o.cases.begin(), j.value("nx", 0), v - order.begin());
+    };
+    std::vector<json> v = compare;
+    std::stable_sort(v.begin(), v.end(), [&](const json& a, const json& b) { return rank(a) < rank(b); });
+    return v;
+  }
+
+  // --keep, --report-only: the rows of DIR/scaling.csv and DIR/solvers.csv back as the children's JSON
+  // (the fields the tables use).
+  static std::vector<json> load_csv(const fs::path& f) {
+    std::vector<json> out;
+    std::ifstream in(f);
+    if (!in) return out;
+    auto split = [](const std::string& l) {
+      std::vector<std::string> v;
+      std::stringstream ss(l);
+      for (std::string c; std::getline(ss, c, ',');) v.push_back(c);
+      if (!l.empty() && l.back() == ',') v.emplace_back();
+      return v;
+    };
+    std::string line;
+    if (!std::getline(in, line)) return out;
+    const auto head = split(line);
+    while (std::getline(in, line)) {
+      const auto v = split(line);
+      std::map<std::string, std::string> r;
+      for (size_t k = 0; k < head.size(); ++k) r[head[k]] = k < v.size() ? v[k] : "";
+      auto d = [&](const std::string& k) { return r[k].empty() ? NAN : std::strtod(r[k].c_str(), nullptr); };
+      json j;
+      j["case"] = r["case"];
+      j["nx"] = std::atoi(r["nx"].c_str());
+      j["cn"] = r["cn"];
+      j["poisson"] = r["poisson"];
+      if (!r["error"].empty()) {
+        j["error"] = r["error"];
+        out.push_back(j);
+        continue;
+      }
+      for (const char* k : {"n", "steps", "pairs_per_particle", "setup_s", "setup_neighbours_s", "setup_assembly_s",
+                            "setup_factorisation_s", "per_step_s", "loop_s", "loop_cpu_s", "cn_mean_iterations",
+                            "rss_start_kb", "rss_after_setup_kb", "vmhwm_kb", "ru_maxrss_kb", "child_wall_s",
+                            "factor_rss_kb", "residual_cn", "residual_poisson"})
+        if (std::isfinite(d(k))) j[k] = d(k);
+      if (!r["matrices_match"].empty()) j["matrices_match"] = r["matrices_match"] == "1";
+      j["phases"]["solve Crank-Nicolson"] = d("cn_solve_per_step_s");
+      j["phases"]["solve Poisson"] = d("poisson_solve_per_step_s");
+      if (std::isfinite(d("membrane_per_step_s"))) j["phases"]["membrane (all)"] = d("membrane_per_step_s");
+      for (const auto& [sys, pre] : {std::pair<std::string, std::string>{"Crank-Nicolson", "cn_"}, {"Poisson", "poisson_"}}) {
+        if (r[pre + "method"].empty()) continue;
+        json x;
+        x["system"] = sys;
+        x["method"] = r[pre + "method"];
+        for (const char* k : {"nnz_A", "nnz_factor", "analyse_s", "factor_s"})
+          if (std::isfinite(d(pre + k))) x[k] = d(pre + k);
+        j["solvers"].push_back(x);
+      }
+      out.push_back(j);
+    }
+    return out;
+  }
+  void load() {
+    scale = load_csv(o.out / "scaling.csv");
+    compare = load_csv(o.out / "solvers.csv");
+    std::printf("read %zu rows of scaling.csv and %zu of solvers.csv from %s\n", scale.size(), compare.size(),
+                o.out.c_str());
+  }
+  // a new row replaces a failed one of the same case, size and variant
+  static void put(std::vector<json>& v, const json& j) {
+    for (json& x : v)
+      if (x.value("case", "") == j.value("case", "") && x.value("nx", 0) == j.value("nx", 0) &&
+          x.value("cn", "") == j.value("cn", "")) {
+        x = j;
+        return;
+      }
+    v.push_back(j);
   }
 
   std::string markdown() const {
@@ -313,7 +483,9 @@ struct Bench {
          "(single-threaded CHOLMOD/BLAS), a fresh process per row; wall times on a 2-core machine shared with "
          "other jobs (expect ±20-50%; the loop's CPU time is in the CSV). Peak memory = VmHWM of the child "
          "(the process before building anything: " << (scale.empty() ? std::string("–") : fix(jnum(scale[0], "rss_start_kb") / 1024.0, 1))
-      << " MB).\n\n";
+      << " MB). Under `auto` the factorisation column includes a discarded simplicial factorisation: "
+         "`factorize` (fluid/linear_solver.cpp) factorises simplicial to learn nnz(L) and, above 8e5, factorises "
+         "again supernodal; part S below times each kind alone.\n\n";
     for (const std::string& c : o.cases) {
       std::vector<const json*> rs;
       for (const json& j : scale)
@@ -368,13 +540,21 @@ struct Bench {
         << fix(fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }), 2) << "\n\n";
     }
     if (!compare.empty()) {
+      const std::vector<json> cmp = sorted_compare();
       m << "## Linear solvers on the same matrices\n\n"
            "Per solve = one call per step (Crank-Nicolson: both velocity components at once; Poisson: one). "
-           "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by `auto`.\n\n"
+           "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by `auto` (whose analyse+factor time "
+           "includes the discarded simplicial trial, see above). `eigen_ldlt` = Eigen's SimplicialLDLT with AMD "
+           "ordering on the two matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them "
+           "(the same non-zero counts: checked, `matrices_match` in the CSV); its time per solve is from repeated "
+           "solves of the same systems outside the step (the others' from the running step), its nnz(L) counts "
+           "L's unit diagonal as CHOLMOD's counts the diagonal, and its memory is the RSS the two factors add "
+           "(its process also holds the `auto` solvers of the simulation it takes the operators from), so it "
+           "has no ms/step or peak.\n\n"
            "| case | Nx | variant | CN method | CN analyse+factor s | CN nnz(L) | CN ms/solve | PCG iterations | "
            "Poisson method | Poisson analyse+factor s | Poisson nnz(L) | Poisson ms/solve | ms/step | peak MB |\n"
            "|---|---:|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n";
-      for (const json& j : compare) {
+      for (const json& j : cmp) {
         m << "| " << j["case"].get<std::string>() << " | " << j["nx"].get<int>() << " | " << j["cn"].get<std::string>()
           << " | ";
         if (j.contains("error")) {
@@ -397,8 +577,34 @@ struct Bench {
           << (j["cn"] == "pcg" ? fix(jnum(j, "cn_mean_iterations"), 1) : std::string("–")) << " | " << meth("Poisson")
           << " | " << fix(sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"), 3) << " | " << nnz("Poisson")
           << " | " << fix(1e3 * phase_sum(j, "solve Poisson"), 3) << " | " << fix(1e3 * jnum(j, "per_step_s"), 3)
-          << " | " << fix(jnum(j, "vmhwm_kb") / 1024, 1) << " |\n";
+          << " | "
+          << (j["cn"] == "eigen_ldlt" ? "+" + fix(jnum(j, "factor_rss_kb") / 1024, 1) + " (factors)"
+                                      : fix(jnum(j, "vmhwm_kb") / 1024, 1))
+          << " |\n";
       }
+      m << "\nObserved exponents a in time ~ N^a per variant (least squares over Nx ≥ 64):\n\n"
+           "| case | variant | CN per solve | Poisson per solve | CN analyse+factor | Poisson analyse+factor | "
+           "nnz(L) Poisson | peak memory |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
+      for (const std::string& c : o.cases)
+        for (const std::string v : {"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt"}) {
+          std::vector<const json*> rs;
+          for (const json& j : cmp)
+            if (j["case"] == c && j["cn"] == v && !j.contains("error") && j["nx"].get<int>() >= 64) rs.push_back(&j);
+          if (rs.size() < 2) continue;
+          auto fit = [&](const std::function<double(const json&)>& y) {
+            std::vector<std::pair<double, double>> pts;
+            for (const json* j : rs) pts.emplace_back(jnum(*j, "n"), y(*j));
+            return fix(exponent(pts), 2);
+          };
+          m << "| " << c << " | " << v << " | " << fit([](const json& j) { return phase_sum(j, "solve Crank"); })
+            << " | " << fit([](const json& j) { return phase_sum(j, "solve Poisson"); }) << " | "
+            << fit([](const json& j) { return sv(j, "Crank-Nicolson", "analyse_s") + sv(j, "Crank-Nicolson", "factor_s"); })
+            << " | " << fit([](const json& j) { return sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"); })
+            << " | " << fit([](const json& j) { return sv(j, "Poisson", "nnz_factor"); }) << " | "
+            << (v == "eigen_ldlt" ? fit([](const json& j) { return jnum(j, "factor_rss_kb"); }) + " (factors)"
+                                  : fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }))
+            << " |\n";
+        }
       m << "\n";
     }
     return m.str();
@@ -410,7 +616,8 @@ struct Bench {
          "setup_factorisation_s,per_step_s,loop_s,loop_cpu_s,solves_per_step_s,cn_solve_per_step_s,"
          "poisson_solve_per_step_s,membrane_per_step_s,cn_method,cn_nnz_A,cn_nnz_factor,cn_analyse_s,cn_factor_s,"
          "poisson_method,poisson_nnz_A,poisson_nnz_factor,poisson_analyse_s,poisson_factor_s,cn_mean_iterations,"
-         "rss_start_kb,rss_after_setup_kb,vmhwm_kb,ru_maxrss_kb,child_wall_s,error\n";
+         "rss_start_kb,rss_after_setup_kb,vmhwm_kb,ru_maxrss_kb,child_wall_s,factor_rss_kb,residual_cn,"
+         "residual_poisson,matrices_match,error\n";
     auto row = [&](std::ostringstream& o, const json& j) {
       auto method = [&](const std::string& sys) {
         const json* s = solver(j, sys);
@@ -436,7 +643,9 @@ struct Bench {
         << csv_num(sv(j, "Poisson", "factor_s")) << ',' << csv_num(jnum(j, "cn_mean_iterations")) << ','
         << csv_num(jnum(j, "rss_start_kb")) << ',' << csv_num(jnum(j, "rss_after_setup_kb")) << ','
         << csv_num(jnum(j, "vmhwm_kb")) << ',' << csv_num(jnum(j, "ru_maxrss_kb")) << ','
-        << csv_num(jnum(j, "child_wall_s")) << ',';
+        << csv_num(jnum(j, "child_wall_s")) << ',' << csv_num(jnum(j, "factor_rss_kb")) << ','
+        << csv_num(jnum(j, "residual_cn")) << ',' << csv_num(jnum(j, "residual_poisson")) << ','
+        << (j.contains("matrices_match") ? (j["matrices_match"].get<bool>() ? "1" : "0") : "") << ',';
       std::string e = j.value("error", "");
       for (char& ch : e)
         if (ch == ',' || ch == '\n') ch = ';';
@@ -444,7 +653,7 @@ struct Bench {
     };
     std::ostringstream s = std::ostringstream(c.str(), std::ios::ate);
     for (const json& j : scale) row(c, j);
-    for (const json& j : compare) row(s, j);
+    for (const json& j : sorted_compare()) row(s, j);
     sphib::write_file_atomic((o.out / "scaling.csv").string(), c.str());
     sphib::write_file_atomic((o.out / "solvers.csv").string(), s.str());
     sphib::write_file_atomic((o.out / "scaling.md").string(), markdown());
@@ -465,12 +674,15 @@ std::vector<T> parse_list(const std::string& s) {
 
 [[noreturn]] void usage(int code) {
   (code ? std::cerr : std::cout)
-      << "usage: scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane] [--seconds S]\n"
-         "               [--out DIR] [--cases-dir DIR]\n"
+      << "usage: scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane] [--variants LIST]\n"
+         "               [--seconds S] [--out DIR] [--cases-dir DIR] [--keep | --report-only]\n"
          "  --parts       N time per step / set-up / memory against N, S solver comparison (default NS)\n"
          "  --nx          sizes for N (default 32,64,128,256,512)\n"
          "  --compare-nx  sizes for S (default 32,64,128,256)\n"
+         "  --variants    solvers for S (default cholmod_supernodal,cholmod_simplicial,pcg,eigen_ldlt)\n"
          "  --seconds     loop time to aim for per run (default 3)\n"
+         "  --keep        read DIR's CSV files back and run only the rows they lack (or that failed)\n"
+         "  --report-only read DIR's CSV files back, rewrite them and scaling.md; run nothing\n"
          "  --out         output directory (default bench_out/scaling)\n";
   std::exit(code);
 }
@@ -510,6 +722,9 @@ int main(int argc, char** argv) {
       else if (a == "--seconds") o.seconds = std::stod(value());
       else if (a == "--out") o.out = value();
       else if (a == "--cases-dir") o.cases_dir = value();
+      else if (a == "--variants") o.variants = parse_list<std::string>(value());
+      else if (a == "--keep") o.keep = true;
+      else if (a == "--report-only") o.report_only = true;
       else {
         std::cerr << "scaling: unknown option " << a << "\n";
         usage(2);
@@ -524,6 +739,12 @@ int main(int argc, char** argv) {
   Bench b{o, {}, {}};
   const auto t0 = Clock::now();
   try {
+    if (o.keep || o.report_only) b.load();
+    if (o.report_only) {
+      b.write();
+      std::printf("rewrote %s/scaling.csv, solvers.csv, scaling.md\n", o.out.c_str());
+      return 0;
+    }
     if (o.parts.find('N') != std::string::npos) b.part_n();
     if (o.parts.find('S') != std::string::npos) b.part_s();
     b.write();

@@ -3,6 +3,8 @@
 //
 //  P  start-up Poiseuille (cases/poiseuille.toml, Section 5.1: Re = 0.0125, t = 0.0125): rms error
 //     of Eq. (69) against the exact series over Nx x h/dx x dt (a full grid; Stokes, as the case);
+//  L  the same flow with LPSPH (method = "lagrangian", moving particles) over a smaller grid; its
+//     runs join P's study, so the Pareto front is over both methods;
 //  W  the Poiseuille flow of Vukcevic et al. (cases/wcsph_poiseuille.toml, SI units, to t = 1 s):
 //     WCSPH (method = "wcsph") and EPSPH on the same scene, rms error / u_max over Ny and dt;
 //  A  the oscillating membrane of Section 5.2.2 (cases/membrane_oscillation.toml: 64 x 64,
@@ -15,13 +17,15 @@
 //  against the reference's m0_rx (sampled every 0.005) interpolated linearly in t; max and rms.
 //  Variations are one at a time around the default (Nx, Nb, h/dx, h*/h, dt) plus a few combined.
 //
-//   speed_accuracy [--parts PWAB] [--out DIR] [--cases DIR] [--quick] [--reuse]
+//   speed_accuracy [--parts PLWAB] [--out DIR] [--cases DIR] [--quick] [--reuse | --report-only]
 //
 // Cost is the process CPU time of the run (set-up + loop + output; getrusage), which on this
 // shared 2-core machine is steadier than wall time; both are written. Runs go to
 // DIR/runs/<tag>/ (the HDF5 files are deleted after reading, except for the references). The two
 // reference runs are reused when DIR/runs/ref_X/overrides.txt holds the same overrides and the
-// run finished; --reuse reuses every such run (their times are then from when they ran).
+// run finished; --reuse reuses every such run (their times are then from when they ran);
+// --report-only runs nothing: it rebuilds the CSV and the Markdown from the run directories
+// (a run without one is listed as not run).
 // Writes DIR/speed_accuracy.csv (one row per run) and DIR/speed_accuracy.md (tables, the Pareto
 // fronts, "choosing a resolution"), each atomically after every run. Plots: scripts/plot_bench.py.
 // The process re-executes itself once with OMP_NUM_THREADS=1 (and the BLAS equivalents).
@@ -97,7 +101,7 @@ std::string md_text(std::string s) {
 
 struct Run {
   std::string study;   // poiseuille | vukcevic | membrane_A | membrane_B
-  std::string group;   // grid | base | reference | Nx | Nb | h/dx | h*/h | dt | combined | Nx, dt = 0.1 dx
+  std::string group;   // grid | lagrangian | base | reference | Nx | Nb | h/dx | h*/h | dt | combined | Nx, dt = 0.1 dx
   std::string label;   // what was varied, for the tables
   std::string tag;     // run directory name
   std::string scene;   // case file
@@ -159,10 +163,10 @@ Series read_rx(const fs::path& csv) {
 }
 
 struct Options {
-  std::string parts = "PWAB";
+  std::string parts = "PLWAB";
   fs::path out = "bench_out/speed_accuracy";
   fs::path cases = "cases";
-  bool quick = false, reuse = false;
+  bool quick = false, reuse = false, report_only = false;
 };
 
 class Bench {
@@ -197,14 +201,17 @@ class Bench {
       r.markers_per_dx = r.dx / (2.0 * M_PI * m.r0 / m.nb);
     }
     nlohmann::json j;
-    const bool may_reuse = always_reuse || o_.reuse;
+    const bool may_reuse = always_reuse || o_.reuse || o_.report_only;
     if (may_reuse && fs::exists(dir / "summary.json") && fs::exists(dir / "overrides.txt")) {
       std::ifstream a(dir / "overrides.txt");
       std::stringstream b;
       b << a.rdbuf();
       std::ifstream js(dir / "summary.json");
       nlohmann::json old = nlohmann::json::parse(js, nullptr, false);
-      if (b.str() == joined && !old.is_discarded() && old.value("stop_reason", "") == "end time") {
+      const bool finished = !old.is_discarded() && old.value("stop_reason", "") == "end time";
+      if (b.str() == joined && !old.is_discarded() && o_.report_only && !finished)
+        r.status = "stopped: " + old.value("stop_reason", std::string("?"));  // a failed run, as it was recorded
+      if (b.str() == joined && (finished || (o_.report_only && !old.is_discarded()))) {
         j = old;
         r.reused = true;
         r.wall = j.value("wall_seconds", NAN);
@@ -218,6 +225,10 @@ class Bench {
           }
         }
       }
+    }
+    if (!r.reused && o_.report_only) {
+      if (r.ok()) r.status = "not run (--report-only: no finished run directory)";
+      return nlohmann::json();
     }
     if (!r.reused) {
       fs::remove_all(dir);
@@ -285,6 +296,31 @@ class Bench {
           r.tag = "P_nx" + std::to_string(nx) + "_h" + num(h) + "_dt" + num(dt);
           r.sets = {"grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx), "kernel.h_over_dx=" + num(h),
                     "time.dt=" + num(dt), "output.interval=0"};
+          const nlohmann::json j = execute(r);
+          if (!j.is_null() && r.ok()) r.rms = j.value("rms_error", NAN);
+          drop_h5(r);
+          add(r);
+        }
+  }
+
+  // ---- L: start-up Poiseuille with LPSPH (moving particles), in P's study ----
+  void part_l() {
+    std::printf("L: start-up Poiseuille with LPSPH (method = lagrangian), rms error at t = 0.0125\n");
+    const std::vector<int> nxs = o_.quick ? std::vector<int>{16} : std::vector<int>{16, 24, 32, 48};
+    const std::vector<double> hs = o_.quick ? std::vector<double>{1.525} : std::vector<double>{1.525, 2.2};
+    const std::vector<double> dts = o_.quick ? std::vector<double>{1.5625e-4}
+                                             : std::vector<double>{3.125e-5, 1.5625e-4, 1.25e-3};
+    for (double dt : dts)
+      for (double h : hs)
+        for (int nx : nxs) {
+          Run r;
+          r.study = "poiseuille";
+          r.group = "lagrangian";
+          r.scene = "poiseuille.toml";
+          r.label = "LPSPH Nx " + std::to_string(nx) + " h/dx " + num(h) + " dt " + num(dt);
+          r.tag = "L_nx" + std::to_string(nx) + "_h" + num(h) + "_dt" + num(dt);
+          r.sets = {"method=lagrangian", "grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx),
+                    "kernel.h_over_dx=" + num(h), "time.dt=" + num(dt), "output.interval=0"};
           const nlohmann::json j = execute(r);
           if (!j.is_null() && r.ok()) r.rms = j.value("rms_error", NAN);
           drop_h5(r);
@@ -409,6 +445,15 @@ class Bench {
       vs.push_back({"combined", "Nx 96 Nb 192 dt 1e-3", cat(nx_sets(96), {"membrane.nb=192", "time.dt=0.001"})});
       vs.push_back({"combined", "Nx 128 Nb 256 dt 5e-4", cat(nx_sets(128), {"membrane.nb=256", "time.dt=0.0005"})});
       vs.push_back({"combined", "Nx 128 Nb 256 dt 1e-4", cat(nx_sets(128), {"membrane.nb=256"})});
+      // second round, after the first showed area loss ~ 3 dt/dx, Nb without effect above 1 per dx, and
+      // h = dx the most accurate for rx (appended: the tags of the first round stay)
+      vs.push_back({"combined", "Nx 64 h/dx 1 dt 5e-5", {"kernel.h_over_dx=1", "time.dt=5e-05"}});
+      vs.push_back({"combined", "Nx 64 h/dx 1 dt 2e-4", {"kernel.h_over_dx=1", "time.dt=0.0002"}});
+      vs.push_back({"combined", "Nx 64 h/dx 1 h*/h 2", {"kernel.h_over_dx=1", "membrane.h_star_over_h=2"}});
+      vs.push_back({"combined", "Nx 64 h*/h 2 dt 2e-4", {"membrane.h_star_over_h=2", "time.dt=0.0002"}});
+      vs.push_back({"combined", "Nx 96 h/dx 1 dt 1e-4", cat(nx_sets(96), {"kernel.h_over_dx=1"})});
+      vs.push_back({"combined", "Nx 96 dt 5e-5", cat(nx_sets(96), {"time.dt=5e-05"})});
+      vs.push_back({"combined", "Nx 48 Nb 64 h/dx 1 dt 2.5e-4", cat(nx_sets(48), {"membrane.nb=64", "kernel.h_over_dx=1", "time.dt=0.00025"})});
     } else {
       for (int n : {32, 40, 48, 80, 96, 120, 128, 160, 192})  // Fig. 19: dt = 0.1 dx
         vs.push_back({"Nx, dt = 0.1 dx", "Nx " + std::to_string(n), cat(nx_sets(n), {"time.dt=" + num(0.1 * L / n)})});
@@ -425,6 +470,12 @@ class Bench {
       vs.push_back({"combined", "Nx 160 dt 0.05 dx", cat(nx_sets(160), {"time.dt=" + num(0.05 * L / 160)})});
       vs.push_back({"combined", "Nx 96 dt 0.025 dx", cat(nx_sets(96), {"time.dt=" + num(0.025 * L / 96)})});
       vs.push_back({"combined", "Nx 64 dt 0.025 dx h*/h 1.4", {"time.dt=" + num(0.025 * L / 64), "membrane.h_star=" + num(1.4 * h0)}});
+      // second round (appended)
+      vs.push_back({"combined", "Nx 64 dt 0.025 dx h*/h 2", {"time.dt=" + num(0.025 * L / 64), "membrane.h_star=" + num(2 * h0)}});
+      vs.push_back({"combined", "Nx 64 dt 0.0125 dx h*/h 2", {"time.dt=" + num(0.0125 * L / 64), "membrane.h_star=" + num(2 * h0)}});
+      vs.push_back({"combined", "Nx 64 dt 0.0125 dx h*/h 1.4", {"time.dt=" + num(0.0125 * L / 64), "membrane.h_star=" + num(1.4 * h0)}});
+      vs.push_back({"combined", "Nx 96 dt 0.025 dx h*/h 1.4", cat(nx_sets(96), {"time.dt=" + num(0.025 * L / 96), "membrane.h_star=" + num(1.4 * 1.2 * L / 96)})});
+      vs.push_back({"combined", "Nx 64 h/dx 1 dt 0.025 dx h*/h 1.7", {"kernel.h_over_dx=1", "time.dt=" + num(0.025 * L / 64), "membrane.h_star=" + num(1.4 * h0)}});
     }
 
     int k = 0;
@@ -538,25 +589,33 @@ class Bench {
     std::ostringstream m;
     m << "# Speed-accuracy trade (issue 6)\n\nGenerated by `bench/speed_accuracy` (single-threaded). Cost = CPU "
          "seconds of the run (set-up, loop and output; the machine has 2 cores shared with other jobs, so wall "
-         "times vary by tens of per cent; CPU time less). Pareto front (★): no other run of the study is both "
-         "cheaper and more accurate (errors within 1% count as equal).\n\n";
+         "times vary by tens of per cent; CPU time less; both are in the tables and the CSV). Reused runs keep "
+         "the times measured when they ran. Pareto front (★): no other run of the study is both cheaper and more "
+         "accurate (errors within 1% count as equal).\n\n";
     // P
     if (auto rs = study("poiseuille"); !rs.empty()) {
       const auto pf = pareto(rs, rms_err);
+      const bool has_l = std::any_of(rs.begin(), rs.end(), [](const Run* r) { return r->group == "lagrangian"; });
       m << "## P: start-up Poiseuille, rms error (Eq. 69) at t = 0.0125 against CPU time\n\n"
-           "`cases/poiseuille.toml` (Re = 0.0125, Stokes), full grid Nx x h/dx x dt.\n\n";
+           "`cases/poiseuille.toml` (Re = 0.0125, Stokes), full grid Nx x h/dx x dt with EPSPH"
+        << (has_l ? "; part L adds LPSPH (`method = lagrangian`) on a smaller grid, and the front is over both methods"
+                  : "")
+        << ".\n\n";
       std::vector<size_t> idx(rs.size());
       for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-      m << "### Pareto front\n\n| Nx | h/dx | dt | steps | rms error | CPU s | wall s |\n|---:|---:|---:|---:|---:|---:|---:|\n";
+      m << "### Pareto front\n\n| method | Nx | h/dx | dt | steps | rms error | CPU s | wall s |\n"
+           "|---|---:|---:|---:|---:|---:|---:|---:|\n";
       std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return rs[a]->cpu < rs[b]->cpu; });
       for (size_t i : idx)
         if (pf[i])
-          m << "| " << rs[i]->nx << " | " << num(rs[i]->hdx) << " | " << num(rs[i]->dt, 4) << " | " << rs[i]->steps
-            << " | " << sci(rs[i]->rms) << " | " << fix(rs[i]->cpu) << " | " << fix(rs[i]->wall) << " |\n";
-      m << "\n### All runs: rms error (CPU s)\n\n";
+          m << "| " << (rs[i]->group == "lagrangian" ? "LPSPH" : "EPSPH") << " | " << rs[i]->nx << " | "
+            << num(rs[i]->hdx) << " | " << num(rs[i]->dt, 4) << " | " << rs[i]->steps << " | " << sci(rs[i]->rms)
+            << " | " << fix(rs[i]->cpu) << " | " << fix(rs[i]->wall) << " |\n";
+      m << "\n### All EPSPH runs: rms error (CPU s)\n\n";
       std::vector<double> dts, hs;
       std::vector<int> nxs;
       for (const Run* r : rs) {
+        if (r->group != "grid") continue;
         if (std::find(dts.begin(), dts.end(), r->dt) == dts.end()) dts.push_back(r->dt);
         if (std::find(hs.begin(), hs.end(), r->hdx) == hs.end()) hs.push_back(r->hdx);
         if (std::find(nxs.begin(), nxs.end(), r->nx) == nxs.end()) nxs.push_back(r->nx);
@@ -572,7 +631,7 @@ class Bench {
           for (int n : nxs) {
             std::string cell = " ";
             for (size_t i = 0; i < rs.size(); ++i)
-              if (rs[i]->dt == dt && rs[i]->hdx == h && rs[i]->nx == n)
+              if (rs[i]->group == "grid" && rs[i]->dt == dt && rs[i]->hdx == h && rs[i]->nx == n)
                 cell = rs[i]->ok() ? sci(rs[i]->rms) + " (" + fix(rs[i]->cpu, rs[i]->cpu < 1 ? 2 : 1) + ")" +
                                          (pf[i] ? " ★" : "")
                                    : "failed";
@@ -581,6 +640,23 @@ class Bench {
           m << "\n";
         }
       m << "\n";
+      if (has_l) {
+        m << "### LPSPH (part L) against EPSPH at the same Nx, h/dx and dt\n\n"
+             "| Nx | h/dx | dt | steps | LPSPH rms error | LPSPH CPU s | EPSPH rms error | EPSPH CPU s | "
+             "LPSPH / EPSPH CPU | Pareto | status |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
+        for (size_t i = 0; i < rs.size(); ++i) {
+          const Run& l = *rs[i];
+          if (l.group != "lagrangian") continue;
+          const Run* e = nullptr;
+          for (const Run* r : rs)
+            if (r->group == "grid" && r->nx == l.nx && r->hdx == l.hdx && r->dt == l.dt) e = r;
+          m << "| " << l.nx << " | " << num(l.hdx) << " | " << num(l.dt, 4) << " | " << l.steps << " | " << sci(l.rms)
+            << " | " << fix(l.cpu) << " | " << (e ? sci(e->rms) : "–") << " | " << (e ? fix(e->cpu) : "–") << " | "
+            << (e && e->cpu > 0 ? fix(l.cpu / e->cpu, 1) : "–") << " | " << (pf[i] ? "★" : "") << " | "
+            << md_text(l.ok() ? "" : l.status) << " |\n";
+        }
+        m << "\n";
+      }
     }
     // W
     if (auto rs = study("vukcevic"); !rs.empty()) {
@@ -628,8 +704,38 @@ class Bench {
                              : r->status)
           << " |\n";
       }
-      m << "\n" << choosing(name) << "\n";
+      m << "\n" << reference_check(rs) << choosing(name) << "\n";
     }
+    return m.str();
+  }
+
+  // How far the reference itself is from converged in dt: the run with the reference's Nx, h/dx and
+  // h* (Nb aside: the Nb rows show no effect above one marker per dx) and the smallest larger dt.
+  static std::string reference_check(const std::vector<const Run*>& rs) {
+    const Run* ref = nullptr;
+    for (const Run* r : rs)
+      if (r->group == "reference" && r->ok()) ref = r;
+    if (!ref) return "";
+    const Run* near = nullptr;
+    for (const Run* r : rs)
+      if (r != ref && r->ok() && r->nx == ref->nx && std::fabs(r->hdx - ref->hdx) < 1e-9 &&
+          std::fabs(r->h_star - ref->h_star) < 1e-9 * ref->h_star && r->dt > ref->dt && std::isfinite(r->rx_max) &&
+          (!near || r->dt < near->dt))
+        near = r;
+    std::ostringstream m;
+    m << "**The reference's own error.** ";
+    if (!near) {
+      m << "No run shares the reference's Nx, h/dx and h*, so its own error is not estimated here.\n\n";
+      return m.str();
+    }
+    const double est = near->rx_max * ref->dt / (near->dt - ref->dt);
+    m << "`" << near->label << "` has the reference's Nx, h/dx and h* (Nb " << near->nb << ", dt " << num(near->dt, 4)
+      << " against " << num(ref->dt, 4) << "): it differs from the reference by " << sci(near->rx_max)
+      << " in rx (max) and its area error at t = 2 is " << pct(near->area2, 3) << " against the reference's "
+      << pct(ref->area2, 3) << ". If that difference is first order in dt, the reference's own dt error in rx is "
+      << "about " << sci(est) << " (" << sci(near->rx_max) << " x dt_ref / (dt - dt_ref)): rx errors near or below "
+      << "that are not resolved by this reference, and its error in Nx is not measured. rx is sampled at each run's "
+      << "diagnostics times (every max(1, round(0.01/dt)) steps).\n\n";
     return m.str();
   }
 
@@ -680,6 +786,7 @@ class Bench {
   void run() {
     const auto t0 = Clock::now();
     if (o_.parts.find('P') != std::string::npos) part_p();
+    if (o_.parts.find('L') != std::string::npos) part_l();
     if (o_.parts.find('W') != std::string::npos) part_w();
     if (o_.parts.find('A') != std::string::npos) membrane("A");
     if (o_.parts.find('B') != std::string::npos) membrane("B");
@@ -695,13 +802,15 @@ class Bench {
 
 [[noreturn]] void usage(int code) {
   (code ? std::cerr : std::cout)
-      << "usage: speed_accuracy [--parts PWAB] [--out DIR] [--cases DIR] [--quick] [--reuse]\n"
-         "  --parts   P start-up Poiseuille, W Vukcevic Poiseuille (WCSPH and EPSPH), A oscillating membrane\n"
-         "            (Section 5.2.2), B the same with the Fig. 19 settings (default PWAB)\n"
+      << "usage: speed_accuracy [--parts PLWAB] [--out DIR] [--cases DIR] [--quick] [--reuse | --report-only]\n"
+         "  --parts   P start-up Poiseuille (EPSPH), L the same with LPSPH, W Vukcevic Poiseuille (WCSPH and\n"
+         "            EPSPH), A oscillating membrane (Section 5.2.2), B the same with the Fig. 19 settings\n"
+         "            (default PLWAB)\n"
          "  --out     output directory (default bench_out/speed_accuracy)\n"
          "  --cases   scene directory (default cases)\n"
          "  --quick   a few runs per part (smoke test)\n"
-         "  --reuse   reuse every finished run directory with the same overrides (default: references only)\n";
+         "  --reuse   reuse every finished run directory with the same overrides (default: references only)\n"
+         "  --report-only  run nothing: rebuild the CSV and Markdown of the chosen parts from the run directories\n";
   std::exit(code);
 }
 
@@ -732,6 +841,7 @@ int main(int argc, char** argv) {
     else if (a == "--cases") o.cases = value();
     else if (a == "--quick") o.quick = true;
     else if (a == "--reuse") o.reuse = true;
+    else if (a == "--report-only") o.report_only = true;
     else {
       std::cerr << "speed_accuracy: unknown option " << a << "\n";
       usage(2);

@@ -19,11 +19,12 @@
 //     value 0.1575 so that the support fits between membrane and walls), h*/h 0.5..2;
 //  T  the largest stable dt for every (T0, mu) pair, T0 in {1, 10, ..., 1e4}, mu in {1e-3, ..., 10}:
 //     bracketing by factors of 4 from the estimate of `sphib check` (app/check.cpp), then geometric
-//     bisection until the bracket is within a factor 1.1; fitted to the explicit-IB estimates
-//       viscous   dt ~ C_v mu dx / T0,   inertial   dt ~ C_i sqrt(rho dx^3 / T0)
-//     (Stockie & Wetton 1999) as dt_max = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0), least squares
-//     in log dt over the bracketed pairs; compared with `sphib check`'s
-//     max(sqrt(rho h*^3/T0), 10 mu h*/T0);
+//     bisection until the bracket is within a factor 1.1; fitted to the two regimes of an explicit
+//     membrane force,
+//       viscous   dt ~ C_v mu dx / T0,   inertial   dt ~ C_i sqrt(rho dx^3 / T0),
+//     as dt_max = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0), least squares in log dt over the
+//     bracketed pairs; compared with `sphib check`'s max(sqrt(rho h*^3/T0), 10 mu h*/T0) and with
+//     the classical estimates for an explicit (forward Euler) force (see classical() below);
 //  X  the largest stable dt against Nx (24..64, Nb = 2 Nx), markers per grid spacing, h/dx and
 //     h*/h at an inertial point (T0 = 1e3, mu = 1e-3) and a viscous point (T0 = 1e3, mu = 10):
 //     which length (dx, h, h*, marker spacing) sets the limit.
@@ -34,7 +35,10 @@
 //     values, energy above the bound, a failing fixed point or a marker leaving the fluid count.
 //  S  as E with convection off.
 //
-//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick]
+//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--report-only]
+//
+// --report-only runs nothing: it reads DIR/stability_runs.csv and DIR/stability_dtmax.csv back and
+// rewrites them and DIR/stability_map.md (new columns, new text, same measurements).
 //
 // Writes DIR/stability_runs.csv (every run: parameters, verdict, reason), DIR/stability_dtmax.csv
 // (one row per bisection), DIR/stability_map.md, each atomically after every run; plots:
@@ -108,6 +112,21 @@ constexpr double kEnergyBound = 10;  // unstable: total energy above 10 x its in
 constexpr double kDtCap = 1.0;       // the bisection does not look above this dt
 constexpr double kDtFloor = 1e-7;
 
+// The classical time-step limits of an explicit (forward Euler) membrane force, for a membrane of
+// tension T0 between two fluids of density rho and viscosity mu on a grid of spacing dx:
+//   inertial  dt < sqrt(rho dx^3 / (2 pi T0)): the capillary time-step constraint of Brackbill,
+//             Kothe & Zemach (1992, J. Comput. Phys. 100:335), the period of the shortest capillary
+//             wave the grid carries (omega^2 = T0 k^3 / (2 rho)); a tensioned membrane is a capillary
+//             interface for normal perturbations;
+//   viscous   dt < (8/pi) mu dx / T0: in Stokes flow a membrane mode of wavenumber k relaxes at the
+//             rate T0 |k| / (4 mu) (the linear analysis behind Stockie & Wetton 1999, J. Comput. Phys.
+//             154:41, and Hou & Shi 2008, J. Comput. Phys. 227:8968, where the explicit step is
+//             limited by dt ~ mu h / T0); forward Euler needs dt T0 k / (4 mu) <= 2 at k = pi/dx.
+// Our step takes the force explicitly at X^n but moves the markers by the trapezoidal fixed point
+// (Eqs. 56-60), and spreads with h* > dx: the measured limits are expected to exceed these.
+constexpr double kClassicalCi = 0.3989422804014327;  // 1/sqrt(2 pi)
+constexpr double kClassicalCv = 2.5464790894703255;  // 8/pi
+
 // The parameters of one run (the coarse membrane, changed from its defaults).
 struct Params {
   double T0 = 10, mu = 0.1, rho = 1.0;
@@ -128,6 +147,11 @@ struct Params {
   double check_estimate() const {
     const double hs = h_star();
     return std::max(std::sqrt(rho * hs * hs * hs / T0), 10.0 * mu * hs / T0);
+  }
+  // the classical explicit estimate (see kClassicalCi, kClassicalCv)
+  double classical() const {
+    const double d = dx();
+    return std::max(kClassicalCi * std::sqrt(rho * d * d * d / T0), kClassicalCv * mu * d / T0);
   }
   long steps() const { return std::clamp(std::lround(0.5 / dt), 500L, 4000L); }
   std::vector<std::string> sets() const {
@@ -185,7 +209,7 @@ struct Options {
   std::string parts = "GTESX";
   fs::path out = "bench_out/stability_map";
   fs::path cases = "cases";
-  bool quick = false;
+  bool quick = false, report_only = false;
 };
 
 class Bench {
@@ -497,13 +521,19 @@ class Bench {
       if (d.part == part && d.p.T0 == p.T0 && d.p.mu == p.mu) return &d;
     return nullptr;
   }
-  // With convection (T, E): the limit lies well below the Stokes one (S) of the same pair, so the
-  // explicit convection, not the membrane force, sets it.
-  bool convection_limited(const DtMax& d) const {
-    if (d.part == "S") return false;
-    const DtMax* s = find_pair("S", d.p);
-    return s && std::isfinite(s->estimate()) && std::isfinite(d.estimate()) && d.estimate() < s->estimate() / 1.3;
+  // Why a limit of T or E lies well below (a factor 1.3) another part's limit for the same pair:
+  // T below E: the runner's dx-per-step guard stops runs the bench's loop finds bounded; E (or T)
+  // below S: the explicit convection, not the membrane force, sets it. Empty: neither.
+  std::string other_limit(const DtMax& d) const {
+    if (d.part == "S" || d.part == "X" || !std::isfinite(d.estimate())) return "";
+    if (d.part == "T")
+      if (const DtMax* e = find_pair("E", d.p); e && std::isfinite(e->estimate()) && d.estimate() < e->estimate() / 1.3)
+        return "runner's guard (no-guard limit " + sci(e->estimate()) + ")";
+    if (const DtMax* s = find_pair("S", d.p); s && std::isfinite(s->estimate()) && d.estimate() < s->estimate() / 1.3)
+      return "convection (Stokes limit " + sci(s->estimate()) + ")";
+    return "";
   }
+  bool convection_limited(const DtMax& d) const { return !other_limit(d).empty(); }
   Fit fit_tmu(const std::string& part, bool use_hstar, bool skip_convective = true) const {
     std::vector<std::array<double, 3>> d;  // sqrt(rho L^3/T0), mu L/T0, measured dt_max
     for (const DtMax& m : dtmax_)
@@ -549,7 +579,25 @@ class Bench {
          "with at least 500 and at most 4000 steps. **Unstable**: stopped by the runner (RunError: non-finite "
          "values, a particle or marker moving more than dx in a step, a marker with no fluid within 2h, a "
          "fixed point not converging) or total energy (kinetic + elastic) above "
-      << kEnergyBound << " x its initial value. **Refused**: the scene was refused at set-up.\n\n";
+      << kEnergyBound << " x its initial value. **Refused**: the scene was refused at set-up.\n\n"
+      << "## Classical estimate\n\n"
+         "For an explicit (forward Euler) membrane force the classical limits are, with the grid spacing dx, the "
+         "tension T0, density rho and viscosity mu on both sides:\n\n"
+         "- inertial: dt < sqrt(rho dx^3 / (2 pi T0)), the capillary time-step constraint of Brackbill, Kothe & "
+         "Zemach (1992, J. Comput. Phys. 100:335-354): the period of the shortest capillary wave the grid carries "
+         "(omega^2 = T0 k^3 / (2 rho)); for normal perturbations a tensioned membrane is a capillary interface;\n"
+         "- viscous: dt < (8/pi) mu dx / T0: in Stokes flow a membrane mode of wavenumber k relaxes at the rate "
+         "T0 k / (4 mu), the stiffness analysed for the immersed boundary method by Stockie & Wetton (1999, J. "
+         "Comput. Phys. 154:41-64) and Hou & Shi (2008, J. Comput. Phys. 227:8968-8991), who find the explicit "
+         "step limited by dt ~ mu h / T0; forward Euler is stable for dt T0 k / (4 mu) <= 2, here at k = pi/dx "
+         "(the constant 8/pi is this bench's, from that rate).\n\n"
+         "`classical` below = max of the two (C_i = 1/sqrt(2 pi) = " << fix(kClassicalCi, 3) << ", C_v = 8/pi = "
+      << fix(kClassicalCv, 3) << " in the form of the fit). Our step takes the membrane force explicitly at X^n, "
+         "as the classical analysis assumes, but moves the markers by the semi-implicit trapezoidal rule solved by "
+         "fixed point (Eqs. 56-60: u^n at X^n and u^{n+1} at X^{n+1}, not forward Euler), with viscosity by "
+         "Crank-Nicolson, and spreads the force with its own kernel of radius h* = " << fix(def.h_star() / def.dx(), 2)
+      << " dx, which damps the shortest modes; limits above the classical ones are therefore expected, and the "
+         "tables say by how much.\n\n";
     // G
     std::map<std::string, std::vector<const Verdict*>> g;
     std::vector<std::string> order;
@@ -561,7 +609,10 @@ class Bench {
     if (!g.empty()) {
       m << "## G: classification, dt against one parameter at a time\n\n"
            "S = stable, U = unstable (reason: N non-finite, P particle CFL, M marker CFL, L marker left the "
-           "fluid, F fixed point, E energy growth), R = refused.\n\n";
+           "fluid, F fixed point, E energy growth), R = refused. One parameter varies per table, the others at the "
+           "defaults; on the h/dx axis h* stays at its default " << num(def.h_star(), 4) << " (so that the spreading "
+           "support fits between membrane and walls), so h*/h falls as h/dx rises; markers per grid spacing are "
+           "rounded to whole markers (Nb = round(m 2 pi r0 / dx)).\n\n";
       for (const std::string& a : order) {
         std::vector<double> vals, dts;
         auto value = [&](const Verdict& v) {
@@ -616,18 +667,26 @@ class Bench {
         << "\n\n"
            "Bracket [largest stable, smallest unstable) from a bisection to a factor 1.1; `check` = "
            "max(sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`; fit = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0) "
-           "with the constants below; regime = the larger term of the fit, or `convection` where the limit is "
-           "below the Stokes (part S) limit of the same pair by more than a factor 1.3.\n\n"
+           "with the constants below; regime = the larger term of the fit, or, where the limit lies more than a "
+           "factor 1.3 below that of another part for the same pair, `runner's guard` (T below E: run_scene's "
+           "dx-per-step check stops runs that stay bounded without it) or `convection` (below S: the explicit "
+           "convection sets the limit). The map depends on T0 and mu only through mu/sqrt(rho T0 dx) (with rho "
+           "and the geometry fixed, (T0, mu) -> (l^2 T0, l mu) rescales time by 1/l), hence the repeated "
+           "brackets. `classical` = max(sqrt(rho dx^3/(2 pi T0)), (8/pi) mu dx/T0), the explicit-force estimate "
+           "(section *Classical estimate* above).\n\n"
            "| T0 | mu | stable dt | unstable dt | failure at the limit | check estimate | measured / check | "
-           "fit | measured / fit | regime | max\\|u\\| dt/dx at the stable dt | max\\|u\\| stable / at failure | runs |\n|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---|---:|\n";
+           "classical | measured / classical | "
+           "fit | measured / fit | regime | max\\|u\\| dt/dx at the stable dt | max\\|u\\| stable / at failure | runs |\n"
+           "|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---|---:|---|---:|\n";
       for (const DtMax* d : t) {
         const double dx = d->p.dx(), inert = fd.Ci * std::sqrt(d->p.rho * dx * dx * dx / d->p.T0),
                      visc = fd.Cv * d->p.mu * dx / d->p.T0, model = std::max(inert, visc);
         m << "| " << num(d->p.T0) << " | " << num(d->p.mu) << " | " << sci(d->lo) << " | "
           << (std::isfinite(d->hi) ? sci(d->hi) : "> " + num(kDtCap)) << " | " << d->reason << " | "
           << sci(d->p.check_estimate()) << " | " << fix(d->estimate() / d->p.check_estimate(), 2) << " | "
+          << sci(d->p.classical()) << " | " << fix(d->estimate() / d->p.classical(), 1) << " | "
           << sci(model) << " | " << fix(d->estimate() / model, 2) << " | "
-          << (convection_limited(*d) ? "convection (Stokes limit " + sci(find_pair("S", d->p)->estimate()) + ")"
+          << (convection_limited(*d) ? other_limit(*d)
               : std::isfinite(model) ? (inert >= visc ? "inertial" : "viscous") : "")
           << " | " << fix(d->cfl_stable, 3)
           << " | " << sci(d->u_stable) << " / " << sci(d->u_fail) << " | " << d->runs << " |\n";
@@ -636,7 +695,7 @@ class Bench {
       if (fd.n >= 2) {
         const Fit fa = fit_tmu(part, false, false);
         m << "Over " << fd.n << " bracketed pairs (dt_max = geometric mean of the bracket"
-          << (fa.n != fd.n ? ", convection-limited pairs left out" : "") << "), least squares in log dt:\n\n"
+          << (fa.n != fd.n ? ", pairs limited by the runner's guard or by convection left out" : "") << "), least squares in log dt:\n\n"
           << "- with dx = " << num(def.dx(), 4) << ": **C_i = " << fix(fd.Ci, 3) << "**, **C_v = " << fix(fd.Cv, 3)
           << "**; rms misfit a factor " << fix(std::exp(fd.rms_log), 2);
         if (fa.n != fd.n)
@@ -645,7 +704,8 @@ class Bench {
         m << ";\n"
           << "- the same with h* = " << num(def.h_star(), 4) << " as the length (check's form): C_i = " << fix(fh.Ci, 3)
           << ", C_v = " << fix(fh.Cv, 3) << " (check uses 1 and 10);\n"
-          << "- crossover viscosity mu* = (C_i/C_v) sqrt(rho dx T0): viscous above, inertial below: ";
+          << "- crossover at mu / sqrt(rho T0 dx) = C_i/C_v = " << fix(fd.Ci / fd.Cv, 3)
+          << ", i.e. viscosity mu* = (C_i/C_v) sqrt(rho dx T0): viscous above, inertial below: ";
         for (double T0 : {1.0, 10.0, 100.0, 1e3, 1e4})
           m << "T0 = " << num(T0) << ": " << sci(fd.Ci / fd.Cv * std::sqrt(def.rho * def.dx() * T0)) << (T0 < 1e4 ? "; " : ".\n");
         double lo = INFINITY, hi = 0;
@@ -655,7 +715,26 @@ class Bench {
             hi = std::max(hi, d->estimate() / d->p.check_estimate());
           }
         m << "- measured / `sphib check` estimate: " << fix(lo, 2) << " to " << fix(hi, 2)
-          << (fa.n != fd.n ? " (convection-limited pairs left out)" : "") << ".\n";
+          << (fa.n != fd.n ? " (those pairs left out)" : "") << ";\n";
+        double clo = INFINITY, chi = 0, cap_lo = INFINITY, cap_hi = 0;
+        int ncap = 0;
+        for (const DtMax* d : t) {
+          if (std::isfinite(d->estimate()) && !convection_limited(*d)) {
+            clo = std::min(clo, d->estimate() / d->p.classical());
+            chi = std::max(chi, d->estimate() / d->p.classical());
+          }
+          if (std::isfinite(d->lo) && !std::isfinite(d->hi)) {
+            ++ncap;
+            cap_lo = std::min(cap_lo, d->p.classical());
+            cap_hi = std::max(cap_hi, d->p.classical());
+          }
+        }
+        m << "- against the classical explicit estimate: measured / classical = " << fix(clo, 1) << " to " << fix(chi, 1)
+          << (fa.n != fd.n ? " (the same pairs)" : "");
+        if (ncap) m << "; the " << ncap << " pairs stable up to the cap dt = " << num(kDtCap) << " are not bracketed "
+                    << "(classical estimate there " << sci(cap_lo) << " to " << sci(cap_hi) << ")";
+        m << "; fitted over classical constants: C_i / (1/sqrt(2 pi)) = " << fix(fd.Ci / kClassicalCi, 1)
+          << ", C_v / (8/pi) = " << fix(fd.Cv / kClassicalCv, 1) << ".\n";
       }
       m << "\n";
     }
@@ -728,7 +807,8 @@ class Bench {
     std::map<std::string, Fit> fits;
     for (const char* part : {"T", "E", "S"}) fits[part] = fit_tmu(part, false);
     d << "part,axis,T0,mu,nx,dx,nb,markers_per_dx,h_over_dx,h,h_star,h_star_over_h,dt_stable,dt_unstable,dt_max,"
-         "reason,runs,cfl_at_stable,u_stable,u_fail,check_estimate,fit_inertial,fit_viscous,fit_Ci,fit_Cv\n";
+         "reason,runs,cfl_at_stable,u_stable,u_fail,check_estimate,fit_inertial,fit_viscous,fit_Ci,fit_Cv,"
+         "classical_estimate\n";
     for (const DtMax& m : dtmax_) {
       const double dx = m.p.dx();
       const Fit f = fits.count(m.part) ? fits[m.part] : fits["T"];
@@ -738,14 +818,101 @@ class Bench {
         << csv_num(m.lo) << ',' << csv_num(m.hi) << ',' << csv_num(m.estimate()) << ',' << csv_text(m.reason) << ','
         << m.runs << ',' << csv_num(m.cfl_stable) << ',' << csv_num(m.u_stable) << ',' << csv_num(m.u_fail) << ',' << csv_num(m.p.check_estimate()) << ','
         << csv_num(f.Ci * std::sqrt(m.p.rho * dx * dx * dx / m.p.T0)) << ',' << csv_num(f.Cv * m.p.mu * dx / m.p.T0)
-        << ',' << csv_num(f.Ci) << ',' << csv_num(f.Cv) << '\n';
+        << ',' << csv_num(f.Ci) << ',' << csv_num(f.Cv) << ',' << csv_num(m.p.classical()) << '\n';
     }
     sphib::write_file_atomic((o_.out / "stability_dtmax.csv").string(), d.str());
     sphib::write_file_atomic((o_.out / "stability_map.md").string(), markdown());
   }
 
+  // --report-only: the measurements back from the two CSV files (Params from the recorded values;
+  // h* is taken as recorded, which gives the same h*, h*/h and estimates).
+  void load() {
+    auto read = [](const fs::path& f) {
+      std::ifstream in(f);
+      if (!in) throw std::runtime_error("--report-only: cannot read " + f.string());
+      std::vector<std::map<std::string, std::string>> rows;
+      std::string line;
+      std::vector<std::string> head;
+      auto split = [](const std::string& l) {
+        std::vector<std::string> v;
+        std::stringstream ss(l);
+        for (std::string c; std::getline(ss, c, ',');) v.push_back(c);
+        if (!l.empty() && l.back() == ',') v.emplace_back();
+        return v;
+      };
+      if (std::getline(in, line)) head = split(line);
+      while (std::getline(in, line)) {
+        const auto v = split(line);
+        std::map<std::string, std::string> r;
+        for (size_t k = 0; k < head.size(); ++k) r[head[k]] = k < v.size() ? v[k] : "";
+        rows.push_back(r);
+      }
+      return rows;
+    };
+    auto d = [](const std::map<std::string, std::string>& r, const char* k) {
+      const auto it = r.find(k);
+      return it == r.end() || it->second.empty() ? NAN : std::strtod(it->second.c_str(), nullptr);
+    };
+    auto params = [&](const std::map<std::string, std::string>& r) {
+      Params p;
+      p.T0 = d(r, "T0");
+      p.mu = d(r, "mu");
+      p.nx = static_cast<int>(d(r, "nx"));
+      p.nb = static_cast<int>(d(r, "nb"));
+      p.hdx = d(r, "h_over_dx");
+      p.h_star_abs = d(r, "h_star");
+      const std::string part = r.at("part"), axis = r.at("axis");
+      p.convection = !(part == "S" || axis.rfind("elastic/", 0) == 0);
+      p.guard = part == "G" || part == "T" || axis.rfind("runner/", 0) == 0;
+      return p;
+    };
+    auto axis = [](std::string a) {  // csv_text wrote "T0,mu" as "T0;mu"
+      for (char& c : a)
+        if (c == ';') c = ',';
+      return a;
+    };
+    for (const auto& r : read(o_.out / "stability_runs.csv")) {
+      Verdict v;
+      v.part = r.at("part");
+      v.axis = axis(r.at("axis"));
+      v.p = params(r);
+      v.p.dt = d(r, "dt");
+      v.verdict = r.at("verdict");
+      v.reason = r.at("reason");
+      v.message = r.at("message");
+      v.steps_done = static_cast<long>(d(r, "steps_done"));
+      v.t_done = d(r, "t_done");
+      v.energy_ratio = d(r, "energy_ratio");
+      v.max_speed = d(r, "max_speed");
+      v.area_error = d(r, "area_error");
+      v.cpu = d(r, "cpu_s");
+      all_.push_back(v);
+    }
+    for (const auto& r : read(o_.out / "stability_dtmax.csv")) {
+      DtMax m;
+      m.part = r.at("part");
+      m.axis = axis(r.at("axis"));
+      m.p = params(r);
+      m.lo = d(r, "dt_stable");
+      m.hi = d(r, "dt_unstable");
+      m.reason = r.at("reason");
+      m.runs = static_cast<int>(d(r, "runs"));
+      m.cfl_stable = d(r, "cfl_at_stable");
+      m.u_stable = d(r, "u_stable");
+      m.u_fail = d(r, "u_fail");
+      dtmax_.push_back(m);
+    }
+    std::printf("read %zu runs and %zu bisections from %s\n", all_.size(), dtmax_.size(), o_.out.c_str());
+  }
+
   void run_all() {
     const auto t0 = Clock::now();
+    if (o_.report_only) {
+      load();
+      write();
+      std::printf("rewrote %s/stability_runs.csv, stability_dtmax.csv, stability_map.md\n", o_.out.c_str());
+      return;
+    }
     if (o_.parts.find('G') != std::string::npos) part_g();
     if (o_.parts.find('T') != std::string::npos) part_t("T");
     if (o_.parts.find('E') != std::string::npos) part_t("E");
@@ -764,13 +931,14 @@ class Bench {
 
 [[noreturn]] void usage(int code) {
   (code ? std::cerr : std::cout)
-      << "usage: stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick]\n"
+      << "usage: stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--report-only]\n"
          "  --parts  G classification grid (dt x one parameter), T largest stable dt over (T0, mu),\n"
          "           E as T without the runner's dx-per-step guards (the bench's loop), S as E with\n"
          "           convection off, X largest stable dt against Nx, markers/dx, h/dx, h*/h (default GTESX)\n"
          "  --out    output directory (default bench_out/stability_map)\n"
          "  --cases  scene directory (default cases)\n"
-         "  --quick  a few runs per part (smoke test)\n";
+         "  --quick  a few runs per part (smoke test)\n"
+         "  --report-only  run nothing: read DIR's two CSV files back, rewrite them and the Markdown\n";
   std::exit(code);
 }
 
@@ -800,6 +968,7 @@ int main(int argc, char** argv) {
     else if (a == "--out") o.out = value();
     else if (a == "--cases") o.cases = value();
     else if (a == "--quick") o.quick = true;
+    else if (a == "--report-only") o.report_only = true;
     else {
       std::cerr << "stability_map: unknown option " << a << "\n";
       usage(2);

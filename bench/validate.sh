@@ -7,8 +7,10 @@
 #   equilibrium    stretched membrane, fixed and free, to steady state (Section 5.2.1, Fig. 8)
 #   fig10          equilibrium convergence: Nx = 40..160, mu = 0.25, 1, fixed and free (Fig. 10)
 #   fig10_fixed    the same, fixed membrane only (minutes; the free runs take hours at Nx = 160)
+#   fig10_free     the same, free membrane only (hours)
 #   oscillation    oscillating membrane, mu = 1, 0.1, 0.05, 0.025, t in [0, 10] (Figs. 11, 15-17)
 #   fig19          area error at t = 1, 2 against Nx = 40..120 (Fig. 19)
+#   table3         self-convergence at t = 0.0625, Nx = 32, 64, 128 against Nx = 256 (Table 3)
 #   sweep          the Poiseuille sweep of Figs. 4, 7 and Table 1 (bench/poiseuille_sweep)
 # Without arguments: all but fig10 and sweep (the long ones).
 set -euo pipefail
@@ -17,7 +19,7 @@ SPHIB=build/sphib
 SWEEP="/usr/bin/python3 scripts/sweep.py"
 OUT=bench_out
 sections=("$@")
-[ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19)
+[ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19 table3)
 cmake --build build --target sphib poiseuille_sweep > /dev/null
 
 for s in "${sections[@]}"; do
@@ -48,6 +50,13 @@ for s in "${sections[@]}"; do
         --derive grid.ny={grid.nx} --derive time.dt=0.1*3/{grid.nx} \
         --set kernel.h_over_dx=2.25 --set membrane.h_star_over_h=0.5 --set membrane.nb=360 --set output.interval=0 \
         --set membrane.fixed=true --report pressure_mad_error,velocity_mad_error,pressure_jump,time ;;
+    fig10_free)
+      $SWEEP --scene cases/membrane_equilibrium.toml --out $OUT/fig10_free \
+        --vary grid.nx=40,60,80,100,120,140,160 --vary fluid.mu=0.25,1 \
+        --derive grid.ny={grid.nx} --derive time.dt=0.1*3/{grid.nx} \
+        --set kernel.h_over_dx=2.25 --set membrane.h_star_over_h=0.5 --set membrane.nb=360 --set output.interval=0 \
+        --set membrane.fixed=false \
+        --report pressure_mad_error,velocity_mad_error,pressure_jump,area_relative_error,stop_reason,time ;;
     oscillation)
       $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation --vary fluid.mu=1,0.1,0.05,0.025 \
         --report period,amplitude_decay,rx_first_minimum,area_relative_error_at.1,area_relative_error_at.2,area_relative_error_at.10,seconds_per_step ;;
@@ -57,6 +66,8 @@ for s in "${sections[@]}"; do
         --set membrane.T0=1 --set fluid.mu=0.05 --set membrane.nb=360 --set membrane.h_star=0.0425 \
         --set time.end=2 --set output.interval=0 \
         --report area_relative_error_at.1,area_relative_error_at.2 ;;
+    table3)
+      /usr/bin/python3 scripts/self_convergence.py --out $OUT/table3 ;;
     sweep)
       build/poiseuille_sweep --out $OUT/poiseuille_sweep ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;

@@ -4,19 +4,24 @@
     plot_bench.py [BENCH_OUT]        default bench_out; draws whatever of these exists:
 
     BENCH_OUT/speed_accuracy/speed_accuracy.csv (bench/speed_accuracy)
-        speed_accuracy_poiseuille.png  rms error vs CPU time, start-up Poiseuille (EPSPH grid) and the
-                                       Vukcevic channel (WCSPH and EPSPH); Pareto fronts as steps
+        speed_accuracy_poiseuille.png  rms error vs CPU time, start-up Poiseuille (EPSPH grid, LPSPH) and
+                                       the Vukcevic channel (WCSPH and EPSPH); Pareto fronts as steps
         speed_accuracy_membrane.png    area error at t = 2 and max rx error on [0, 2] vs CPU time,
                                        oscillating membrane A (Section 5.2.2) and B (Fig. 19 settings)
         membrane_rx.png                rx(t) of the reference runs and of the runs on the rx Pareto front
     BENCH_OUT/stability_map/stability_runs.csv, stability_dtmax.csv (bench/stability_map)
         stability_dtmax.png            largest stable dt vs T0 per mu (parts T, E, S) with the fitted
-                                       max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0) and `sphib check`'s estimate
+                                       max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0), `sphib check`'s estimate
+                                       and the classical explicit estimate
+        stability_collapse.png         the same limits in the one variable they depend on:
+                                       dt_max sqrt(T0/(rho dx^3)) against mu/sqrt(rho T0 dx), with the
+                                       fit, `sphib check` and the classical estimate as lines
         stability_grid.png             the classification grid (part G): dt vs each parameter
         stability_axes.png             largest stable dt vs dx, markers per dx, h/dx, h*/h (part X)
     BENCH_OUT/scaling/scaling.csv, solvers.csv (bench/scaling)
         scaling.png                    time per step, set-up phases and peak memory vs N, with fitted slopes
         scaling_solvers.png            per-solve and factorisation times of the solver variants vs N
+                                       (CHOLMOD supernodal, simplicial, Jacobi-PCG, Eigen SimplicialLDLT)
 
 Each PNG is written as NAME.png.part and renamed.
 """
@@ -88,9 +93,11 @@ def speed_accuracy(d):
         return
     rows = [r for r in read(path) if r["status"] == "ok"]
     # Poiseuille
-    P = [r for r in rows if r["study"] == "poiseuille"]
+    P_all = [r for r in rows if r["study"] == "poiseuille"]
+    P = [r for r in P_all if r["group"] != "lagrangian"]
+    L = [r for r in P_all if r["group"] == "lagrangian"]
     W = [r for r in rows if r["study"] == "vukcevic"]
-    if P or W:
+    if P_all or W:
         fig, axs = plt.subplots(1, 2, figsize=(13, 5))
         ax = axs[0]
         hs = sorted({fl(r, "h_over_dx") for r in P})
@@ -102,13 +109,23 @@ def speed_accuracy(d):
             ax.scatter(fl(r, "cpu_s"), fl(r, "rms_error"), color=cmap(hs.index(h) / max(1, len(hs) - 1)),
                        marker=markers[dts.index(dt) % len(markers)], s=14 + 4 * int(r["nx"]) ** 0.8, alpha=0.8,
                        edgecolors="k" if r["pareto_rms"] == "1" else "none")
-        pareto_line(ax, [(fl(r, "cpu_s"), fl(r, "rms_error")) for r in P], color="r", lw=1.2, label="Pareto front")
+        for r in L:
+            h, dt = fl(r, "h_over_dx"), fl(r, "dt")
+            ax.scatter(fl(r, "cpu_s"), fl(r, "rms_error"), facecolors="none",
+                       edgecolors=cmap(hs.index(h) / max(1, len(hs) - 1)) if h in hs else "m",
+                       marker=markers[dts.index(dt) % len(markers)] if dt in dts else "o",
+                       s=14 + 4 * int(r["nx"]) ** 0.8, linewidths=1.2)
+        if L:
+            ax.scatter([], [], facecolors="none", edgecolors="grey", marker="o", label="LPSPH (hollow)")
+        pareto_line(ax, [(fl(r, "cpu_s"), fl(r, "rms_error")) for r in P_all], color="r", lw=1.2,
+                    label="Pareto front" + (" (both methods)" if L else ""))
         for h in hs:
             ax.scatter([], [], color=cmap(hs.index(h) / max(1, len(hs) - 1)), marker="o", label=f"h/dx = {h:g}")
         for dt in dts:
             ax.scatter([], [], color="grey", marker=markers[dts.index(dt) % len(markers)], label=f"dt = {dt:g}")
         ax.set(xscale="log", yscale="log", xlabel="CPU seconds (set-up + loop)", ylabel="rms error, Eq. (69)",
-               title="Start-up Poiseuille (EPSPH), t = 0.0125\nsize ~ Nx (16..64); black edge: Pareto")
+               title="Start-up Poiseuille (EPSPH" + (", LPSPH hollow" if L else "") +
+               "), t = 0.0125\nsize ~ Nx (16..64); black edge: Pareto")
         ax.legend(fontsize=7, ncol=2)
         ax.grid(True, which="both", alpha=0.3)
         ax = axs[1]
@@ -141,14 +158,16 @@ def speed_accuracy(d):
                     e = abs(fl(r, key))
                     if not (e > 0):
                         continue
-                    g = r["group"]
+                    g = r["group"].replace(";", ",")  # csv_text wrote "," as ";"
                     ax.scatter(fl(r, "cpu_s"), e, color=colors.get(g, "m"), s=30,
-                               label=g if g not in seen else None,
                                edgecolors="r" if r[pk] == "1" else "none", linewidths=1.5)
+                    if g not in seen:
+                        ax.scatter([], [], color=colors.get(g, "m"), s=30, label=g)
                     seen.add(g)
                     if r[pk] == "1" or g == "base":
                         ax.annotate(r["label"], (fl(r, "cpu_s"), e), fontsize=6, xytext=(3, 3), textcoords="offset points")
-                pareto_line(ax, [(fl(r, "cpu_s"), abs(fl(r, key))) for r in rs], color="r", lw=1, alpha=0.6)
+                pareto_line(ax, [(fl(r, "cpu_s"), abs(fl(r, key))) for r in rs], color="r", lw=1, alpha=0.6,
+                            label="Pareto front (red edge)")
                 title = ("A: Section 5.2.2 (64², Nb 128, dt 1e-4, T0 10, μ 0.1)" if s == "membrane_A"
                          else "B: Fig. 19 settings (64², Nb 360, dt 0.1 dx, h* 0.0425, T0 1, μ 0.05)")
                 ax.set(xscale="log", yscale="log", xlabel="CPU seconds", ylabel=lab)
@@ -211,14 +230,20 @@ def stability(d):
                     fit = [max(fl(r, "fit_inertial"), fl(r, "fit_viscous")) for r in sub]
                     ax.plot(T0, fit, "--", color=c, lw=1)
                     ax.plot(T0, [fl(r, "check_estimate") for r in sub], ":", color=c, lw=1)
+                    if "classical_estimate" in sub[0]:
+                        ax.plot(T0, [fl(r, "classical_estimate") for r in sub], "-.", color=c, lw=0.8, alpha=0.7)
                 if rs:
                     ci, cv = fl(rs[0], "fit_Ci"), fl(rs[0], "fit_Cv")
                     ax.plot([], [], "k--", lw=1, label=f"fit max(C_i √(ρdx³/T0), C_v μ dx/T0)\nC_i = {ci:.3g}, C_v = {cv:.3g}")
                     ax.plot([], [], "k:", lw=1, label="sphib check: max(√(ρh*³/T0), 10 μ h*/T0)")
+                    if "classical_estimate" in rs[0]:
+                        ax.plot([], [], "k-.", lw=0.8,
+                                label="classical explicit: max(√(ρdx³/(2πT0)), (8/π) μ dx/T0)")
                 ax.set(xscale="log", yscale="log", xlabel="T0", ylabel="largest stable dt", title=titles[p])
                 ax.grid(True, which="both", alpha=0.3)
                 ax.legend(fontsize=7)
             save(fig, os.path.join(d, "stability_dtmax.png"))
+            collapse(d, D, parts)
         X = [r for r in D if r["part"] == "X"]
         if X:
             axes = [("Nx", "dx", lambda r: fl(r, "dx")), ("markers/dx", "markers per grid spacing", lambda r: fl(r, "markers_per_dx")),
@@ -273,6 +298,56 @@ def stability(d):
             save(fig, os.path.join(d, "stability_grid.png"))
 
 
+def collapse(d, D, parts):
+    """dt_max in units of sqrt(rho dx^3/T0) against mu/sqrt(rho T0 dx): with rho and the geometry fixed,
+    (T0, mu) -> (l^2 T0, l mu) rescales time by 1/l, so this is the one variable the limit depends on."""
+    rs = [r for r in D if r["part"] in parts]
+    if not rs or "classical_estimate" not in rs[0]:
+        return
+    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    style = {"T": ("tab:blue", "o", "T: run_scene (guards, convection)"),
+             "E": ("tab:orange", "s", "E: no guards, convection"),
+             "S": ("tab:green", "^", "S: no guards, Stokes")}
+    rho = 1.0
+    for p in parts:
+        c, mk, lab = style[p]
+        sub = [r for r in rs if r["part"] == p]
+        xs, ys, xa, ya = [], [], [], []
+        for r in sub:
+            dx, T0, mu = fl(r, "dx"), fl(r, "T0"), fl(r, "mu")
+            unit = math.sqrt(rho * dx ** 3 / T0)
+            x = mu / math.sqrt(rho * T0 * dx)
+            if math.isfinite(fl(r, "dt_max")):
+                xs.append(x)
+                ys.append(fl(r, "dt_max") / unit)
+            elif math.isfinite(fl(r, "dt_stable")):  # stable up to the cap: a lower bound
+                xa.append(x)
+                ya.append(fl(r, "dt_stable") / unit)
+        ax.scatter(xs, ys, color=c, marker=mk, s=28, label=lab, alpha=0.8)
+        for x, y in zip(xa, ya):  # lower bounds: hollow, with an arrow up
+            ax.scatter([x], [y], facecolors="none", edgecolors=c, marker=mk, s=40)
+            ax.annotate("", (x, y * 2.2), (x, y), arrowprops=dict(arrowstyle="->", color=c, lw=1))
+        ci, cv = fl(sub[0], "fit_Ci"), fl(sub[0], "fit_Cv")
+        xx = [10 ** (k / 20) for k in range(-110, 31)]
+        if math.isfinite(ci) and math.isfinite(cv):
+            ax.plot(xx, [max(ci, cv * x) for x in xx], "--", color=c, lw=1,
+                    label=f"fit {p}: max({ci:.2f}, {cv:.1f} x)")
+    xx = [10 ** (k / 20) for k in range(-110, 31)]
+    # sphib check uses h*: in these units max(s^1.5, 10 s x), s = h*/dx (the bench's default h* = 1.68 dx)
+    sr = [fl(r, "h_star") / fl(r, "dx") for r in rs if r["axis"].startswith("T0")]
+    if sr:
+        sv = sr[0]
+        ax.plot(xx, [max(sv ** 1.5, 10 * sv * x) for x in xx], "k:", lw=1,
+                label=f"sphib check (h* = {sv:.2f} dx): max((h*/dx)^1.5, 10 (h*/dx) x)")
+    ax.plot(xx, [max(1 / math.sqrt(2 * math.pi), 8 / math.pi * x) for x in xx], "k-.", lw=1.2,
+            label="classical explicit: max(1/√(2π), (8/π) x)\n(Brackbill et al. 1992; Stokes rate T0 k/4μ)")
+    ax.set(xscale="log", yscale="log", xlabel="μ / √(ρ T0 dx)", ylabel="dt_max / √(ρ dx³ / T0)",
+           title="Largest stable dt, 32², all (T0, μ) pairs\n(hollow with arrow: stable up to dt = 1, a lower bound)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    save(fig, os.path.join(d, "stability_collapse.png"))
+
+
 # ---- scaling -----------------------------------------------------------------------------------
 
 
@@ -318,7 +393,8 @@ def scaling(d):
             if r["case"] not in cases:
                 cases.append(r["case"])
         fig, axs = plt.subplots(len(cases), 2, figsize=(13, 4.5 * len(cases)), squeeze=False)
-        colors = {"cholmod_supernodal": "tab:blue", "cholmod_simplicial": "tab:green", "pcg": "tab:red"}
+        colors = {"cholmod_supernodal": "tab:blue", "cholmod_simplicial": "tab:green", "pcg": "tab:red",
+                  "eigen_ldlt": "tab:purple"}
         for i, c in enumerate(cases):
             for v, col in colors.items():
                 rs = sorted((r for r in R if r["case"] == c and r["cn"] == v), key=lambda r: fl(r, "n"))
