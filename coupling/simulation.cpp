@@ -120,6 +120,8 @@ void Simulation::step() {
     s.U_revision = -1;
     s.last = advance_markers(grid_, fluid.kernel(), V, fluid.u(), s.U_n, dt, mp, fluid.steps(), s.m.X, s.X_n, s.U);
     s.U_revision = fluid.revision();  // converged: U = u^{n+1}(X^{n+1}), the next step's U^n(X^n)
+    s.iterations += s.last.iterations;
+    ++s.updates;
   }
 }
 

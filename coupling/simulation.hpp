@@ -39,6 +39,7 @@ struct MembraneState {
   long U_revision = -1;  // U = u(X) of the fluid at this revision, at the current markers (-1: not known)
   Vec T;                // tension at the markers
   MarkerUpdateResult last;
+  long iterations = 0, updates = 0;  // fixed-point iterations (Eq. 59) and marker updates so far
 };
 
 class Simulation {

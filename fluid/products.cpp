@@ -72,18 +72,26 @@ std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i) {
   return h;
 }
 
-constexpr int kBlock = 256;  // rows per stencil block: the accumulators stay in L1
+constexpr int kBlock = 256;  // rows per stencil block (RowStencil::blocks): the accumulators stay in L1
 
 // Every row once: plain rows by `row(i)`, the stencil's runs in blocks by `block(begin, end)`.
 template <class Row, class Block>
 void for_rows(int n, const RowStencil* st, Row&& row, Block&& block) {
+  const bool par = n >= kParallelRows;
+  (void)par;
   if (!st || st->ref < 0) {
+#pragma omp parallel for schedule(static) if (par)
     for (int i = 0; i < n; ++i) row(i);
     return;
   }
-  for (const auto& r : st->runs)
-    for (int b = r[0]; b < r[1]; b += kBlock) block(b, std::min(r[1], b + kBlock));
-  for (int i : st->rest) row(i);
+  const int nb = static_cast<int>(st->blocks.size()), nr = static_cast<int>(st->rest.size());
+#pragma omp parallel if (par)
+  {
+#pragma omp for schedule(static) nowait
+    for (int k = 0; k < nb; ++k) block(st->blocks[k][0], st->blocks[k][1]);
+#pragma omp for schedule(static)
+    for (int k = 0; k < nr; ++k) row(st->rest[k]);
+  }
 }
 
 // A block [b, e) of stencil rows: out_{jc} = sum_s w_j[s] in_c[t + o_s] for the NW coefficient sets
@@ -182,6 +190,8 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
       st.rest.push_back(i);
     }
   }
+  for (const auto& r : st.runs)
+    for (int b = r[0]; b < r[1]; b += kBlock) st.blocks.push_back({b, std::min(r[1], b + kBlock)});
   return st;
 }
 

@@ -18,11 +18,16 @@
 
 namespace sphib {
 
+// Rows from which the products use the threads: below, a fork and join (~1-3 us) costs more than
+// it saves (measured with bench/scaling; see the README's "Two cores").
+constexpr int kParallelRows = 8192;
+
 struct RowStencil {
   int ref = -1;                          // the reference row (-1: no stencil rows)
   std::vector<int> offset;               // its column offsets j - ref, ascending
   std::vector<std::array<int, 2>> runs;  // [begin, end): consecutive rows equal to ref's translate
   std::vector<int> rest;                 // every other row, applied from the compressed arrays
+  std::vector<std::array<int, 2>> blocks;  // the runs cut into blocks of at most 256 rows (the work units)
   int stencil_rows() const;
 };
 
@@ -31,7 +36,9 @@ struct RowStencil {
 RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
 
 // Fused products over operators of one sparsity pattern: each reads the pattern once. `st`, when
-// given, must come from find_row_stencil over these operators (or a superset of them).
+// given, must come from find_row_stencil over these operators (or a superset of them). With
+// OpenMP and at least kParallelRows rows, the rows are shared among the threads (OMP_NUM_THREADS);
+// every row is computed by one thread in its own order, so the bits do not depend on the count.
 //   y = A x for both columns of x
 void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st = nullptr);
 void apply2(const SpMat& A, const double* x, double* y, const RowStencil* st = nullptr);  // n x 2, column-major

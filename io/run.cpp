@@ -301,6 +301,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     }
     energy_bound = E0 > 0 ? 10.0 * E0 : 0.0;
   }
+  Profile run_prof;  // the loop's own work: blow-up checks and diagnostics, output
+  const int k_checks = run_prof.phase("run-time checks and diagnostics"), k_output = run_prof.phase("output");
   const auto t_loop = Clock::now();
   auto t_log = t_loop;
   std::string stop_reason = "end time";
@@ -319,6 +321,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
         throw RunError(m.str());
       }
       // A blow-up stops the run within the step it appears in, before anything of it is written.
+      auto t_checks = Clock::now();
       const double ke = fl.kinetic_energy();
       if (!std::isfinite(ke)) {
         std::ostringstream m;
@@ -372,8 +375,12 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       }
       const bool last = fl.steps() == n_total || steady;
       if (fl.steps() % diag_every == 0 || last) diagnostics_row();
-      if (out_every && fl.steps() % out_every == 0 && !last) snapshot();
-      if (ckpt_every && fl.steps() % ckpt_every == 0 && !last) write_checkpoint(ckpt_path, sim, scene.resolved);
+      run_prof.add(k_checks, since(t_checks));
+      if ((out_every && fl.steps() % out_every == 0 && !last) || (ckpt_every && fl.steps() % ckpt_every == 0 && !last)) {
+        ScopedTimer tm(run_prof, k_output);
+        if (out_every && fl.steps() % out_every == 0) snapshot();
+        if (ckpt_every && fl.steps() % ckpt_every == 0) write_checkpoint(ckpt_path, sim, scene.resolved);
+      }
       if (steady) { stop_reason = "steady state"; break; }
       if (log && since(t_log) > (opt.progress_bar ? 0.5 : opt.log_every_seconds)) {
         t_log = Clock::now();
@@ -425,7 +432,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   j["loop_seconds"] = loop_seconds;
   j["seconds_per_step"] = fl.steps() ? loop_seconds / fl.steps() : 0.0;
   nlohmann::json prof;
-  for (const Profile* P : {&fl.profile(), &sim.profile()})
+  for (const Profile* P : {&fl.profile(), &sim.profile(), &run_prof})
     for (size_t k = 0; k < P->names().size(); ++k) prof[P->names()[k]] = P->seconds(static_cast<int>(k));
   j["profile_seconds"] = prof;
   for (const auto& line : fl.describe()) j["log"].push_back(line);
@@ -519,6 +526,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     j["elastic_energy"] = s.energy;
     for (const auto& [T, e] : mobs[0].area_at) j["area_relative_error_at"][std::to_string(T)] = e;
     j["marker_iterations_last"] = m0.last.iterations;
+    if (m0.updates > 0) j["marker_iterations_mean"] = static_cast<double>(m0.iterations) / m0.updates;
   }
 
   if (scene.exact == "membrane_equilibrium" && !sim.membranes().empty()) {
