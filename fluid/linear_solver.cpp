@@ -345,6 +345,8 @@ std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& 
   if (kind == SolverKind::Umfpack || (kind == SolverKind::Auto && !is_symmetric(A)))
     return std::make_unique<UmfpackSolver>(system, A);
   if (kind == SolverKind::Pcg) return std::make_unique<PcgSolver>(system, A);
+  if (kind == SolverKind::Fft)
+    throw std::invalid_argument("linear solver: system '" + system + "': the FFT solver needs the fixed lattice (EPSPH)");
   if (kind != SolverKind::Auto) return std::make_unique<CholmodSolver>(system, A, kind);
   // Auto, deterministic: simplicial below kSupernodalLnz non-zeros in L, supernodal above.
   // Measured here (one core, OpenBLAS, 1-column Poisson solves, us): nnz(L) = 3.8e5: 195 vs 194;

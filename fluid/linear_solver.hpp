@@ -10,7 +10,9 @@
 
 namespace sphib {
 
-enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack, Pcg };
+// Fft: the periodic-lattice Poisson solver of fluid/fft_poisson.hpp (EPSPH only; built there, not by
+// factorize()).
+enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack, Pcg, Fft };
 
 struct SolverInfo {
   std::string system;   // which system ("Crank-Nicolson", "Poisson")

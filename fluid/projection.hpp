@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fluid/boundary.hpp"
+#include "fluid/fft_poisson.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/linear_solver.hpp"
@@ -74,6 +75,7 @@ class Fluid final : public FluidSolver {
   std::unique_ptr<LinearSolver> cn_, poisson_;
   SpMat poisson_A_;
   bool cn_iterative_ = false;
+  bool poisson_fft_ = false;  // the FFT solver of the unpinned operator (no pin in the right-hand side)
   int pin_ = 0;  // gauge: phi is pinned to 0 at this particle, then shifted to zero mean
   std::vector<std::pair<std::string, double>> setup_;
 

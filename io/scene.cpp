@@ -234,6 +234,7 @@ SolverKind solver_kind(const std::string& s) {
   if (s == "cholmod_simplicial") return SolverKind::CholmodSimplicial;
   if (s == "umfpack") return SolverKind::Umfpack;
   if (s == "pcg") return SolverKind::Pcg;
+  if (s == "fft") return SolverKind::Fft;
   return SolverKind::Auto;
 }
 
@@ -328,10 +329,13 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   const std::vector<std::string> kinds{"auto", "cholmod_supernodal", "cholmod_simplicial", "umfpack"};
   std::vector<std::string> cn_kinds(kinds);
   cn_kinds.push_back("pcg");
+  cn_kinds.push_back("fft");
   f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", cn_kinds,
-                                     "Crank-Nicolson solver (auto: warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor)"));
-  f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", kinds,
-                                          "Poisson factorisation (auto: CHOLMOD, simplicial or supernodal by the size of the factor)"));
+                                     "Crank-Nicolson solver (auto: FFT in x + banded Cholesky in y when the domain is periodic in x and walled in y (eulerian), else warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor)"));
+  std::vector<std::string> poisson_kinds(kinds);
+  poisson_kinds.push_back("fft");
+  f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", poisson_kinds,
+                                          "Poisson solver (auto: FFT in x + banded Cholesky in y when the domain is periodic in x and walled in y (eulerian), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
   // Output and observation

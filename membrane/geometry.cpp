@@ -403,8 +403,13 @@ double MembraneDiagnostics::half_chord(int d, double level) const {
       if (r > 0.0 && r < h) cuts[nc++] = r;
     }
     cuts[nc++] = h;
+    // A value within round-off of the level counts as on it: at a knot the two pieces' values differ
+    // in the last bits, and a crossing there would otherwise fall between them and be missed.
+    const double eps = 1e-13 * (1.0 + std::fabs(level) + std::fabs(c[0]));
     for (int p = 0; p + 1 < nc; ++p) {
       double a = cuts[p], b = cuts[p + 1], ga = g(a), gb = g(b);
+      if (std::fabs(ga) <= eps) ga = 0.0;
+      if (std::fabs(gb) <= eps) gb = 0.0;
       if (ga * gb > 0.0) continue;
       double t = ga == 0.0 ? a : b;
       if (ga != 0.0 && gb != 0.0) {

@@ -2,7 +2,7 @@
 # Installs the Debian packages sphib needs, if any is missing. Idempotent and quick when all are present.
 set -euo pipefail
 pkgs=(cmake g++ ninja-build libeigen3-dev libsuitesparse-dev libhdf5-dev libtomlplusplus-dev
-      libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+      libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libfftw3-dev liblapack-dev
       libopenblas0-serial python3-matplotlib python3-h5py python3-numpy)
 missing=()
 for p in "${pkgs[@]}"; do
