@@ -1,6 +1,10 @@
 #include "fluid/fft_poisson.hpp"
+#include "fluid/products.hpp"  // kParallelRows
 
 #include <fftw3.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +27,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+struct Work {  // one column's arrays: the right-hand side, its transform, the solution
+  double* in = nullptr;
+  double* out = nullptr;
+  fftw_complex* hat = nullptr;
+};
+
 class FftPoissonSolver final : public LinearSolver {
  public:
   FftPoissonSolver(const std::string& system, const Lattice& L, bool singular)
@@ -30,9 +40,13 @@ class FftPoissonSolver final : public LinearSolver {
     info_.system = system;
     info_.n = nx_ * ny_;
     const int N = info_.n;
-    in_ = fftw_alloc_real(N);
-    out_ = fftw_alloc_real(N);
-    hat_ = fftw_alloc_complex(static_cast<std::size_t>(nk_) * ny_);
+    for (Work& w : ws_) {  // a workspace per thread (two columns at once, see solve)
+      w.in = fftw_alloc_real(N);
+      w.out = fftw_alloc_real(N);
+      w.hat = fftw_alloc_complex(static_cast<std::size_t>(nk_) * ny_);
+    }
+    double *in_ = ws_[0].in, *out_ = ws_[0].out;
+    fftw_complex* hat_ = ws_[0].hat;
     // Rows of n_x along x (idist n_x); the transform of row i_y, wavenumber k goes to hat[i_y nk + k],
     // so that the banded solves run over all wavenumbers at once (contiguous, vectorised).
     // FFTW_ESTIMATE: the same plan, hence the same bits, in every run.
@@ -187,16 +201,33 @@ class FftPoissonSolver final : public LinearSolver {
     return true;
   }
 
+  // Columns are independent: with OpenMP and a large lattice two threads take one each (u and v of
+  // the Crank-Nicolson system), each in its own workspace (FFTW's new-array execute is thread-safe).
   void solve(const double* B, double* X, int k) override {
-    const int N = info_.n, ny = ny_;
+    const int N = info_.n;
+    const bool par = k >= 2 && N >= kParallelRows;
+    (void)par;
+#pragma omp parallel for num_threads(2) schedule(static, 1) if (par)
     for (int col = 0; col < k; ++col) {
-      std::copy(B + static_cast<std::size_t>(col) * N, B + static_cast<std::size_t>(col + 1) * N, in_);
-      fftw_execute(fwd_);
+#ifdef _OPENMP
+      Work& w = ws_[omp_get_thread_num() % 2];
+#else
+      Work& w = ws_[0];
+#endif
+      solve_column(B + static_cast<std::size_t>(col) * N, X + static_cast<std::size_t>(col) * N, w);
+    }
+  }
+
+  void solve_column(const double* b, double* x, Work& ws) const {
+    const int N = info_.n, ny = ny_;
+    {
+      std::copy(b, b + N, ws.in);
+      fftw_execute_dft_r2c(fwd_, ws.in, ws.hat);
       // B_k x = b for every wavenumber k, real and imaginary parts together (B_k is real): L y = b,
       // then L' x = y, in place, each row over all k at once. By hand rather than LAPACK dpbtrs,
       // whose Level-2 calls on bands of 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per
       // step at 64 x 64).
-      double* h = reinterpret_cast<double*>(hat_);  // (re, im) of row i, wavenumber k at 2 (i nk + k)
+      double* h = reinterpret_cast<double*>(ws.hat);  // (re, im) of row i, wavenumber k at 2 (i nk + k)
       const int nk = nk_, w = w_;
       for (int i = 0; i < ny; ++i) {
         double* hi = h + 2 * static_cast<std::size_t>(i) * nk;
@@ -230,10 +261,9 @@ class FftPoissonSolver final : public LinearSolver {
           hi[2 * k + 1] *= r[k];
         }
       }
-      fftw_execute(inv_);  // unnormalised: n_x times the inverse transform
+      fftw_execute_dft_c2r(inv_, ws.hat, ws.out);  // unnormalised: n_x times the inverse transform
       const double s = 1.0 / nx_;
-      double* x = X + static_cast<std::size_t>(col) * N;
-      for (int i = 0; i < N; ++i) x[i] = s * out_[i];
+      for (int i = 0; i < N; ++i) x[i] = s * ws.out[i];
     }
   }
 
@@ -247,20 +277,20 @@ class FftPoissonSolver final : public LinearSolver {
   void release() {
     if (fwd_) fftw_destroy_plan(fwd_);
     if (inv_) fftw_destroy_plan(inv_);
-    if (in_) fftw_free(in_);
-    if (out_) fftw_free(out_);
-    if (hat_) fftw_free(hat_);
+    for (Work& w : ws_) {
+      if (w.in) fftw_free(w.in);
+      if (w.out) fftw_free(w.out);
+      if (w.hat) fftw_free(w.hat);
+      w = Work{};
+    }
     fwd_ = inv_ = nullptr;
-    in_ = out_ = nullptr;
-    hat_ = nullptr;
   }
 
   int nx_, ny_, nk_, w_ = 0, ldab_ = 1;
   bool singular_;
   std::vector<double> band_;  // the factors of B_0 .. B_{n_x/2}, LAPACK lower band storage
   std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see setup)
-  double *in_ = nullptr, *out_ = nullptr;
-  fftw_complex* hat_ = nullptr;
+  Work ws_[2];
   fftw_plan fwd_ = nullptr, inv_ = nullptr;
 };
 
