@@ -15,8 +15,10 @@
 //
 // Part S compares, on the same matrices (the same scene and size, so the same operators), CHOLMOD
 // supernodal against simplicial for both systems, Jacobi-PCG for Crank-Nicolson
-// (solver.crank_nicolson = "pcg", Poisson by `auto`), and Eigen's own SimplicialLDLT (AMD ordering)
-// on both matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them:
+// (solver.crank_nicolson = "pcg", Poisson by CHOLMOD simplicial), the FFT-in-x + banded-Cholesky
+// solver of fluid/fft_poisson.hpp for both (`fft`, what `auto` picks on these channels), and Eigen's
+// own SimplicialLDLT (AMD ordering) on both matrices rebuilt from the fluid's operators as
+// fluid/projection.cpp builds them:
 // factorisation time, factor size, memory and the time per solve (CHOLMOD and PCG: in the running
 // step; Eigen: repeated solves of the same systems outside the step).
 //
@@ -249,7 +251,7 @@ struct Options {
   std::vector<int> nx{32, 64, 128, 256, 512};
   std::vector<int> compare_nx{32, 64, 128, 256};
   std::vector<std::string> cases{"poiseuille", "membrane"};
-  std::vector<std::string> variants{"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt"};
+  std::vector<std::string> variants{"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt", "fft"};
   bool keep = false, report_only = false;
   double seconds = 3.0;
   fs::path out = "bench_out/scaling";
@@ -380,12 +382,13 @@ struct Bench {
   }
 
   void part_s() {
-    std::printf("S: CHOLMOD supernodal vs simplicial, Jacobi-PCG for Crank-Nicolson and Eigen's SimplicialLDLT, "
+    std::printf("S: CHOLMOD supernodal vs simplicial, Jacobi-PCG for Crank-Nicolson, the FFT solver and Eigen's SimplicialLDLT, "
                 "on the same matrices\n");
     for (const std::string& c : o.cases)
       for (int nx : o.compare_nx)
         for (const std::string& cn : o.variants) {
-          const std::string p = cn == "pcg" ? "auto" : cn;
+          // pcg: Crank-Nicolson only; its Poisson system by CHOLMOD as before the FFT solver existed
+          const std::string p = cn == "pcg" ? "cholmod_simplicial" : cn;
           if (o.keep && has(compare, c, nx, cn)) continue;
           json j = spawn(o, c, nx, cn, p, std::max(5L, steps_for(c, nx) / 2));
           print(j);
@@ -396,7 +399,7 @@ struct Bench {
 
   // part S's rows in a stable order: case, Nx, variant (rows added by --keep come last otherwise)
   std::vector<json> sorted_compare() const {
-    static const std::vector<std::string> order{"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt"};
+    static const std::vector<std::string> order{"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt", "fft"};
     auto rank = [&](const json& j) {
       const auto c = std::find(o.cases.begin(), o.cases.end(), j.value("case", ""));
       const auto v = std::find(order.begin(), order.end(), j.value("cn", ""));
@@ -586,7 +589,7 @@ struct Bench {
            "| case | variant | CN per solve | Poisson per solve | CN analyse+factor | Poisson analyse+factor | "
            "nnz(L) Poisson | peak memory |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
       for (const std::string& c : o.cases)
-        for (const std::string v : {"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt"}) {
+        for (const std::string v : {"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt", "fft"}) {
           std::vector<const json*> rs;
           for (const json& j : cmp)
             if (j["case"] == c && j["cn"] == v && !j.contains("error") && j["nx"].get<int>() >= 64) rs.push_back(&j);
@@ -679,7 +682,7 @@ std::vector<T> parse_list(const std::string& s) {
          "  --parts       N time per step / set-up / memory against N, S solver comparison (default NS)\n"
          "  --nx          sizes for N (default 32,64,128,256,512)\n"
          "  --compare-nx  sizes for S (default 32,64,128,256)\n"
-         "  --variants    solvers for S (default cholmod_supernodal,cholmod_simplicial,pcg,eigen_ldlt)\n"
+         "  --variants    solvers for S (default cholmod_supernodal,cholmod_simplicial,pcg,eigen_ldlt,fft)\n"
          "  --seconds     loop time to aim for per run (default 3)\n"
          "  --keep        read DIR's CSV files back and run only the rows they lack (or that failed)\n"
          "  --report-only read DIR's CSV files back, rewrite them and scaling.md; run nothing\n"
