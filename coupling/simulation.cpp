@@ -118,7 +118,11 @@ void Simulation::step() {
     if (mp.max_move <= 0) mp.max_move = std::min(fluid.lattice().dx, fluid.lattice().dy);
     if (fluid.particles_move()) grid_.build(fluid.x());  // the particles of u^{n+1}
     s.U_revision = -1;
-    s.last = advance_markers(grid_, fluid.kernel(), V, fluid.u(), s.U_n, dt, mp, fluid.steps(), s.m.X, s.X_n, s.U);
+    try {
+      s.last = advance_markers(grid_, fluid.kernel(), V, fluid.u(), s.U_n, dt, mp, fluid.steps(), s.m.X, s.X_n, s.U);
+    } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
+      throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
+    }
     s.U_revision = fluid.revision();  // converged: U = u^{n+1}(X^{n+1}), the next step's U^n(X^n)
     s.iterations += s.last.iterations;
     ++s.updates;

@@ -119,6 +119,53 @@ TEST(Coupling, CellGridQueriesMatchBruteForce) {
   }
 }
 
+// The lattice mode of the grid (use_lattice: index arithmetic on the fixed lattice, what the
+// markers of EPSPH query) finds exactly the lattice points within the radius, with the
+// minimum-image offsets, for queries anywhere (also outside the box along a periodic axis).
+TEST(Coupling, LatticeQueriesMatchBruteForce) {
+  std::mt19937 gen(5);
+  struct Case { bool px, py; int nx, ny; double radius; };
+  for (const Case& c : {Case{true, false, 16, 12, 0.15}, Case{true, true, 20, 20, 0.3}, Case{false, false, 10, 14, 0.25},
+                        Case{false, true, 12, 16, 0.2}}) {
+    Domain d;
+    d.periodic_x = c.px;
+    d.periodic_y = c.py;
+    const Lattice L = make_lattice(d, c.nx, c.ny);
+    CellGrid g(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), c.px, c.py, std::min(L.dx, L.dy));
+    g.use_lattice(L);
+    std::uniform_real_distribution<double> U(-0.2, 1.2);
+    int missing = 0, extra = 0, duplicate = 0, wrong_offset = 0;
+    for (int q = 0; q < 300; ++q) {
+      const double qx = c.px ? U(gen) : 0.5 * (U(gen) + 0.2), qy = c.py ? U(gen) : 0.5 * (U(gen) + 0.2);
+      std::multiset<int> got;
+      g.for_each_near(qx, qy, c.radius, [&](int j, double dx, double dy, double r) {
+        got.insert(j);
+        double ex = qx - L.x(j, 0), ey = qy - L.x(j, 1);
+        if (c.px) ex -= std::round(ex);
+        if (c.py) ey -= std::round(ey);
+        if (std::abs(dx - ex) > 1e-13 || std::abs(dy - ey) > 1e-13 || std::abs(r - std::hypot(ex, ey)) > 1e-13)
+          ++wrong_offset;
+      });
+      for (int j = 0; j < L.size(); ++j) {
+        double dx = qx - L.x(j, 0), dy = qy - L.x(j, 1);
+        if (c.px) dx -= std::round(dx);
+        if (c.py) dy -= std::round(dy);
+        const double r2 = dx * dx + dy * dy, R2 = c.radius * c.radius;
+        if (std::abs(r2 - R2) < 1e-12) continue;  // on the circle: either answer is right
+        const bool in = r2 < R2;
+        const int k = static_cast<int>(got.count(j));
+        missing += in && k == 0;
+        extra += !in && k > 0;
+        duplicate += k > 1;
+      }
+    }
+    EXPECT_EQ(missing, 0) << "periodic " << c.px << c.py;
+    EXPECT_EQ(extra, 0) << "periodic " << c.px << c.py;
+    EXPECT_EQ(duplicate, 0) << "periodic " << c.px << c.py;
+    EXPECT_EQ(wrong_offset, 0) << "periodic " << c.px << c.py;
+  }
+}
+
 // Spreading conserves the total force up to the lattice kernel sums: sum_i F_i V =
 // sum_k f_k ds S(X_k) exactly (round-off; measured 1e-16, tolerance 1e-13 relative), and
 // S(X_k) - 1 is the lattice-sum error, so |sum_i F_i V - sum_k f_k ds| / |sum_k f_k ds| measured
@@ -307,7 +354,7 @@ TEST(Coupling, FixedMembraneMarkersStayExactlyInPlace) {
 }
 
 // With max_iter = 0 and eps = 0 the fixed-point iteration cannot converge: the IB step throws
-// std::runtime_error naming the step (the first) and the residual. The defaults converge.
+// std::runtime_error naming the membrane, the step (the first) and the residual. The defaults converge.
 TEST(Coupling, MarkerUpdateFailureThrowsNamingTheStep) {
   for (bool fail : {true, false}) {
     SimulationParams sp = periodic_ib(16, 0.01);
@@ -332,6 +379,7 @@ TEST(Coupling, MarkerUpdateFailureThrowsNamingTheStep) {
       const std::string what = e.what();
       EXPECT_NE(what.find("marker update"), std::string::npos) << what;
       EXPECT_NE(what.find("step 1"), std::string::npos) << what;
+      EXPECT_NE(what.find("membrane 0"), std::string::npos) << what;
     }
   }
 }
