@@ -486,9 +486,10 @@ struct Bench {
          "(single-threaded CHOLMOD/BLAS), a fresh process per row; wall times on a 2-core machine shared with "
          "other jobs (expect ±20-50%; the loop's CPU time is in the CSV). Peak memory = VmHWM of the child "
          "(the process before building anything: " << (scale.empty() ? std::string("–") : fix(jnum(scale[0], "rss_start_kb") / 1024.0, 1))
-      << " MB). Under `auto` the factorisation column includes a discarded simplicial factorisation: "
-         "`factorize` (fluid/linear_solver.cpp) factorises simplicial to learn nnz(L) and, above 8e5, factorises "
-         "again supernodal; part S below times each kind alone.\n\n";
+      << " MB). `auto` picks the FFT-in-x solver (fluid/fft_poisson.hpp) on these channels; where CHOLMOD is "
+         "picked instead, its factorisation time includes a discarded simplicial factorisation (`factorize`, "
+         "fluid/linear_solver.cpp, factorises simplicial to learn nnz(L) and, above 8e5, again supernodal); part S "
+         "below times each kind alone. The FFT solver's nnz(L) is its banded factors' storage.\n\n";
     for (const std::string& c : o.cases) {
       std::vector<const json*> rs;
       for (const json& j : scale)
@@ -546,8 +547,8 @@ struct Bench {
       const std::vector<json> cmp = sorted_compare();
       m << "## Linear solvers on the same matrices\n\n"
            "Per solve = one call per step (Crank-Nicolson: both velocity components at once; Poisson: one). "
-           "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by `auto` (whose analyse+factor time "
-           "includes the discarded simplicial trial, see above). `eigen_ldlt` = Eigen's SimplicialLDLT with AMD "
+           "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by CHOLMOD simplicial. `fft` = the "
+           "FFT-in-x + banded-Cholesky solver for both. `eigen_ldlt` = Eigen's SimplicialLDLT with AMD "
            "ordering on the two matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them "
            "(the same non-zero counts: checked, `matrices_match` in the CSV); its time per solve is from repeated "
            "solves of the same systems outside the step (the others' from the running step), its nnz(L) counts "
