@@ -220,50 +220,37 @@ class FftPoissonSolver final : public LinearSolver {
 
   void solve_column(const double* b, double* x, Work& ws) const {
     const int N = info_.n, ny = ny_;
-    {
-      std::copy(b, b + N, ws.in);
-      fftw_execute_dft_r2c(fwd_, ws.in, ws.hat);
-      // B_k x = b for every wavenumber k, real and imaginary parts together (B_k is real): L y = b,
-      // then L' x = y, in place, each row over all k at once. By hand rather than LAPACK dpbtrs,
-      // whose Level-2 calls on bands of 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per
-      // step at 64 x 64).
-      double* h = reinterpret_cast<double*>(ws.hat);  // (re, im) of row i, wavenumber k at 2 (i nk + k)
-      const int nk = nk_, w = w_;
-      for (int i = 0; i < ny; ++i) {
-        double* hi = h + 2 * static_cast<std::size_t>(i) * nk;
-        for (int d = 1; d <= std::min(w, i); ++d) {
-          const double* hj = h + 2 * static_cast<std::size_t>(i - d) * nk;
-          const double* l = lrow_.data() + (static_cast<std::size_t>(i) * ldab_ + d) * nk;
-          for (int k = 0; k < nk; ++k) {
-            hi[2 * k] -= l[k] * hj[2 * k];
-            hi[2 * k + 1] -= l[k] * hj[2 * k + 1];
-          }
-        }
-        const double* r = rdiag_.data() + static_cast<std::size_t>(i) * nk;
-        for (int k = 0; k < nk; ++k) {
-          hi[2 * k] *= r[k];
-          hi[2 * k + 1] *= r[k];
-        }
+    std::copy(b, b + N, ws.in);
+    fftw_execute_dft_r2c(fwd_, ws.in, ws.hat);
+    // B_k x = b for every wavenumber k, real and imaginary parts together (B_k is real): L y = b,
+    // then L' x = y, in place, each row over all k at once. By hand rather than LAPACK dpbtrs,
+    // whose Level-2 calls on bands of 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per
+    // step at 64 x 64).
+    double* h = reinterpret_cast<double*>(ws.hat);  // (re, im) of row i, wavenumber k at 2 (i nk + k)
+    for (int i = 0; i < ny; ++i) substitute_row(h, i, -1, lrow_, std::min(w_, i));                // L y = b
+    for (int i = ny - 1; i >= 0; --i) substitute_row(h, i, +1, lcol_, std::min(w_, ny - 1 - i));  // L' x = y
+    fftw_execute_dft_c2r(inv_, ws.hat, ws.out);  // unnormalised: n_x times the inverse transform
+    const double s = 1.0 / nx_;
+    for (int i = 0; i < N; ++i) x[i] = s * ws.out[i];
+  }
+
+  // Row i of a substitution, all wavenumbers at once: h_i -= sum_{d=1..dmax} l(i, d) h_{i + dir d},
+  // then h_i *= 1/L(i, i) (dir -1: forward with lrow_, +1: backward with lcol_).
+  void substitute_row(double* h, int i, int dir, const std::vector<double>& l, int dmax) const {
+    const int nk = nk_;
+    double* hi = h + 2 * static_cast<std::size_t>(i) * nk;
+    for (int d = 1; d <= dmax; ++d) {
+      const double* hj = h + 2 * static_cast<std::size_t>(i + dir * d) * nk;
+      const double* c = l.data() + (static_cast<std::size_t>(i) * ldab_ + d) * nk;
+      for (int k = 0; k < nk; ++k) {
+        hi[2 * k] -= c[k] * hj[2 * k];
+        hi[2 * k + 1] -= c[k] * hj[2 * k + 1];
       }
-      for (int i = ny - 1; i >= 0; --i) {
-        double* hi = h + 2 * static_cast<std::size_t>(i) * nk;
-        for (int d = 1; d <= std::min(w, ny - 1 - i); ++d) {
-          const double* hj = h + 2 * static_cast<std::size_t>(i + d) * nk;
-          const double* l = lcol_.data() + (static_cast<std::size_t>(i) * ldab_ + d) * nk;
-          for (int k = 0; k < nk; ++k) {
-            hi[2 * k] -= l[k] * hj[2 * k];
-            hi[2 * k + 1] -= l[k] * hj[2 * k + 1];
-          }
-        }
-        const double* r = rdiag_.data() + static_cast<std::size_t>(i) * nk;
-        for (int k = 0; k < nk; ++k) {
-          hi[2 * k] *= r[k];
-          hi[2 * k + 1] *= r[k];
-        }
-      }
-      fftw_execute_dft_c2r(inv_, ws.hat, ws.out);  // unnormalised: n_x times the inverse transform
-      const double s = 1.0 / nx_;
-      for (int i = 0; i < N; ++i) x[i] = s * ws.out[i];
+    }
+    const double* r = rdiag_.data() + static_cast<std::size_t>(i) * nk;
+    for (int k = 0; k < nk; ++k) {
+      hi[2 * k] *= r[k];
+      hi[2 * k + 1] *= r[k];
     }
   }
 
