@@ -207,7 +207,13 @@ class FftPoissonSolver final : public LinearSolver {
     const int N = info_.n;
     const bool par = k >= 2 && N >= kParallelRows;
     (void)par;
-#pragma omp parallel for num_threads(2) schedule(static, 1) if (par)
+#ifdef _OPENMP
+    const int nt = std::min(2, omp_get_max_threads());  // OMP_NUM_THREADS = 1 keeps it serial
+#else
+    const int nt = 1;
+#endif
+    (void)nt;
+#pragma omp parallel for num_threads(nt) schedule(static, 1) if (par)
     for (int col = 0; col < k; ++col) {
 #ifdef _OPENMP
       Work& w = ws_[omp_get_thread_num() % 2];
