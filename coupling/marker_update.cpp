@@ -18,7 +18,8 @@ MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel
   auto check_moves = [&]() {
     if (prm.max_move <= 0) return;
     for (int k = 0; k < X.rows(); ++k) {
-      const double d = std::hypot(X(k, 0) - X_n(k, 0), X(k, 1) - X_n(k, 1));
+      const double dx = X(k, 0) - X_n(k, 0), dy = X(k, 1) - X_n(k, 1);
+      const double d = std::sqrt(dx * dx + dy * dy);  // (not hypot: a libm call per marker, no overflow here)
       if (!(d <= prm.max_move)) {
         std::ostringstream m;
         m << "blow-up at step " << step << ": marker " << k << " would move by " << d << " in one step (limit "
@@ -35,7 +36,7 @@ MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel
     for (int k = 0; k < X.rows(); ++k) {
       const double gx = X(k, 0) - X_n(k, 0) - 0.5 * dt * (U_n(k, 0) + U(k, 0));
       const double gy = X(k, 1) - X_n(k, 1) - 0.5 * dt * (U_n(k, 1) + U(k, 1));
-      g_max = std::max(g_max, std::hypot(gx, gy));
+      g_max = std::max(g_max, std::sqrt(gx * gx + gy * gy));
     }
     res.iterations = I;
     res.residual = g_max;
