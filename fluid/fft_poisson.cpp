@@ -1,4 +1,5 @@
 #include "fluid/fft_poisson.hpp"
+#include "fluid/profile.hpp"
 #include "fluid/products.hpp"  // kParallelRows
 
 #include <fftw3.h>
@@ -25,7 +26,6 @@ namespace sphib {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 struct Work {  // one column's arrays: the right-hand side, its transform, the solution
   double* in = nullptr;
@@ -159,7 +159,7 @@ class FftPoissonSolver final : public LinearSolver {
         }
     }
     if (asym > 1e-10 * bmax) return refuse("the matrix is not symmetric");
-    info_.analyse_seconds = since(t0);
+    info_.analyse_seconds = seconds_since(t0);
     const auto t1 = Clock::now();
     for (int kk = 0; kk < nk_; ++kk) {
       // Singular A, k = 0: B_0 is singular (constants); i_y = 0 is dropped (x(0, 0) = 0), the rest is definite.
@@ -191,7 +191,7 @@ class FftPoissonSolver final : public LinearSolver {
         }
       }
     }
-    info_.factor_seconds = since(t1);
+    info_.factor_seconds = seconds_since(t1);
     info_.nnz_A = info_.nnz_used = A.nonZeros();
     info_.nnz_factor = static_cast<long>(nk_) * ldab_ * ny;
     std::ostringstream m;

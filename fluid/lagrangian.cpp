@@ -10,20 +10,9 @@ namespace sphib {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void check_params(const FluidParams& p) {
-  auto positive = [](double v, const char* key) {
-    if (!(v > 0) || !std::isfinite(v)) {
-      std::ostringstream m;
-      m << "fluid: " << key << " must be positive and finite (got " << v << ")";
-      throw std::invalid_argument(m.str());
-    }
-  };
-  positive(p.rho, "fluid.rho");
-  positive(p.mu, "fluid.mu");
-  positive(p.dt, "time.dt");
-  positive(p.h_over_dx, "kernel.h_over_dx");
+  check_common_params(p);
   if (p.lagrangian.reinit_every < 0)
     throw std::invalid_argument("fluid: lagrangian.reinit_every must be >= 0 (0: never)");
   if (!(p.lagrangian.min_kernel_sum >= 0 && p.lagrangian.min_kernel_sum <= 1))
@@ -125,7 +114,7 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t) {
   const double reach = W_.support() * (1.0 - 1e-12);
   im_ = make_images(d, x_star_, reach);
   find_pairs(d, x_star_, im_.x, reach, pairs_);
-  s.neighbours = since(t0);
+  s.neighbours = seconds_since(t0);
 
   // Breakdown (Section 5.2.2, Fig. 18): S_i = V (W(0) + sum_j W_ij), images included.
   const double V = lat_.volume;
@@ -186,7 +175,7 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t) {
   for (int i = 0; i < N; ++i)
     for (SpMat::InnerIterator it(poisson_A_, i); it; ++it)
       if (it.col() == pin_ && i != pin_) it.valueRef() = 0.0;
-  s.assembly = since(t0);
+  s.assembly = seconds_since(t0);
 
   // Factorisations: the symbolic analysis is kept while the pattern stays the same.
   t0 = Clock::now();
@@ -196,7 +185,7 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t) {
   } else {
     n_reused_cn_ += cn_->refactorize(A_cn_);
   }
-  s.factorisation_cn = since(t0);
+  s.factorisation_cn = seconds_since(t0);
   t0 = Clock::now();
   if (!poisson_) {
     poisson_ = factorize_every_step("Poisson", poisson_A_, prm_.poisson_solver);
@@ -204,7 +193,7 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t) {
     n_reused_poisson_ += poisson_->refactorize(poisson_A_);
     ++n_refactor_;
   }
-  s.factorisation_poisson = since(t0);
+  s.factorisation_poisson = seconds_since(t0);
   return s;
 }
 
@@ -516,13 +505,7 @@ NamedArrays LagrangianFluid::state() const {
 void LagrangianFluid::restore(const NamedArrays& state) {
   ++revision_;
   auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
-    for (const auto& [k, v] : state)
-      if (k == name) {
-        if (v.rows() != rows || v.cols() != cols)
-          throw std::runtime_error("checkpoint: " + name + " has the wrong size for this lattice");
-        return v;
-      }
-    throw std::runtime_error("checkpoint: no " + name + " in the LPSPH state");
+    return state_entry(state, name, rows, cols);
   };
   const int N = size();
   const Eigen::MatrixXd& clock = get("clock", 1, 7);

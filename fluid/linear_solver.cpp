@@ -1,4 +1,5 @@
 #include "fluid/linear_solver.hpp"
+#include "fluid/profile.hpp"
 #include "fluid/products.hpp"
 
 #include <cholmod.h>
@@ -17,7 +18,6 @@ namespace {
 
 using ColMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 [[noreturn]] void fail(const SolverInfo& info, const std::string& what) {
   std::ostringstream m;
@@ -48,7 +48,7 @@ class CholmodSolver final : public LinearSolver {
     auto t0 = Clock::now();
     L_ = cholmod_analyze(&S, &c_);
     if (!L_) { release(); fail(info_, "CHOLMOD analysis failed"); }
-    info_.analyse_seconds = since(t0);
+    info_.analyse_seconds = seconds_since(t0);
     try {
       numeric(S);
     } catch (...) {
@@ -81,7 +81,7 @@ class CholmodSolver final : public LinearSolver {
       if (!L) fail(info_, "CHOLMOD analysis failed");
       cholmod_free_factor(&L_, &c_);
       L_ = L;
-      info_.analyse_seconds = since(t0);
+      info_.analyse_seconds = seconds_since(t0);
     }
     numeric(S);  // the numeric factorisation into the kept (or new) symbolic factor
     return same;
@@ -127,7 +127,7 @@ class CholmodSolver final : public LinearSolver {
   void numeric(cholmod_sparse& S) {
     const auto t0 = Clock::now();
     cholmod_factorize(&S, L_, &c_);
-    info_.factor_seconds = since(t0);
+    info_.factor_seconds = seconds_since(t0);
     if (c_.status == CHOLMOD_NOT_POSDEF || L_->minor < L_->n) {
       std::ostringstream m;
       m << "matrix is not positive definite (CHOLMOD stopped at column " << L_->minor << ")";
@@ -202,14 +202,14 @@ class UmfpackSolver final : public LinearSolver {
       if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
       fail(info_, "UMFPACK symbolic analysis failed (status " + std::to_string(st) + ")");
     }
-    info_.analyse_seconds = since(t0);
+    info_.analyse_seconds = seconds_since(t0);
   }
   void numeric() {
     if (numeric_) umfpack_di_free_numeric(&numeric_);
     const auto t0 = Clock::now();
     const int st = umfpack_di_numeric(A_.outerIndexPtr(), A_.innerIndexPtr(), A_.valuePtr(), symbolic_, &numeric_,
                                       control_, nullptr);
-    info_.factor_seconds = since(t0);
+    info_.factor_seconds = seconds_since(t0);
     if (st != UMFPACK_OK && numeric_) umfpack_di_free_numeric(&numeric_);
     if (st == UMFPACK_WARNING_singular_matrix) fail(info_, "matrix is singular");
     if (st != UMFPACK_OK) fail(info_, "UMFPACK factorisation failed (status " + std::to_string(st) + ")");

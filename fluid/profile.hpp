@@ -31,6 +31,11 @@ class Profile {
   std::vector<long> counts_;
 };
 
+// Seconds from t0 to now (set-up timings of the solvers and runs).
+inline double seconds_since(Profile::Clock::time_point t0) {
+  return std::chrono::duration<double>(Profile::Clock::now() - t0).count();
+}
+
 // Times a block into one phase: { ScopedTimer t(profile, k); ... }
 class ScopedTimer {
  public:

@@ -10,34 +10,20 @@ namespace sphib {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-void check_params(const FluidParams& p) {
-  auto positive = [](double v, const char* key) {
-    if (!(v > 0) || !std::isfinite(v)) {
-      std::ostringstream m;
-      m << "fluid: " << key << " must be positive and finite (got " << v << ")";
-      throw std::invalid_argument(m.str());
-    }
-  };
-  positive(p.rho, "fluid.rho");
-  positive(p.mu, "fluid.mu");
-  positive(p.dt, "time.dt");
-  positive(p.h_over_dx, "kernel.h_over_dx");
-}
 }  // namespace
 
 Fluid::Fluid(const FluidParams& params)
     : prm_(params), lat_(make_lattice(params.domain, params.nx, params.ny)),
       W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)) {
-  check_params(prm_);
+  check_common_params(prm_);
   const int N = lat_.size();
 
   // Neighbours: images and the pair list, once.
   auto t0 = Clock::now();
   im_ = make_images(lat_, W_.support());
   pairs_ = find_pairs(lat_, im_.x, W_.support());
-  setup_.emplace_back("neighbours", since(t0));
+  setup_.emplace_back("neighbours", seconds_since(t0));
 
   // Operators, once (Eqs. 27-34). The convection gradient is the divergence's, so Stokes flow
   // assembles nothing more; without convection grad_u is used only for the divergence.
@@ -63,7 +49,7 @@ Fluid::Fluid(const FluidParams& params)
     throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
   vel_st_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
   phi_st_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
-  setup_.emplace_back("assembly", since(t0));
+  setup_.emplace_back("assembly", seconds_since(t0));
 
   t0 = Clock::now();
   // Crank-Nicolson, auto: the eigenvalues of I - a lap lie in [1, 1 + b] with b the Gershgorin
@@ -113,7 +99,7 @@ Fluid::Fluid(const FluidParams& params)
     poisson_ = factorize("Poisson", poisson_A_, prm_.poisson_solver);
     if (!fft_note.empty()) poisson_->annotate(fft_note, 0.0);
   }
-  setup_.emplace_back("factorisation", since(t0));
+  setup_.emplace_back("factorisation", seconds_since(t0));
 
   const int M = im_.size();
   u_ = Mat2::Zero(N, 2);
@@ -280,7 +266,7 @@ double Fluid::floor_seconds(int reps) const {
     for (int r = 0; r < reps; ++r) {
       const auto t0 = Clock::now();
       kernel();
-      t = std::min(t, since(t0));
+      t = std::min(t, seconds_since(t0));
     }
     return t;
   };
@@ -309,13 +295,7 @@ NamedArrays Fluid::state() const {
 void Fluid::restore(const NamedArrays& state) {
   ++revision_;
   auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
-    for (const auto& [k, v] : state)
-      if (k == name) {
-        if (v.rows() != rows || v.cols() != cols)
-          throw std::runtime_error("checkpoint: " + name + " has the wrong size for this lattice");
-        return v;
-      }
-    throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
+    return state_entry(state, name, rows, cols);
   };
   const int N = size();
   u_ = get("u", N, 2);

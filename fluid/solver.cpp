@@ -1,5 +1,7 @@
 #include "fluid/solver.hpp"
 
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "fluid/lagrangian.hpp"
@@ -7,6 +9,32 @@
 #include "fluid/wcsph.hpp"
 
 namespace sphib {
+
+void positive_param(double v, const char* key) {
+  if (!(v > 0) || !std::isfinite(v)) {
+    std::ostringstream m;
+    m << "fluid: " << key << " must be positive and finite (got " << v << ")";
+    throw std::invalid_argument(m.str());
+  }
+}
+
+void check_common_params(const FluidParams& p) {
+  positive_param(p.rho, "fluid.rho");
+  positive_param(p.mu, "fluid.mu");
+  positive_param(p.dt, "time.dt");
+  positive_param(p.h_over_dx, "kernel.h_over_dx");
+}
+
+const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& name, Eigen::Index rows,
+                                   Eigen::Index cols) {
+  for (const auto& [k, v] : state)
+    if (k == name) {
+      if (v.rows() != rows || v.cols() != cols)
+        throw std::runtime_error("checkpoint: " + name + " has the wrong size for this lattice");
+      return v;
+    }
+  throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
+}
 
 NamedArrays FluidSolver::state() const {
   throw std::runtime_error("checkpoints are not available for method \"" + params().method + "\"");

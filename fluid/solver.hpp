@@ -50,6 +50,15 @@ struct FluidParams {
 // Named arrays of doubles: a solver's state for checkpoints.
 using NamedArrays = std::vector<std::pair<std::string, Eigen::MatrixXd>>;
 
+// Refuses (std::invalid_argument naming the scene key) a value every method needs positive and
+// finite: fluid.rho, fluid.mu, time.dt, kernel.h_over_dx; `positive_param` is the same test for one.
+void positive_param(double v, const char* key);
+void check_common_params(const FluidParams& p);
+
+// The array `name` of a checkpointed state, which must be rows x cols (std::runtime_error otherwise).
+const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& name, Eigen::Index rows,
+                                   Eigen::Index cols);
+
 class FluidSolver {
  public:
   virtual ~FluidSolver() = default;

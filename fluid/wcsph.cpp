@@ -10,22 +10,11 @@ namespace sphib {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void check_params(const FluidParams& p) {
-  auto positive = [](double v, const char* key) {
-    if (!(v > 0) || !std::isfinite(v)) {
-      std::ostringstream m;
-      m << "fluid: " << key << " must be positive and finite (got " << v << ")";
-      throw std::invalid_argument(m.str());
-    }
-  };
-  positive(p.rho, "fluid.rho");
-  positive(p.mu, "fluid.mu");
-  positive(p.dt, "time.dt");
-  positive(p.h_over_dx, "kernel.h_over_dx");
-  positive(p.wcsph.gamma, "wcsph.gamma");
-  positive(p.wcsph.u_scale, "wcsph.u_scale");
+  check_common_params(p);
+  positive_param(p.wcsph.gamma, "wcsph.gamma");
+  positive_param(p.wcsph.u_scale, "wcsph.u_scale");
   const WcsphParams& w = p.wcsph;
   if (!(w.c >= 0) || !std::isfinite(w.c))
     throw std::invalid_argument("wcsph.c must be >= 0 and finite (got " + std::to_string(w.c) + ")");
@@ -115,7 +104,7 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   cell_x_.resize(N + M);
   cell_y_.resize(N + M);
   find_neighbours();
-  setup_.emplace_back("neighbours", since(t0));
+  setup_.emplace_back("neighbours", seconds_since(t0));
   summation_density();
   xsph_velocity();
   check_density();
@@ -527,13 +516,7 @@ NamedArrays WcsphFluid::state() const {
 void WcsphFluid::restore(const NamedArrays& state) {
   ++revision_;
   auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
-    for (const auto& [k, v] : state)
-      if (k == name) {
-        if (v.rows() != rows || v.cols() != cols)
-          throw std::runtime_error("checkpoint: " + name + " has the wrong size for this lattice");
-        return v;
-      }
-    throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
+    return state_entry(state, name, rows, cols);
   };
   const int N = size();
   x_ = get("x_eval", N, 2);
