@@ -44,6 +44,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/common.hpp"
+#include "io/atomic_file.hpp"
 #include "coupling/simulation.hpp"
 #include "fluid/exact.hpp"
 #include "fluid/lagrangian.hpp"
@@ -122,15 +124,8 @@ std::string num(double v) {
   return s.str();
 }
 
-void write_atomic(const fs::path& path, const std::string& text) {
-  const fs::path part = path.string() + ".part";
-  {
-    std::ofstream f(part, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot open " + part.string());
-    f << text;
-    if (!f.flush()) throw std::runtime_error("cannot write " + part.string());
-  }
-  fs::rename(part, path);
+void write_atomic(const std::filesystem::path& path, const std::string& text) {
+  sphib::write_file_atomic(path.string(), text);  // io/atomic_file.hpp: .part, fsync, rename
 }
 
 // ---------------------------------------------------------------- Poiseuille (Tables 1-2)
@@ -588,16 +583,7 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-void ensure_single_thread(char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  setenv("OMP_NUM_THREADS", "1", 1);
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  setenv("MKL_NUM_THREADS", "1", 1);
-  setenv("GOTO_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "lpsph_comparison: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
-}
+void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("lpsph_comparison", argv); }
 
 bool wants(const Options& o, const std::string& part) {
   return std::find(o.parts.begin(), o.parts.end(), part) != o.parts.end();

@@ -39,6 +39,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/common.hpp"
+#include "io/atomic_file.hpp"
 #include "fluid/exact.hpp"
 #include "fluid/projection.hpp"
 
@@ -301,15 +303,7 @@ std::string md_escape(std::string s) {
 }
 
 void write_atomic(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path part = path.string() + ".part";
-  {
-    std::ofstream f(part, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot open " + part.string());
-    f << text;
-    f.flush();
-    if (!f) throw std::runtime_error("cannot write " + part.string());
-  }
-  std::filesystem::rename(part, path);
+  sphib::write_file_atomic(path.string(), text);  // io/atomic_file.hpp: .part, fsync, rename
 }
 
 std::string hdx_str(double h) {
@@ -572,17 +566,7 @@ void print_run(const Result& r, bool verbose) {
 
 // Re-executes the program once with single-threaded OpenMP/BLAS (libgomp reads OMP_NUM_THREADS at
 // load time, so setting it from main is too late for the running process).
-void ensure_single_thread(char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  setenv("OMP_NUM_THREADS", "1", 1);
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  setenv("MKL_NUM_THREADS", "1", 1);
-  setenv("GOTO_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "poiseuille_sweep: warning: could not re-execute single-threaded (%s)\n",
-               std::strerror(errno));
-}
+void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("poiseuille_sweep", argv); }
 
 }  // namespace
 

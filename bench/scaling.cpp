@@ -57,6 +57,7 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "bench/common.hpp"
 #include "coupling/simulation.hpp"
 #include "fluid/projection.hpp"
 #include "io/atomic_file.hpp"
@@ -414,22 +415,7 @@ struct Bench {
   // (the fields the tables use).
   static std::vector<json> load_csv(const fs::path& f) {
     std::vector<json> out;
-    std::ifstream in(f);
-    if (!in) return out;
-    auto split = [](const std::string& l) {
-      std::vector<std::string> v;
-      std::stringstream ss(l);
-      for (std::string c; std::getline(ss, c, ',');) v.push_back(c);
-      if (!l.empty() && l.back() == ',') v.emplace_back();
-      return v;
-    };
-    std::string line;
-    if (!std::getline(in, line)) return out;
-    const auto head = split(line);
-    while (std::getline(in, line)) {
-      const auto v = split(line);
-      std::map<std::string, std::string> r;
-      for (size_t k = 0; k < head.size(); ++k) r[head[k]] = k < v.size() ? v[k] : "";
+    for (sphib::bench::CsvRow& r : sphib::bench::read_csv_rows(f.string())) {
       auto d = [&](const std::string& k) { return r[k].empty() ? NAN : std::strtod(r[k].c_str(), nullptr); };
       json j;
       j["case"] = r["case"];
@@ -691,16 +677,7 @@ std::vector<T> parse_list(const std::string& s) {
   std::exit(code);
 }
 
-void ensure_single_thread(char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  setenv("OMP_NUM_THREADS", "1", 1);
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  setenv("MKL_NUM_THREADS", "1", 1);
-  setenv("GOTO_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "scaling: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
-}
+void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("scaling", argv); }
 
 }  // namespace
 

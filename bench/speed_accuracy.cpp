@@ -51,6 +51,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/common.hpp"
 #include "io/atomic_file.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
@@ -814,16 +815,7 @@ class Bench {
   std::exit(code);
 }
 
-void ensure_single_thread(char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  setenv("OMP_NUM_THREADS", "1", 1);
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  setenv("MKL_NUM_THREADS", "1", 1);
-  setenv("GOTO_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "speed_accuracy: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
-}
+void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("speed_accuracy", argv); }
 
 }  // namespace
 

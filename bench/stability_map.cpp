@@ -66,6 +66,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/common.hpp"
 #include "io/atomic_file.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
@@ -828,26 +829,8 @@ class Bench {
   // h* is taken as recorded, which gives the same h*, h*/h and estimates).
   void load() {
     auto read = [](const fs::path& f) {
-      std::ifstream in(f);
-      if (!in) throw std::runtime_error("--report-only: cannot read " + f.string());
-      std::vector<std::map<std::string, std::string>> rows;
-      std::string line;
-      std::vector<std::string> head;
-      auto split = [](const std::string& l) {
-        std::vector<std::string> v;
-        std::stringstream ss(l);
-        for (std::string c; std::getline(ss, c, ',');) v.push_back(c);
-        if (!l.empty() && l.back() == ',') v.emplace_back();
-        return v;
-      };
-      if (std::getline(in, line)) head = split(line);
-      while (std::getline(in, line)) {
-        const auto v = split(line);
-        std::map<std::string, std::string> r;
-        for (size_t k = 0; k < head.size(); ++k) r[head[k]] = k < v.size() ? v[k] : "";
-        rows.push_back(r);
-      }
-      return rows;
+      if (!std::ifstream(f)) throw std::runtime_error("--report-only: cannot read " + f.string());
+      return sphib::bench::read_csv_rows(f.string());
     };
     auto d = [](const std::map<std::string, std::string>& r, const char* k) {
       const auto it = r.find(k);
@@ -942,16 +925,7 @@ class Bench {
   std::exit(code);
 }
 
-void ensure_single_thread(char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  setenv("OMP_NUM_THREADS", "1", 1);
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  setenv("MKL_NUM_THREADS", "1", 1);
-  setenv("GOTO_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "stability_map: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
-}
+void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("stability_map", argv); }
 
 }  // namespace
 

@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/common.hpp"
 #include "fluid/exact.hpp"
 #include "fluid/wcsph.hpp"
 #include "io/atomic_file.hpp"
@@ -486,16 +487,7 @@ class Bench {
 };
 
 // Re-executes the program once with single-threaded OpenMP/BLAS (read at load time).
-void ensure_single_thread(char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  setenv("OMP_NUM_THREADS", "1", 1);
-  setenv("OPENBLAS_NUM_THREADS", "1", 1);
-  setenv("MKL_NUM_THREADS", "1", 1);
-  setenv("GOTO_NUM_THREADS", "1", 1);
-  execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "wcsph_comparison: warning: could not re-execute single-threaded (%s)\n", std::strerror(errno));
-}
+void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("wcsph_comparison", argv); }
 
 }  // namespace
 
