@@ -1,13 +1,17 @@
 #pragma once
-// What every benchmark program shares: one-core runs and reading its own CSV back (--keep,
-// --report-only). Header-only; the benchmarks are single files.
+// What every benchmark program shares: one-core runs, timing, number formatting and reading its
+// own CSV back (--keep, --report-only). Header-only; the benchmarks are single files.
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <string>
@@ -27,6 +31,37 @@ inline void ensure_single_thread(const char* program, char** argv) {
   execv("/proc/self/exe", argv);
   std::fprintf(stderr, "%s: warning: could not re-execute single-threaded (%s)\n", program, std::strerror(errno));
 }
+
+// Seconds of wall time since t0, and CPU seconds (user + system) of this process so far.
+inline double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+inline double cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+}
+
+// Numbers for tables: plain (prec significant digits), fixed and scientific (prec decimals; "–" for
+// non-finite), and for CSV (10 digits, empty for non-finite).
+inline std::string num(double v, int prec = 10) {
+  std::ostringstream s;
+  s << std::setprecision(prec) << v;
+  return s.str();
+}
+inline std::string fix(double v, int prec = 2) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(prec) << v;
+  return s.str();
+}
+inline std::string sci(double v, int prec = 2) {
+  if (!std::isfinite(v)) return "–";
+  std::ostringstream s;
+  s << std::scientific << std::setprecision(prec) << v;
+  return s.str();
+}
+inline std::string csv_num(double v) { return std::isfinite(v) ? num(v, 10) : std::string(); }
 
 // The rows of a CSV file a benchmark wrote (no quoted fields), each as header -> value (a missing
 // or trailing empty field is ""). Empty if the file cannot be read.

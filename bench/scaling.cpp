@@ -69,12 +69,12 @@ using nlohmann::json;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-double cpu_seconds() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
-}
+using sphib::bench::cpu_seconds;
+using sphib::bench::csv_num;
+using sphib::bench::fix;
+using sphib::bench::num;
+using sphib::bench::sci;
+using sphib::bench::since;
 long status_kb(const char* key) {  // VmHWM, VmRSS of this process in kB
   std::ifstream f("/proc/self/status");
   std::string line;
@@ -83,24 +83,6 @@ long status_kb(const char* key) {  // VmHWM, VmRSS of this process in kB
     if (line.rfind(k, 0) == 0) return std::strtol(line.c_str() + k.size(), nullptr, 10);
   return -1;
 }
-std::string num(double v, int prec = 10) {
-  std::ostringstream s;
-  s << std::setprecision(prec) << v;
-  return s.str();
-}
-std::string fix(double v, int prec = 2) {
-  if (!std::isfinite(v)) return "–";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(prec) << v;
-  return s.str();
-}
-std::string sci(double v, int prec = 2) {
-  if (!std::isfinite(v)) return "–";
-  std::ostringstream s;
-  s << std::scientific << std::setprecision(prec) << v;
-  return s.str();
-}
-std::string csv_num(double v) { return std::isfinite(v) ? num(v, 10) : std::string(); }
 double jnum(const json& j, const char* k) { return j.contains(k) && j[k].is_number() ? j[k].get<double>() : NAN; }
 
 std::vector<std::string> scene_sets(const std::string& c, int nx, const std::string& cn, const std::string& poisson) {

@@ -77,30 +77,12 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-double cpu_seconds() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
-}
-std::string num(double v, int prec = 10) {
-  std::ostringstream s;
-  s << std::setprecision(prec) << v;
-  return s.str();
-}
-std::string sci(double v, int prec = 2) {
-  if (!std::isfinite(v)) return "–";
-  std::ostringstream s;
-  s << std::scientific << std::setprecision(prec) << v;
-  return s.str();
-}
-std::string fix(double v, int prec = 2) {
-  if (!std::isfinite(v)) return "–";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(prec) << v;
-  return s.str();
-}
-std::string csv_num(double v) { return std::isfinite(v) ? num(v, 10) : std::string(); }
+using sphib::bench::cpu_seconds;
+using sphib::bench::csv_num;
+using sphib::bench::fix;
+using sphib::bench::num;
+using sphib::bench::sci;
+using sphib::bench::since;
 std::string csv_text(std::string s) {
   for (char& c : s)
     if (c == ',' || c == '\n' || c == '"') c = ';';

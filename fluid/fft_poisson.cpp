@@ -134,7 +134,7 @@ class FftPoissonSolver final : public LinearSolver {
     // The bands of B_k in LAPACK's lower storage: ab[(i - j) + ldab j] = B_k(i, j), j <= i <= j + w.
     ldab_ = w + 1;
     w_ = w;
-    band_.assign(static_cast<std::size_t>(nk_) * ldab_ * ny, 0.0);
+    std::vector<double> band(static_cast<std::size_t>(nk_) * ldab_ * ny, 0.0);  // B_k, then its factor
     std::vector<double> cosine(nx);
     for (int m = 0; m < nx; ++m) cosine[m] = std::cos(2.0 * M_PI * m / nx);
     double bmax = 0, asym = 0;
@@ -147,7 +147,7 @@ class FftPoissonSolver final : public LinearSolver {
           full[static_cast<std::size_t>(iy) * nd + d] +=
               C[static_cast<std::size_t>(iy) * nd * nx + s] * cosine[(static_cast<long>(kk) * dx) % nx];
         }
-      double* ab = band_.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
+      double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
       for (int iy = 0; iy < ny; ++iy)
         for (int d = -w; d <= 0; ++d) {
           if (iy + d < 0) continue;
@@ -164,7 +164,7 @@ class FftPoissonSolver final : public LinearSolver {
     for (int kk = 0; kk < nk_; ++kk) {
       // Singular A, k = 0: B_0 is singular (constants); i_y = 0 is dropped (x(0, 0) = 0), the rest is definite.
       const bool drop = singular_ && kk == 0;
-      double* ab = band_.data() + static_cast<std::size_t>(kk) * ldab_ * ny + (drop ? ldab_ : 0);
+      double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny + (drop ? ldab_ : 0);
       const int n = drop ? ny - 1 : ny;
       int info = 0;
       dpbtrf_("L", &n, &w_, ab, &ldab_, &info, 1);
@@ -181,7 +181,7 @@ class FftPoissonSolver final : public LinearSolver {
     lcol_.assign(lrow_.size(), 0.0);
     rdiag_.assign(static_cast<std::size_t>(ny) * nk_, 0.0);
     for (int kk = 0; kk < nk_; ++kk) {
-      const double* ab = band_.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
+      const double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
       const int i0 = singular_ && kk == 0 ? 1 : 0;
       for (int i = i0; i < ny; ++i) {
         rdiag_[static_cast<std::size_t>(i) * nk_ + kk] = 1.0 / ab[static_cast<std::size_t>(ldab_) * i];
@@ -281,7 +281,6 @@ class FftPoissonSolver final : public LinearSolver {
 
   int nx_, ny_, nk_, w_ = 0, ldab_ = 1;
   bool singular_;
-  std::vector<double> band_;  // the factors of B_0 .. B_{n_x/2}, LAPACK lower band storage
   std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see setup)
   Work ws_[2];
   fftw_plan fwd_ = nullptr, inv_ = nullptr;

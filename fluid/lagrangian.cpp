@@ -434,9 +434,7 @@ void LagrangianFluid::reinitialise() {
 const Vec& LagrangianFluid::p() const {
   if (p_step_ != n_) {
     ScopedTimer tm(prof_, k_pressure_);
-    // Eq. (35): p = phi - (nu dt / 2) lap phi  (zero mean, as phi)
-    p_.noalias() = op_.lap_phi * phi_;
-    p_ = phi_ - (0.5 * nu() * prm_.dt) * p_;
+    pressure_from_phi(op_.lap_phi, phi_, 0.5 * nu() * prm_.dt, p_);  // Eq. (35)
     p_step_ = n_;
   }
   return p_;

@@ -57,4 +57,9 @@ Operators build_operators(const PairList& P, const Lattice& L, const Images& im,
   return op;
 }
 
+void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p) {
+  p.noalias() = lap_phi * phi;
+  p = phi - a * p;
+}
+
 }  // namespace sphib

@@ -40,6 +40,9 @@ ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rul
 
 
 
+// Eq. (35): p^{n+1/2} = phi^{n+1} - (nu dt / 2) lap phi^{n+1}, with a = nu dt / 2 (zero mean, as phi).
+void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p);
+
 Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W);
 
 }  // namespace sphib

@@ -37,7 +37,7 @@ void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c
 
 int RowStencil::stencil_rows() const {
   int m = 0;
-  for (const auto& r : runs) m += r[1] - r[0];
+  for (const auto& b : blocks) m += b[1] - b[0];
   return m;
 }
 
@@ -74,7 +74,7 @@ std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i) {
 
 constexpr int kBlock = 256;  // rows per stencil block (RowStencil::blocks): the accumulators stay in L1
 
-// Every row once: plain rows by `row(i)`, the stencil's runs in blocks by `block(begin, end)`.
+// Every row once: plain rows by `row(i)`, the stencil's blocks by `block(begin, end)`.
 template <class Row, class Block>
 void for_rows(int n, const RowStencil* st, Row&& row, Block&& block) {
   const bool par = n >= kParallelRows;
@@ -184,14 +184,13 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   for (int k = o[st.ref]; k < o[st.ref + 1]; ++k) st.offset.push_back(A.innerIndexPtr()[k] - st.ref);
   for (int i = 0; i < n; ++i) {
     if (h[i] == best && same_row(ops, i, st.ref)) {
-      if (!st.runs.empty() && st.runs.back()[1] == i) ++st.runs.back()[1];
-      else st.runs.push_back({i, i + 1});
+      auto& b = st.blocks;  // extend the last block while it is contiguous and short enough
+      if (!b.empty() && b.back()[1] == i && b.back()[1] - b.back()[0] < kBlock) ++b.back()[1];
+      else b.push_back({i, i + 1});
     } else {
       st.rest.push_back(i);
     }
   }
-  for (const auto& r : st.runs)
-    for (int b = r[0]; b < r[1]; b += kBlock) st.blocks.push_back({b, std::min(r[1], b + kBlock)});
   return st;
 }
 

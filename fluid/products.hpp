@@ -25,9 +25,10 @@ constexpr int kParallelRows = 8192;
 struct RowStencil {
   int ref = -1;                          // the reference row (-1: no stencil rows)
   std::vector<int> offset;               // its column offsets j - ref, ascending
-  std::vector<std::array<int, 2>> runs;  // [begin, end): consecutive rows equal to ref's translate
-  std::vector<int> rest;                 // every other row, applied from the compressed arrays
-  std::vector<std::array<int, 2>> blocks;  // the runs cut into blocks of at most 256 rows (the work units)
+  // [begin, end): consecutive rows equal to ref's translate, in blocks of at most 256 rows (the
+  // work units of the products and their threads)
+  std::vector<std::array<int, 2>> blocks;
+  std::vector<int> rest;  // every other row, applied from the compressed arrays
   int stencil_rows() const;
 };
 

@@ -122,6 +122,7 @@ TEST(Coupling, CellGridQueriesMatchBruteForce) {
 // The lattice mode of the grid (use_lattice: index arithmetic on the fixed lattice, what the
 // markers of EPSPH query) finds exactly the lattice points within the radius, with the
 // minimum-image offsets, for queries anywhere (also outside the box along a periodic axis).
+// Offsets from indices against stored positions: measured max difference 3.3e-16; tolerance 1e-13.
 TEST(Coupling, LatticeQueriesMatchBruteForce) {
   std::mt19937 gen(5);
   struct Case { bool px, py; int nx, ny; double radius; };

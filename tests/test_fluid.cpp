@@ -241,7 +241,8 @@ TEST(Operators, LaplacianOfQuadraticsInInterior) {
 }
 
 // The lattice stencil of the fused products (fluid/products.hpp): the rows it applies as a stencil
-// give the same bits as the row-by-row products, and those equal Eigen's products to round-off.
+// give the same bits as the row-by-row products, and those equal Eigen's products to round-off
+// (measured: identical, relative difference 0 in all four cases; tolerance 1e-15 relative).
 // Coverage: every row farther than 2h from walls and periodic seams is a stencil row (measured
 // 3600 of 4096 at 64 x 64, h/dx = 1.2, periodic x; no row of a walled 16 x 16 box at h/dx = 3).
 TEST(Operators, StencilProductsEqualRowByRowProducts) {
@@ -265,18 +266,18 @@ TEST(Operators, StencilProductsEqualRowByRowProducts) {
     apply2(op.lap_u.A, u, a, &vs);
     apply2(op.lap_u.A, u, a2);
     EXPECT_TRUE(a == a2) << "apply2, n " << c.n;
-    EXPECT_LT((a - op.lap_u.A * u).norm(), 1e-13 * (op.lap_u.A * u).norm());
+    EXPECT_LT((a - op.lap_u.A * u).norm(), 1e-15 * (op.lap_u.A * u).norm());
     gradient2(op.grad_ux.A, op.grad_uy.A, u, a, b, &vs);
     gradient2(op.grad_ux.A, op.grad_uy.A, u, a2, b2);
     EXPECT_TRUE(a == a2 && b == b2) << "gradient2, n " << c.n;
-    EXPECT_LT((b - op.grad_uy.A * u).norm(), 1e-13 * (op.grad_uy.A * u).norm());
+    EXPECT_LT((b - op.grad_uy.A * u).norm(), 1e-15 * (op.grad_uy.A * u).norm());
     divergence(op.grad_ux.A, op.grad_uy.A, u, d, &vs);
     divergence(op.grad_ux.A, op.grad_uy.A, u, d2);
     EXPECT_TRUE(d == d2) << "divergence, n " << c.n;
     gradient(op.grad_phix, op.grad_phiy, phi, a, &ps);
     gradient(op.grad_phix, op.grad_phiy, phi, a2);
     EXPECT_TRUE(a == a2) << "gradient, n " << c.n;
-    EXPECT_LT((a.col(0) - op.grad_phix * phi).norm(), 1e-13 * (op.grad_phix * phi).norm());
+    EXPECT_LT((a.col(0) - op.grad_phix * phi).norm(), 1e-15 * (op.grad_phix * phi).norm());
   }
 }
 
