@@ -6,6 +6,12 @@
 namespace sphib {
 
 namespace {
+[[noreturn]] void no_particle(int k, const Mat2& X) {
+  std::ostringstream m;
+  m << "interpolation: marker " << k << " at (" << X(k, 0) << ", " << X(k, 1) << ") has no fluid particle within 2h";
+  throw std::runtime_error(m.str());
+}
+
 struct Uniform {
   double v;
   double operator[](int) const { return v; }
@@ -23,12 +29,7 @@ void interpolate(const CellGrid& grid, const CubicSplineKernel& W, const Volumes
       sy += u(j, 1) * w;
       sw += w;                       // denominator of Eq. (63)
     });
-    if (!(sw > 0)) {
-      std::ostringstream m;
-      m << "interpolation: marker " << k << " at (" << X(k, 0) << ", " << X(k, 1)
-        << ") has no fluid particle within 2h";
-      throw std::runtime_error(m.str());
-    }
+    if (!(sw > 0)) no_particle(k, X);
     const double d = normalised ? sw : 1.0;
     U(k, 0) = sx / d;
     U(k, 1) = sy / d;
@@ -45,6 +46,32 @@ void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, doub
 void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u,
                           const Mat2& X, Mat2& U, bool normalised) {
   interpolate(grid, W, V, u, X, U, normalised);
+}
+
+void interpolate_curl(const CellGrid& grid, const CubicSplineKernel& W, const Vec& psi,
+                      const Eigen::Vector2d& U_mean, const Mat2& X, Mat2& U) {
+  const double radius = W.support();
+  for (int k = 0; k < X.rows(); ++k) {
+    // sums over the particles j near X_k: W_j, psi_j W_j, grad W_j, psi_j grad W_j (uniform V cancels)
+    double s = 0, sp = 0, gx = 0, gy = 0, gpx = 0, gpy = 0;
+    grid.for_each_near(X(k, 0), X(k, 1), radius, [&](int j, double dx, double dy, double r) {
+      const double w = W.W(r), F = W.F(r);  // W(X - x_j), (1/r) dW/dr
+      const double p = psi[j];
+      s += w;
+      sp += p * w;
+      const double wx = F * dx, wy = F * dy;  // grad_X W(X - x_j) = F (X - x_j)
+      gx += wx;
+      gy += wy;
+      gpx += p * wx;
+      gpy += p * wy;
+    });
+    if (!(s > 0)) no_particle(k, X);
+    const double ph = sp / s;  // psi_h(X)
+    // grad psi_h = sum_j (psi_j - psi_h) grad W_j / sum_j W_j
+    const double dpx = (gpx - ph * gx) / s, dpy = (gpy - ph * gy) / s;
+    U(k, 0) = U_mean.x() + dpy;  // u = d psi/dy
+    U(k, 1) = U_mean.y() - dpx;  // v = -d psi/dx
+  }
 }
 
 }  // namespace sphib

@@ -1,7 +1,20 @@
 #pragma once
-// Fluid velocity -> marker velocity by normalised SPH interpolation, Eqs. (61)-(63):
+// Fluid velocity -> marker velocity, two ways.
+//
+// SPH (the paper): normalised SPH interpolation, Eqs. (61)-(63),
 //   U(X) = sum_j u_j W(X - x_j, h) V_j / sum_j W(X - x_j, h) V_j,
-// exact for a constant field. (The unnormalised form, Eq. (60), is the adjoint of spreading.)
+// exact for a constant field. (The unnormalised form, Eq. (60), is the adjoint of spreading.) Its
+// divergence between particles is not zero, so a closed curve moving with it gains or loses area.
+//
+// Divergence-free: Eq. (63) applied to a stream function psi of the fluid velocity
+// (FluidSolver::stream_function), then differentiated analytically,
+//   psi_h(X) = sum_j psi_j W_j / sum_j W_j,          W_j = W(X - x_j, h)
+//   U(X) = U_mean + (d psi_h/dy, -d psi_h/dx),  grad psi_h(X) = sum_j (psi_j - psi_h(X)) grad W_j / sum_j W_j.
+// U is the curl of a C^2 function, so its divergence is exactly zero everywhere (in the spirit of the
+// divergence-free immersed boundary method of Bao, Donev, Griffith, McQueen & Peskin, J. Comput.
+// Phys. 347 (2017) 183), and a closed curve moving with it keeps its area up to the time
+// integration. psi_h reproduces constants, so the gauge of psi does not matter; at a lattice point
+// grad psi_h is (G psi)_i / sum_j V W_ij, the fluid's own gradient of psi (Eq. 27) over the kernel sum.
 #include "fluid/kernel.hpp"
 #include "fluid/neighbours.hpp"
 
@@ -14,5 +27,10 @@ void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, doub
 // The same with per-particle volumes V_j = m_j / rho_j (moving particles, WCSPH).
 void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u,
                           const Mat2& X, Mat2& U, bool normalised = true);
+
+// The divergence-free marker velocity above, from psi at the particles of `grid` and the uniform
+// flow U_mean. Throws like interpolate_velocity for a point with no particle within 2h.
+void interpolate_curl(const CellGrid& grid, const CubicSplineKernel& W, const Vec& psi,
+                      const Eigen::Vector2d& U_mean, const Mat2& X, Mat2& U);
 
 }  // namespace sphib

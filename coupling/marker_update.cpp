@@ -4,15 +4,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "coupling/interpolate.hpp"
-
 namespace sphib {
 
-MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u_new,
-                                   const Mat2& U_n, double dt, const MarkerUpdateParams& prm, long step,
-                                   Mat2& X, Mat2& X_n, Mat2& U) {
+MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, double dt,
+                                   const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U) {
   X_n = X;
-  interpolate_velocity(grid, W, V, u_new, X_n, U);  // U^{n+1}(X^n), Eq. (62)
+  U_new(X_n, U);  // U^{n+1}(X^n), Eq. (62)
   X = X_n + dt * U;                                 // Eq. (58)
   MarkerUpdateResult res;
   auto check_moves = [&]() {
@@ -30,7 +27,7 @@ MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel
   };
   check_moves();
   for (int I = 0; I <= prm.max_iter; ++I) {
-    interpolate_velocity(grid, W, V, u_new, X, U);  // U^{n+1}(X^[I]), Eq. (63)
+    U_new(X, U);  // U^{n+1}(X^[I]), Eq. (63)
     // g(X) = X - X^n - dt/2 (U^n(X^n) + U^{n+1}(X)), Eq. (59)
     double g_max = 0.0;
     for (int k = 0; k < X.rows(); ++k) {

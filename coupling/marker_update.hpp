@@ -2,9 +2,11 @@
 // Semi-implicit marker update, Eqs. (56)-(60): trapezoidal rule solved by fixed-point iteration.
 //   X^[0]   = X^n + dt U^{n+1}(X^n)                                   (Eq. 58)
 //   X^[I+1] = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^[I]))                   (root of g, Eq. 59)
-// until max_k |g(X_k^[I])| <= eps; U by normalised interpolation (Eq. 63).
-#include "fluid/kernel.hpp"
-#include "fluid/neighbours.hpp"
+// until max_k |g(X_k^[I])| <= eps; U^{n+1}(X) from the fluid velocity after the step, by either
+// interpolation of coupling/interpolate.hpp.
+#include <functional>
+
+#include "fluid/types.hpp"
 
 namespace sphib {
 
@@ -19,11 +21,13 @@ struct MarkerUpdateResult {
   double residual = 0;  // max_k |g_k| at the accepted iterate
 };
 
+// The marker velocity U^{n+1} at points X (Nb x 2) into U (Nb x 2).
+using MarkerVelocity = std::function<void(const Mat2& X, Mat2& U)>;
+
 // X holds X^n on entry and X^{n+1} on exit; U_n = U^n(X^n); U is workspace (Nb x 2) and holds
 // U^{n+1}(X^{n+1}) on exit. Throws std::runtime_error naming `step` and the residual if the
 // iteration does not reach eps in max_iter iterations.
-MarkerUpdateResult advance_markers(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u_new,
-                                   const Mat2& U_n, double dt, const MarkerUpdateParams& prm, long step,
-                                   Mat2& X, Mat2& X_n, Mat2& U);
+MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, double dt,
+                                   const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U);
 
 }  // namespace sphib

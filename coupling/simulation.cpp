@@ -52,9 +52,18 @@ Simulation::Simulation(const SimulationParams& params)
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
     mem_.emplace_back(prm_.membranes[k]);
   }
+  interp_ = prm_.interpolation;
+  if (interp_ == MarkerInterpolation::Auto)
+    interp_ = fluid_->has_stream_function() ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
+  if (interp_ == MarkerInterpolation::DivergenceFree && !fluid_->has_stream_function())
+    throw std::invalid_argument("coupling.interpolation = \"divergence_free\" needs a stream function of the fluid, which method \"" +
+                                prm_.fluid.method + "\" does not provide (use \"sph\")");
   if (!mem_.empty()) {  // no membranes, no coupling
     if (fluid_->particles_move()) grid_.build(fluid_->x());
     else grid_.use_lattice(fluid_->lattice());  // EPSPH: index arithmetic on the fixed lattice
+    bool free = false;
+    for (const auto& s : mem_) free |= !s.fixed;
+    if (free && interp_ == MarkerInterpolation::DivergenceFree) fluid_->stream_function();  // its set-up, now
   }
   if (prm_.initial_velocity) {
     const Mat2& x = fluid_->x();
@@ -81,6 +90,16 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
   mem_[k].U_revision = -1;
 }
 
+void Simulation::marker_velocity(const Mat2& X, Mat2& U) const {
+  const FluidSolver& fluid = *fluid_;
+  if (interp_ == MarkerInterpolation::DivergenceFree) {
+    const StreamFunction sf = fluid.stream_function();  // once per fluid state, then cached
+    interpolate_curl(grid_, fluid.kernel(), *sf.psi, sf.mean, X, U);
+  } else {
+    interpolate_velocity(grid_, fluid.kernel(), fluid.volumes(), fluid.u(), X, U);  // Eq. (63)
+  }
+}
+
 void Simulation::body_force(double t) {
   if (!prm_.body_force_field) return;
   const Mat2& x = fluid_->x();
@@ -90,7 +109,6 @@ void Simulation::body_force(double t) {
 void Simulation::step() {
   FluidSolver& fluid = *fluid_;
   const double dt = fluid.params().dt;
-  const Vec& V = fluid.volumes();
   if (fluid.particles_move() && !mem_.empty()) grid_.build(fluid.x());  // LPSPH, WCSPH: O(N)
   body_force(time());  // F^n: external body force at t_n
   F_ = F_body_;
@@ -106,7 +124,7 @@ void Simulation::step() {
     if (!s.fixed) {  // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
       ScopedTimer t(prof_, k_interp_);
       if (s.U_revision == fluid.revision()) s.U_n = s.U;  // the last marker iterate: u^n at X^n, bit for bit
-      else interpolate_velocity(grid_, fluid.kernel(), V, fluid.u(), s.m.X, s.U_n);
+      else marker_velocity(s.m.X, s.U_n);
     }
   }
   fluid.step(F_);  // PMIII with prefactored systems: u^n -> u*, phi^{n+1}, u^{n+1}, p^{n+1/2}
@@ -119,7 +137,8 @@ void Simulation::step() {
     if (fluid.particles_move()) grid_.build(fluid.x());  // the particles of u^{n+1}
     s.U_revision = -1;
     try {
-      s.last = advance_markers(grid_, fluid.kernel(), V, fluid.u(), s.U_n, dt, mp, fluid.steps(), s.m.X, s.X_n, s.U);
+      s.last = advance_markers([this](const Mat2& X, Mat2& U) { marker_velocity(X, U); }, s.U_n, dt, mp,
+                               fluid.steps(), s.m.X, s.X_n, s.U);
     } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
       throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
     }

@@ -17,6 +17,12 @@ struct MembraneSetup {
   bool fixed = false;     // markers held in place (Section 5.2.1)
 };
 
+// How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
+// of the interpolated stream function: a closed membrane keeps its area) or the paper's normalised
+// SPH interpolation, Eq. (63). Auto: divergence-free where the fluid method has a stream function
+// (EPSPH), SPH otherwise.
+enum class MarkerInterpolation { Auto, DivergenceFree, Sph };
+
 struct SimulationParams {
   FluidParams fluid;
   Eigen::Vector2d body_force = Eigen::Vector2d::Zero();  // per unit volume, constant in space and time
@@ -26,6 +32,7 @@ struct SimulationParams {
   std::function<Eigen::Vector2d(double, double)> initial_velocity;
   std::vector<MembraneSetup> membranes;
   MarkerUpdateParams markers;
+  MarkerInterpolation interpolation = MarkerInterpolation::Auto;
 };
 
 struct MembraneState {
@@ -56,6 +63,9 @@ class Simulation {
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+  MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
+  // The marker velocity of the fluid's current state at the points X, by the interpolation in use.
+  void marker_velocity(const Mat2& X, Mat2& U) const;
 
  private:
   void body_force(double t);
@@ -64,6 +74,7 @@ class Simulation {
   std::unique_ptr<FluidSolver> fluid_;
   std::vector<MembraneState> mem_;
   CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
+  MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
   Profile prof_;
   int k_force_, k_spread_, k_interp_, k_markers_;

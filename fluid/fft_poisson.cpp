@@ -159,11 +159,35 @@ class FftPoissonSolver final : public LinearSolver {
         }
     }
     if (asym > 1e-10 * bmax) return refuse("the matrix is not symmetric");
+    // Singular A: a wavenumber whose B_k annihilates the constants or the alternating vector in y
+    // (to 1e-10 of max |B|) is a null direction of A (fluid/gauge.hpp): k = 0 for -lap phi; k = 0
+    // and k = n_x/2 for the exact projection's G^T G (1 and (-1)^{i_x} in y); the same with (-1)^{i_y}
+    // for a stream function's (odd images).
+    drop_.assign(nk_, 0);
+    if (singular_)
+      for (int kk = 0; kk < nk_; ++kk) {
+        const double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
+        for (int alt = 0; alt < 2 && !drop_[kk]; ++alt) {
+          std::vector<double> r(ny, 0.0);  // B_k z, from the lower band and its mirror
+          auto z = [&](int j) { return alt && (j & 1) ? -1.0 : 1.0; };
+          for (int j = 0; j < ny; ++j)
+            for (int d = 0; d <= w && j + d < ny; ++d) {
+              const double v = ab[d + static_cast<std::size_t>(ldab_) * j];  // B_k(j + d, j)
+              r[j + d] += v * z(j);
+              if (d) r[j] += v * z(j + d);
+            }
+          double rmax = 0;
+          for (double v : r) rmax = std::max(rmax, std::fabs(v));
+          drop_[kk] = rmax <= 1e-10 * bmax;
+        }
+      }
+    if (singular_ && std::find(drop_.begin(), drop_.end(), 1) == drop_.end())
+      return refuse("the matrix was said to be singular but no wavenumber block is");
     info_.analyse_seconds = seconds_since(t0);
     const auto t1 = Clock::now();
     for (int kk = 0; kk < nk_; ++kk) {
-      // Singular A, k = 0: B_0 is singular (constants); i_y = 0 is dropped (x(0, 0) = 0), the rest is definite.
-      const bool drop = singular_ && kk == 0;
+      // A singular B_k (constants in y, see above): i_y = 0 is dropped (x(k, 0) = 0), the rest is definite.
+      const bool drop = drop_[kk];
       double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny + (drop ? ldab_ : 0);
       const int n = drop ? ny - 1 : ny;
       int info = 0;
@@ -176,13 +200,13 @@ class FftPoissonSolver final : public LinearSolver {
     }
     // The factors rearranged wavenumber-fastest: lrow[(i ldab + d) nk + k] = L_k(i, i - d) (forward
     // substitution), lcol[(i ldab + d) nk + k] = L_k(i + d, i) (backward), rdiag = 1 / L_k(i, i).
-    // Singular A: for k = 0 row and column 0 (dropped, x = 0 there) are zeros, so no wavenumber is special.
+    // Singular blocks: row and column 0 (dropped, x = 0 there) are zeros, so no wavenumber is special.
     lrow_.assign(static_cast<std::size_t>(ny) * ldab_ * nk_, 0.0);
     lcol_.assign(lrow_.size(), 0.0);
     rdiag_.assign(static_cast<std::size_t>(ny) * nk_, 0.0);
     for (int kk = 0; kk < nk_; ++kk) {
       const double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
-      const int i0 = singular_ && kk == 0 ? 1 : 0;
+      const int i0 = drop_[kk] ? 1 : 0;
       for (int i = i0; i < ny; ++i) {
         rdiag_[static_cast<std::size_t>(i) * nk_ + kk] = 1.0 / ab[static_cast<std::size_t>(ldab_) * i];
         for (int d = 1; d <= w; ++d) {
@@ -281,6 +305,7 @@ class FftPoissonSolver final : public LinearSolver {
 
   int nx_, ny_, nk_, w_ = 0, ldab_ = 1;
   bool singular_;
+  std::vector<char> drop_;  // per wavenumber: B_k singular, row 0 dropped
   std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see setup)
   Work ws_[2];
   fftw_plan fwd_ = nullptr, inv_ = nullptr;

@@ -11,9 +11,10 @@
 // n_x/2 + 1 banded triangular solves: O(N log n_x) instead of the O(nnz(L)) of a sparse Cholesky.
 //
 // A is symmetric positive definite (the Crank-Nicolson matrix I - (nu dt/2) lap of Eq. 28), or, with
-// `singular`, semi-definite with the constants as null space (-lap phi without the gauge pin): then
-// B_0 is solved with x(k = 0, i_y = 0) = 0, so a solution is returned for every right-hand side of
-// zero mean (the caller fixes the constant).
+// `singular`, semi-definite with null vectors that are constant in y (-lap phi without the gauge pin:
+// the constants; the exact projection's G^T G: also (-1)^{i_x}): every B_k that annihilates the
+// constants in y is solved with x(k, i_y = 0) = 0, so a solution is returned for every right-hand
+// side orthogonal to the null space (the caller fixes the null components, fluid/gauge.hpp).
 #include <memory>
 #include <string>
 

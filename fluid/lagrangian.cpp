@@ -17,6 +17,8 @@ void check_params(const FluidParams& p) {
     throw std::invalid_argument("fluid: lagrangian.reinit_every must be >= 0 (0: never)");
   if (!(p.lagrangian.min_kernel_sum >= 0 && p.lagrangian.min_kernel_sum <= 1))
     throw std::invalid_argument("fluid: lagrangian.min_kernel_sum must lie in [0, 1]");
+  if (p.projection == Projection::Exact)
+    throw std::invalid_argument("fluid: LPSPH has the approximate projection only (fluid.projection = \"approximate\")");
 }
 
 // Eq. (61), normalised SPH interpolation of the K columns of f, carried by the points `from`, to the

@@ -8,6 +8,7 @@
 
 #include "fluid/boundary.hpp"
 #include "fluid/fft_poisson.hpp"
+#include "fluid/gauge.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/linear_solver.hpp"
@@ -46,9 +47,19 @@ class Fluid final : public FluidSolver {
   double time() const override { return t_; }
   long steps() const override { return n_; }
 
-  double max_abs_divergence() const override;  // max_i |(div u^n)_i|, Eq. (30) with wall images
+  // max_i |(D u^n)_i| with the divergence the projection makes zero: D = -G^T (exact projection;
+  // differs from Eq. (30) with no-slip images only in the rows within 2h of a wall), or Eq. (30)
+  // with the no-slip images of u^n (approximate projection).
+  double max_abs_divergence() const override;
   double kinetic_energy() const override;      // sum_i rho V |u_i|^2 / 2
   double poisson_residual() const;             // ||A phi - b|| / ||b|| of the last Poisson solve
+  // The stream function of u^n (computed on the first call after a step): psi minimises
+  // sum_i |(Gy psi, -Gx psi)_i - u_i|^2 over the particles, with G the velocity gradient of Eq. (30)
+  // (psi's images odd: psi is constant along each wall, psi = 0 on the bottom or left wall and the
+  // flux on the other; closed boxes psi = 0 on every wall). After the exact projection u^n is
+  // discretely divergence-free and, on a periodic lattice, equals that curl to solver precision.
+  StreamFunction stream_function() const override;
+  bool has_stream_function() const override { return true; }
 
   std::vector<SolverInfo> solver_info() const;
   double cn_mean_iterations() const { return cn_->mean_iterations(); }
@@ -73,10 +84,31 @@ class Fluid final : public FluidSolver {
   std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
   Mat2 conv_wall_x_, conv_wall_y_, lap_wall_;  // B c_wall of grad_ux, grad_uy, lap_u: constant
   std::unique_ptr<LinearSolver> cn_, poisson_;
-  SpMat poisson_A_;
   bool cn_iterative_ = false;
   bool poisson_fft_ = false;  // the FFT solver of the unpinned operator (no pin in the right-hand side)
-  int pin_ = 0;  // gauge: phi is pinned to 0 at this particle, then shifted to zero mean
+  Gauge gauge_;      // of the Poisson operator in use (fluid/gauge.hpp)
+  // Exact projection: the divergence D = -G^T (Dx, Dy, one pattern, their stencil), and the image
+  // offsets of the normal velocity components it takes (2 u_w.n for single reflections).
+  SpMat div_x_, div_y_;
+  RowStencil div_st_;
+  Mat2 c_normal_;
+  void exact_divergence(const Mat2& u, Vec& d) const;  // D u with the normal offsets
+  // The stream function (stream_function()): its normal equations' solver, the transposed
+  // velocity gradients (Gy^T, -Gx^T) that make their right-hand side, and the wall term per unit flux.
+  mutable std::unique_ptr<LinearSolver> psi_solver_;
+  mutable Gauge psi_gauge_;
+  mutable bool psi_fft_ = false;
+  mutable SpMat psi_ty_, psi_tx_;
+  mutable RowStencil psi_st_;
+  mutable Vec psi_, psi_flux_, b_psi_;
+  mutable Mat2 psi_r1_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
+  mutable Eigen::Vector2d psi_mean_ = Eigen::Vector2d::Zero();
+  mutable long psi_revision_ = -1;
+  void make_psi_solver() const;
+  // The Poisson solver of operator A, singular with the null space of gauge g: FFT (periodic x,
+  // walls y) when kind allows and A has the structure, else CHOLMOD on A pinned by g.
+  std::unique_ptr<LinearSolver> poisson_solver(const std::string& system, const SpMat& A, const Gauge& g,
+                                               SolverKind kind, bool* fft) const;
   std::vector<std::pair<std::string, double>> setup_;
 
   // state and workspace (sized once)
@@ -89,7 +121,7 @@ class Fluid final : public FluidSolver {
   bool first_ = true;
 
   mutable Profile prof_;  // timing only: also updated by the lazily recovered pressure
-  int k_images_, k_conv_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_;
+  int k_images_, k_conv_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_, k_psi_;
 };
 
 }  // namespace sphib

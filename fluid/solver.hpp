@@ -34,6 +34,13 @@ struct WcsphParams {
   double u_scale = 1.0;          // expected maximum speed, for c when c = 0
 };
 
+// The Poisson operator of the projection (Eq. 32). Exact: D G, the divergence of the gradient the
+// projection applies (Eq. 34), so that D u^{n+1} = 0 to solver precision; its grid-scale null
+// modes are fixed by fluid/gauge.hpp. Approximate: the Morris Laplacian L of the paper (Eq. 31),
+// which leaves D u^{n+1} = (dt/rho)(L - D G) phi, largest where the pressure jumps. Auto: exact for
+// EPSPH, approximate for LPSPH (which has only that).
+enum class Projection { Auto, Exact, Approximate };
+
 struct FluidParams {
   std::string method = "eulerian";  // eulerian (EPSPH) | lagrangian (LPSPH) | wcsph
   Domain domain;
@@ -42,9 +49,18 @@ struct FluidParams {
   double rho = 1.0, mu = 1.0;
   double dt = 1e-3;
   bool convection = true;  // false: Stokes flow, the convection operator is not even assembled
+  Projection projection = Projection::Auto;
   SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
   LagrangianParams lagrangian;
   WcsphParams wcsph;
+};
+
+// A discrete stream function of the velocity: u = U + (d psi/dy, -d psi/dx), with psi at the
+// particles and U a uniform flow (nonzero only on doubly periodic domains, where a mean flow has no
+// periodic stream function). See EulerianFluid::stream_function.
+struct StreamFunction {
+  const Vec* psi = nullptr;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
 };
 
 // Named arrays of doubles: a solver's state for checkpoints.
@@ -81,6 +97,10 @@ class FluidSolver {
   virtual long steps() const = 0;
   virtual double kinetic_energy() const = 0;      // sum_i m_i |u_i|^2 / 2
   virtual double max_abs_divergence() const = 0;  // max_i |(div u)_i|, Eq. (30)
+  // The stream function of u^n, for marker velocities that are divergence-free between particles
+  // (coupling/interpolate.hpp); methods without one return psi = nullptr.
+  virtual StreamFunction stream_function() const { return {}; }
+  virtual bool has_stream_function() const { return false; }
 
   // Run-log lines (particles, images, neighbours, each linear system's factorisation) and
   // figures for the summary (name, value).

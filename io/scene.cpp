@@ -307,6 +307,16 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   s.sim.body_force = r.pair("fluid.body_force", Eigen::Vector2d::Zero(), "body force per unit volume [Fx, Fy]");
   f.convection = r.boolean("fluid.convection", true, "Navier-Stokes (true) or Stokes (false: no convection operator)");
   f.method = s.method;
+  const std::string projection = r.choice(
+      "fluid.projection", "auto", {"auto", "exact", "approximate"},
+      "Poisson operator of the projection: exact (D G: the projected velocity is discretely divergence-free), "
+      "approximate (the paper's Morris Laplacian, Eq. 31); auto: exact for eulerian, approximate for lagrangian");
+  if (projection != "auto" && s.method == "wcsph") r.fail("fluid.projection", "does not apply to method \"wcsph\" (no projection)");
+  if (projection == "exact" && s.method == "lagrangian")
+    r.fail("fluid.projection", "\"exact\" is available for method \"eulerian\" only (lagrangian: \"approximate\")");
+  f.projection = projection == "approximate" ? Projection::Approximate
+                 : projection == "exact"     ? Projection::Exact
+                                             : Projection::Auto;
   f.lagrangian.reinit_every = static_cast<int>(r.integer(
       "lagrangian.reinit_every", 0, 0, "LPSPH: put the particles back on the lattice every so many steps (0: never)"));
   f.lagrangian.min_kernel_sum = r.number("lagrangian.min_kernel_sum", 0.5, "[0, 1]",
@@ -338,6 +348,15 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
                                           "Poisson solver (auto: FFT in x + banded Cholesky in y when the domain is periodic in x and walled in y (eulerian), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
+  const std::string interp = r.choice(
+      "coupling.interpolation", "auto", {"auto", "divergence_free", "sph"},
+      "marker velocity: divergence_free (curl of the interpolated stream function: membranes keep their area), "
+      "sph (the paper's normalised SPH interpolation, Eq. 63); auto: divergence_free for eulerian, sph otherwise");
+  if (interp == "divergence_free" && s.method != "eulerian")
+    r.fail("coupling.interpolation", "\"divergence_free\" needs method \"eulerian\" (the fixed lattice's stream function)");
+  s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
+                        : interp == "sph"           ? MarkerInterpolation::Sph
+                                                    : MarkerInterpolation::Auto;
   // Output and observation
   s.output_interval = r.number("output.interval", 0.0, ">= 0", "time between HDF5 snapshots (0: first and last only)", false, 0.0);
   s.checkpoint_interval = r.number("output.checkpoint_interval", 0.0, ">= 0",
