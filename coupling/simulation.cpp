@@ -68,6 +68,7 @@ Simulation::Simulation(const SimulationParams& params)
     F_body_.col(0).setConstant(prm_.body_force.x());
     F_body_.col(1).setConstant(prm_.body_force.y());
   }
+  update_membrane_forces();  // f and T at t = 0 (a stretched membrane starts under tension)
   k_force_ = prof_.phase("membrane force (Eqs. 47-50)");
   k_spread_ = prof_.phase("spreading (Eq. 53)");
   k_interp_ = prof_.phase("interpolation u^n(X^n) (Eq. 63)");
@@ -79,6 +80,11 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
     throw std::invalid_argument("membrane " + std::to_string(k) + ": markers do not match the scene");
   mem_[k].m.X = X;
   mem_[k].U_revision = -1;
+  mem_[k].hooke.compute(mem_[k].m.X, mem_[k].m.T0, mem_[k].f, mem_[k].T);
+}
+
+void Simulation::update_membrane_forces() {
+  for (auto& s : mem_) s.hooke.compute(s.m.X, s.m.T0, s.f, s.T);
 }
 
 void Simulation::body_force(double t) {

@@ -51,8 +51,13 @@ class Simulation {
   FluidSolver& fluid() { return *fluid_; }
   const FluidSolver& fluid() const { return *fluid_; }
   const std::vector<MembraneState>& membranes() const { return mem_; }
-  const Mat2& force() const { return F_; }
-  void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)  // F^n of the last step (body + membranes), N x 2
+  const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
+  void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)
+  // f and T of every membrane at its current markers (Eqs. 47-50). The constructor and set_markers
+  // call it; step() takes them at X^n, so after a step they lag the markers by one step until
+  // this is called (the run calls it before each snapshot). The state it changes is recomputed at
+  // the start of every step: calling it never changes a result.
+  void update_membrane_forces();
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
