@@ -6,7 +6,8 @@ screenshot. Run by ctest (label paraview) as
 
 It runs two short cases with SPHIB into WORK_DIR: the oscillating membrane with EPSPH (fixed
 lattice: a mesh of quadrilaterals, membranes in output_membranes.xdmf) and with LPSPH (moving
-particles: vertices). The screenshot is WORK_DIR/paraview_oscillation.png.
+particles: vertices). The screenshot, drawn by scripts/paraview_picture.py (the README's command),
+is WORK_DIR/paraview_oscillation.png.
 """
 import os
 import subprocess
@@ -14,9 +15,7 @@ import sys
 
 import h5py
 import numpy as np
-from paraview import servermanager
-from paraview.simple import (ColorBy, Contour, CreateRenderView, GetActiveViewOrCreate, OpenDataFile,
-                             Render, ResetCamera, SaveScreenshot, Show, StreamTracer, XDMFReader)
+from paraview.simple import Contour, GetActiveViewOrCreate, GetDisplayProperties, OpenDataFile, XDMFReader
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 from vtkmodules.vtkIOImage import vtkPNGReader
 
@@ -126,7 +125,7 @@ def main():
         "time.end=0.2", "output.interval=0.05")
     h5 = os.path.join(epsph, "output.h5")
     fluid = check_fluid(os.path.join(epsph, "output.xdmf"), h5, "lattice")
-    membranes = check_membranes(os.path.join(epsph, "output_membranes.xdmf"), h5)
+    check_membranes(os.path.join(epsph, "output_membranes.xdmf"), h5)
     t_end = fluid.TimestepValues[-1]
 
     # The legacy reader the issue used opens the same files.
@@ -139,45 +138,25 @@ def main():
         check(len(b) == 1 and same(np.asarray(b[0].PointData["p"]), g["p"][:]),
               f"legacy XDMFReader: p at t = {t:g} equals the HDF5 file")
 
-    # A user's first filters: contours of p and streamlines of the velocity.
+    # A user's first filter: contours of p.
     fluid.UpdatePipeline(t_end)
     lo, hi = fluid.PointData["p"].GetRange()
     contour = Contour(Input=fluid, ContourBy=["POINTS", "p"], Isosurfaces=[0.5 * (lo + hi)])
     contour.UpdatePipeline(t_end)
     check(contour.GetDataInformation().GetNumberOfCells() > 20, "contour of p: a curve of line segments")
-    trace = StreamTracer(Input=fluid, Vectors=["POINTS", "velocity"], SeedType="Line")
-    trace.SeedType.Point1 = [-1.4, 1.2, 0.0]  # a line of seeds across the domain, in its plane
-    trace.SeedType.Point2 = [1.4, -1.2, 0.0]
-    trace.SeedType.Resolution = 40
-    trace.UpdatePipeline(t_end)
+
+    # The picture the README's command draws: p as a coloured surface, streamlines, the membrane by T.
+    png = os.path.join(work, "paraview_oscillation.png")
+    sys.path.insert(0, os.path.join(source, "scripts"))
+    import paraview_picture
+    sources = paraview_picture.picture(epsph, png)
+    trace = sources[1]
     n_trace = trace.GetDataInformation().GetNumberOfPoints()
     check(n_trace > 300, f"stream tracer on velocity: streamlines ({n_trace} points)")
-
-    # The screenshot: p as a coloured surface, streamlines, the membrane coloured by T.
     view = GetActiveViewOrCreate("RenderView")
-    view.ViewSize = [900, 800]
-    view.ViewTime = t_end
-    view.OrientationAxesVisibility = 0
-    d = Show(fluid, view)
-    check(d.Representation == "Surface", f"the fluid is drawn as a surface by default ({d.Representation})")
-    ColorBy(d, ("POINTS", "p"))
-    d.RescaleTransferFunctionToDataRange(False, True)
-    d.SetScalarBarVisibility(view, True)
-    s = Show(trace, view)
-    s.ColorArrayName = [None, ""]
-    s.AmbientColor = s.DiffuseColor = [0.1, 0.1, 0.1]
-    m = Show(membranes, view)
-    check(m.Representation == "Surface", f"the membranes are drawn by default ({m.Representation})")
-    ColorBy(m, ("POINTS", "T"))
-    m.LineWidth = 4.0
-    m.RescaleTransferFunctionToDataRange(False, True)
-    m.SetScalarBarVisibility(view, True)
-    m.Position = [0, 0, 0.01]  # above the surface
-    view.InteractionMode = "2D"
-    ResetCamera(view)
-    Render(view)
-    png = os.path.join(work, "paraview_oscillation.png")
-    SaveScreenshot(png, view, ImageResolution=[900, 800])
+    shown = [GetDisplayProperties(src, view).Representation for src in sources]
+    check(shown == ["Surface"] * 3,
+          f"fluid, streamlines and membranes drawn by the default representation ({shown})")
     r = vtkPNGReader()
     r.SetFileName(png)
     r.Update()
