@@ -53,10 +53,9 @@ class Simulation {
   const std::vector<MembraneState>& membranes() const { return mem_; }
   const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
   void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)
-  // f and T of every membrane at its current markers (Eqs. 47-50). The constructor and set_markers
-  // call it; step() takes them at X^n, so after a step they lag the markers by one step until
-  // this is called (the run calls it before each snapshot). The state it changes is recomputed at
-  // the start of every step: calling it never changes a result.
+  // f and T of every membrane at its current markers (Eqs. 47-50), as membranes()[k].f and .T show
+  // them at all times: the constructor, set_markers and the end of step() call it, and step()
+  // spreads the f it left (f^n at X^n).
   void update_membrane_forces();
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }

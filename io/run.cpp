@@ -253,7 +253,6 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       if (f == "p") fields.emplace_back("p", &fl.p());
       if (f == "phi") fields.emplace_back("phi", &fl.phi());
     }
-    sim.update_membrane_forces();  // f and T at the markers written beside them
     std::vector<MembraneSnapshot> ms;
     for (const auto& m : sim.membranes()) ms.push_back({&m.m.X, &m.f, &m.T});
     h5.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms,

@@ -172,6 +172,7 @@ class VectorField {
 
 // A simulation seen from Python: owned (sphib.Simulation: arrays are read-only views that keep it
 // alive) or borrowed during an observer call (arrays are copies: the run's simulation ends with it).
+// Membrane f and T are always those of the current markers (Simulation::update_membrane_forces).
 struct PySim {
   std::shared_ptr<Context> ctx;          // the callbacks' context (owned simulations)
   std::unique_ptr<Simulation> owned;
@@ -327,7 +328,6 @@ void step(PySim& s, long n) {
     }
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C between steps
   }
-  s.owned->update_membrane_forces();  // f and T at the markers it shows
 }
 
 // The (x, y) or point list given for a membrane.
