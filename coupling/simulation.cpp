@@ -81,6 +81,7 @@ Simulation::Simulation(const SimulationParams& params)
   k_spread_ = prof_.phase("spreading (Eq. 53)");
   k_interp_ = prof_.phase("interpolation u^n(X^n) (Eq. 63)");
   k_markers_ = prof_.phase("marker update (Eqs. 56-60)");
+  update_membrane_forces();  // f and T at t = 0 (a stretched membrane starts under tension)
 }
 
 void Simulation::set_markers(size_t k, const Mat2& X) {
@@ -88,6 +89,11 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
     throw std::invalid_argument("membrane " + std::to_string(k) + ": markers do not match the scene");
   mem_[k].m.X = X;
   mem_[k].U_revision = -1;
+  mem_[k].hooke.compute(mem_[k].m.X, mem_[k].m.T0, mem_[k].f, mem_[k].T);
+}
+
+void Simulation::update_membrane_forces() {
+  for (auto& s : mem_) s.hooke.compute(s.m.X, s.m.T0, s.f, s.T);
 }
 
 void Simulation::marker_velocity(const Mat2& X, Mat2& U) const {
@@ -113,10 +119,8 @@ void Simulation::step() {
   body_force(time());  // F^n: external body force at t_n
   F_ = F_body_;
   for (auto& s : mem_) {
-    {  // f_k^n = d(T tau)/ds from the periodic spline through X^n (Eqs. 47-50)
-      ScopedTimer t(prof_, k_force_);
-      s.hooke.compute(s.m.X, s.m.T0, s.f, s.T);
-    }
+    // f_k^n = d(T tau)/ds from the periodic spline through X^n (Eqs. 47-50): s.f, computed when the
+    // markers last changed (the end of the last step, the constructor or set_markers)
     {  // F_i += sum_k f_k W(x_i - X_k, h*) ds (Eq. 53)
       ScopedTimer t(prof_, k_spread_);
       spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F_);
@@ -146,6 +150,8 @@ void Simulation::step() {
     s.iterations += s.last.iterations;
     ++s.updates;
   }
+  ScopedTimer t(prof_, k_force_);
+  update_membrane_forces();  // f, T at X^{n+1}: the next step's f^n, and what output and observers see
 }
 
 }  // namespace sphib

@@ -58,8 +58,12 @@ class Simulation {
   FluidSolver& fluid() { return *fluid_; }
   const FluidSolver& fluid() const { return *fluid_; }
   const std::vector<MembraneState>& membranes() const { return mem_; }
-  const Mat2& force() const { return F_; }
-  void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)  // F^n of the last step (body + membranes), N x 2
+  const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
+  void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)
+  // f and T of every membrane at its current markers (Eqs. 47-50), as membranes()[k].f and .T show
+  // them at all times: the constructor, set_markers and the end of step() call it, and step()
+  // spreads the f it left (f^n at X^n).
+  void update_membrane_forces();
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()

@@ -182,6 +182,11 @@ std::string Hdf5Writer::xdmf_path() const {
   return std::filesystem::path(path_).replace_extension(".xdmf").string();
 }
 
+std::string Hdf5Writer::membranes_xdmf_path() const {
+  const std::filesystem::path p(path_);
+  return (p.parent_path() / (p.stem().string() + "_membranes.xdmf")).string();
+}
+
 void Hdf5Writer::require_open(const char* what) const {
   if (file_ < 0) throw std::logic_error(std::string("Hdf5Writer: ") + what + " after close() of '" +
                                         path_ + "'");
@@ -190,12 +195,15 @@ void Hdf5Writer::require_open(const char* what) const {
 void Hdf5Writer::write_snapshot(
     int step, double t, const Mat2& x,
     const std::vector<std::pair<std::string, const Vec*>>& particle_scalars,
-    const std::vector<MembraneSnapshot>& membranes) {
+    const std::vector<MembraneSnapshot>& membranes, const Lattice* lattice) {
   require_open("write_snapshot");
   const long n = static_cast<long>(x.rows());
-  SnapshotInfo info{"", t, n, {}, {}};
+  SnapshotInfo info;
+  info.t = t;
+  info.n = n;
   for (const auto& [name, v] : particle_scalars) {  // validate everything before writing
-    if (name.empty() || name == "x" || name == "y" || name.rfind("membrane_", 0) == 0 ||
+    if (name.empty() || name == "x" || name == "y" || name == "xy" || name == "velocity" ||
+        name.rfind("membrane_", 0) == 0 ||
         name.find('/') != std::string::npos ||
         std::find(info.scalars.begin(), info.scalars.end(), name) != info.scalars.end())
       throw std::invalid_argument("Hdf5Writer: bad particle scalar name '" + name + "'");
@@ -212,6 +220,22 @@ void Hdf5Writer::write_snapshot(
                                   ": X, f, T missing or of different lengths");
     info.nb.push_back(static_cast<long>(m.X->rows()));
   }
+  const Vec* u = nullptr;
+  const Vec* v = nullptr;
+  for (const auto& [sname, a] : particle_scalars) {
+    if (sname == "u") u = a;
+    if (sname == "v") v = a;
+  }
+  info.velocity = u && v;
+  if (lattice) {
+    if (lattice->size() != n)
+      throw std::invalid_argument("Hdf5Writer: a lattice of " + std::to_string(lattice->size()) + " particles for " +
+                                  std::to_string(n) + " positions");
+    info.lattice = "/xdmf/lattice_" + std::to_string(lattice->nx) + "x" + std::to_string(lattice->ny);
+    info.cells = static_cast<long>(lattice->nx - 1) * (lattice->ny - 1);
+    if (std::none_of(lattices_.begin(), lattices_.end(), [&](const auto& l) { return l.first == info.lattice; }))
+      lattices_.emplace_back(info.lattice, *lattice);
+  }
 
   char name[32];
   std::snprintf(name, sizeof name, "/snapshots/%06d", next_index_);
@@ -223,7 +247,16 @@ void Hdf5Writer::write_snapshot(
   const hsize_t N = static_cast<hsize_t>(n);
   doubles(g, "x", {N}, x.col(0).data(), part_);  // Mat2 is column-major: columns are contiguous
   doubles(g, "y", {N}, x.col(1).data(), part_);
-  for (const auto& [sname, v] : particle_scalars) doubles(g, sname, {N}, v->data(), part_);
+  for (const auto& [sname, a] : particle_scalars) doubles(g, sname, {N}, a->data(), part_);
+  if (info.velocity) {  // (u, v, 0): ParaView's vectors (glyphs, stream traces) have three components
+    std::vector<double> w(3 * N, 0.0);
+    for (hsize_t i = 0; i < N; ++i) w[3 * i] = (*u)[i], w[3 * i + 1] = (*v)[i];
+    doubles(g, "velocity", {N, 3}, w.data(), part_);
+  }
+  if (info.lattice.empty()) {  // moving particles: interleaved positions for the XDMF geometry XY
+    const RowMat2 xy = x;
+    doubles(g, "xy", {N, 2}, xy.data(), part_);
+  }
 
   for (std::size_t k = 0; k < membranes.size(); ++k) {
     const MembraneSnapshot& m = membranes[k];
@@ -275,14 +308,26 @@ void Hdf5Writer::close() {
   const hid_t file = file_;
   file_ = -1;  // never retried: a failed close leaves only the .part file
   try {
-    std::set<long> counts;  // one Polyvertex connectivity per particle count
-    for (const auto& s : snapshots_) counts.insert(s.n);
-    if (!counts.empty()) {
+    std::set<long> counts;  // one vertex connectivity per count of moving particles
+    for (const auto& s : snapshots_)
+      if (s.lattice.empty()) counts.insert(s.n);
+    if (!counts.empty() || !lattices_.empty()) {
       Handle g = create_group(file, "xdmf", part_);
       for (long n : counts) {
         std::vector<int> ids(static_cast<std::size_t>(n));
         for (long i = 0; i < n; ++i) ids[i] = static_cast<int>(i);
         ints(g, "vertices_" + std::to_string(n), {static_cast<hsize_t>(n), 1}, ids.data(), part_);
+      }
+      for (const auto& [name, L] : lattices_) {  // particle i + nx j: quads (i, j), (i+1, j), (i+1, j+1), (i, j+1)
+        Handle lg = create_group(file, name, part_);
+        const RowMat2 xy = L.x;
+        doubles(lg, "xy", {static_cast<hsize_t>(L.size()), 2}, xy.data(), part_);
+        std::vector<int> q;
+        q.reserve(4 * static_cast<std::size_t>(L.nx - 1) * (L.ny - 1));
+        for (int j = 0; j + 1 < L.ny; ++j)
+          for (int i = 0; i + 1 < L.nx; ++i)
+            for (int c : {i + L.nx * j, i + 1 + L.nx * j, i + 1 + L.nx * (j + 1), i + L.nx * (j + 1)}) q.push_back(c);
+        ints(lg, "quads", {q.size() / 4, 4}, q.data(), part_);
       }
     }
   } catch (...) {
@@ -291,11 +336,14 @@ void Hdf5Writer::close() {
   }
   check(H5Fclose(file), part_, "H5Fclose");
   commit_part(part_, path_);
-  write_file_atomic(xdmf_path(), xdmf_text());
+  write_file_atomic(xdmf_path(), xdmf_text(false));
+  const bool membranes = std::any_of(snapshots_.begin(), snapshots_.end(), [](const auto& s) { return !s.nb.empty(); });
+  if (membranes) write_file_atomic(membranes_xdmf_path(), xdmf_text(true));
 }
 
-// XDMF 2 (read by ParaView's XDMF readers): a temporal collection of spatial collections.
-std::string Hdf5Writer::xdmf_text() const {
+// XDMF (read by ParaView 5.11's Xdmf3 reader, its default, and its legacy XDMF reader): a temporal
+// collection of the fluid's grids, or of spatial collections of the membranes' polylines.
+std::string Hdf5Writer::xdmf_text(bool membranes) const {
   const std::string h5 = xml_escape(std::filesystem::path(path_).filename().string());
   std::ostringstream o;
   o.precision(17);
@@ -304,30 +352,44 @@ std::string Hdf5Writer::xdmf_text() const {
     o << "<DataItem Dimensions=\"" << dims << "\" NumberType=\"" << type << "\" Precision=\""
       << prec << "\" Format=\"HDF\">" << h5 << ":" << xml_escape(where) << "</DataItem>";
   };
+  auto attribute = [&](const std::string& name, bool vector, const std::string& dims, const std::string& where) {
+    o << "     <Attribute Name=\"" << xml_escape(name) << "\" AttributeType=\"" << (vector ? "Vector" : "Scalar")
+      << "\" Center=\"Node\">\n      ";
+    item(dims, "Float", 8, where);
+    o << "\n     </Attribute>\n";
+  };
   o << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
     << "<Xdmf Version=\"2.0\">\n <Domain>\n"
-    << "  <Grid Name=\"run\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    << "  <Grid Name=\"" << (membranes ? "membranes" : "fluid")
+    << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const SnapshotInfo& s : snapshots_) {
     const std::string n = std::to_string(s.n);
+    if (!membranes) {
+      o << "   <Grid Name=\"" << (s.lattice.empty() ? "particles" : "fluid") << "\" GridType=\"Uniform\">\n"
+        << "    <Time Value=\"" << s.t << "\"/>\n";
+      if (!s.lattice.empty()) {  // the fixed lattice: quadrilaterals joining neighbouring particles
+        o << "     <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << s.cells << "\">\n      ";
+        item(std::to_string(s.cells) + " 4", "Int", 4, s.lattice + "/quads");
+        o << "\n     </Topology>\n     <Geometry GeometryType=\"XY\">\n      ";
+        item(n + " 2", "Float", 8, s.lattice + "/xy");
+      } else {  // moving particles: one vertex each
+        o << "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">\n      ";
+        item(n + " 1", "Int", 4, "/xdmf/vertices_" + n);
+        o << "\n     </Topology>\n     <Geometry GeometryType=\"XY\">\n      ";
+        item(n + " 2", "Float", 8, s.group + "/xy");
+      }
+      o << "\n     </Geometry>\n";
+      std::vector<std::string> order(s.scalars);  // p first: ParaView colours by the first scalar it reads
+      std::stable_partition(order.begin(), order.end(), [](const std::string& a) { return a == "p"; });
+      for (const std::string& a : order) attribute(a, false, n, s.group + "/" + a);
+      if (s.velocity) attribute("velocity", true, n + " 3", s.group + "/velocity");
+      o << "   </Grid>\n";
+      continue;
+    }
+    if (s.nb.empty()) continue;
     o << "   <Grid Name=\"" << s.group.substr(s.group.rfind('/') + 1)
       << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-      << "    <Time Value=\"" << s.t << "\"/>\n"
-      << "    <Grid Name=\"particles\" GridType=\"Uniform\">\n"
-      << "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
-      << "\" NodesPerElement=\"1\">\n      ";
-    item(n + " 1", "Int", 4, "/xdmf/vertices_" + n);
-    o << "\n     </Topology>\n     <Geometry GeometryType=\"X_Y\">\n      ";
-    item(n, "Float", 8, s.group + "/x");
-    o << "\n      ";
-    item(n, "Float", 8, s.group + "/y");
-    o << "\n     </Geometry>\n";
-    for (const std::string& a : s.scalars) {
-      o << "     <Attribute Name=\"" << xml_escape(a)
-        << "\" AttributeType=\"Scalar\" Center=\"Node\">\n      ";
-      item(n, "Float", 8, s.group + "/" + a);
-      o << "\n     </Attribute>\n";
-    }
-    o << "    </Grid>\n";
+      << "    <Time Value=\"" << s.t << "\"/>\n";
     for (std::size_t k = 0; k < s.nb.size(); ++k) {
       const std::string m = "membrane_" + std::to_string(k);
       const std::string g = s.group + "/" + m + "/";
@@ -338,13 +400,10 @@ std::string Hdf5Writer::xdmf_text() const {
       item("1 " + nb1, "Int", 4, g + "conn");
       o << "\n     </Topology>\n     <Geometry GeometryType=\"XY\">\n      ";
       item(nb + " 2", "Float", 8, g + "X");
-      o << "\n     </Geometry>\n"
-        << "     <Attribute Name=\"f\" AttributeType=\"Vector\" Center=\"Node\">\n      ";
-      item(nb + " 3", "Float", 8, g + "f3");
-      o << "\n     </Attribute>\n"
-        << "     <Attribute Name=\"T\" AttributeType=\"Scalar\" Center=\"Node\">\n      ";
-      item(nb, "Float", 8, g + "T");
-      o << "\n     </Attribute>\n    </Grid>\n";
+      o << "\n     </Geometry>\n";
+      attribute("f", true, nb + " 3", g + "f3");
+      attribute("T", false, nb, g + "T");
+      o << "    </Grid>\n";
     }
     o << "   </Grid>\n";
   }

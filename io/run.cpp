@@ -255,7 +255,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     }
     std::vector<MembraneSnapshot> ms;
     for (const auto& m : sim.membranes()) ms.push_back({&m.m.X, &m.f, &m.T});
-    h5.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms);
+    h5.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms,
+                      fl.particles_move() ? nullptr : &fl.lattice());  // a fixed lattice: a quadrilateral mesh
   };
 
   Mat2 u_prev;

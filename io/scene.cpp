@@ -1,5 +1,6 @@
 #include "io/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -182,6 +183,90 @@ class Reader {
   std::set<std::string> used_;
 };
 
+// ---- Unknown keys, checked before any value is read: a misspelt key is named (with its line and
+// the nearest valid key) even when the misspelling leaves a required key missing.
+
+// Edit distance (insertions, deletions, substitutions) between two keys.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "membranes[3].radius" -> "membrane.radius": the keys of one [[membranes]] entry are those of [membrane].
+std::string generic_key(const std::string& key) {
+  if (key.rfind("membranes[", 0) != 0) return key;
+  const size_t close = key.find("].");
+  return close == std::string::npos ? key : "membrane." + key.substr(close + 2);
+}
+
+// The nearest valid key to `key` (same leaf name in another table first, then the smallest edit
+// distance within a third of the leaf's length, at least 2), "" when none is near. Shown as the leaf
+// alone when it is in the same table ('mu' for fluid.muu), else in full ('time.dt' for fluid.dt).
+std::string nearest_key(const std::string& key, const std::vector<std::string>& known) {
+  const std::string g = generic_key(key);
+  const size_t dot = g.rfind('.');
+  const std::string table = dot == std::string::npos ? "" : g.substr(0, dot + 1);
+  const std::string leaf = g.substr(table.size());
+  std::string best;
+  size_t best_d = std::max<size_t>(2, leaf.size() / 3) + 1;
+  for (const std::string& k : known) {
+    const size_t kd = k.rfind('.');
+    const size_t d = k.substr(kd == std::string::npos ? 0 : kd + 1) == leaf ? 0 : edit_distance(g, k);
+    if (d < best_d) best_d = d, best = k;
+  }
+  if (best.empty()) return "";
+  if (!table.empty() && best.rfind(table, 0) == 0 && best.find('.', table.size()) == std::string::npos)
+    return best.substr(table.size());
+  if (key != g && best.rfind("membrane.", 0) == 0)  // back to this entry's own prefix
+    return key.substr(0, key.find("].") + 2) + best.substr(9);
+  return best;
+}
+
+// Every leaf of the table whose key no scene reads is refused, naming its line (or --set) and the
+// nearest valid key. Tables that valid keys live in ([membrane], [domain], ...) are not leaves here:
+// a value given in their place is refused by the reader with its type.
+void reject_unknown_keys(const toml::table& t, const std::string& prefix, const std::vector<std::string>& known,
+                         const std::string& name, const std::set<std::string>& overridden) {
+  for (const auto& [k, v] : t) {
+    const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    const std::string g = generic_key(key);
+    bool leaf = false, table = false;
+    for (const std::string& kk : known) {
+      leaf |= kk == g;
+      table |= kk.size() > g.size() && kk.compare(0, g.size(), g) == 0 && kk[g.size()] == '.';
+    }
+    const toml::array* arr = v.as_array();
+    if (const toml::table* sub = v.as_table(); sub && !leaf) {
+      reject_unknown_keys(*sub, key, known, name, overridden);
+      continue;
+    }
+    if (leaf && arr && arr->is_array_of_tables()) {  // [[membranes]]
+      for (size_t i = 0; i < arr->size(); ++i)
+        reject_unknown_keys(*arr->get(i)->as_table(), key + "[" + std::to_string(i) + "]", known, name, overridden);
+      continue;
+    }
+    if (leaf || table) continue;  // a value of the wrong kind: the reader names the key and the type
+    std::ostringstream m;
+    m << name;
+    if (overridden.count(key)) m << ": (--set " << key << ")";
+    else if (v.source().begin.line) m << ":" << v.source().begin.line;
+    m << ": unknown key '" << key << "'";
+    if (const std::string near = nearest_key(key, known); !near.empty()) m << ": did you mean '" << near << "'?";
+    m << " (see `sphib keys` for the keys a scene may have)";
+    throw SceneError(m.str());
+  }
+}
+
 // Applies key=value to the table, creating intermediate tables. `membrane.X` also reaches the
 // only element of a [[membranes]] array.
 std::string apply_override(toml::table& root, const std::string& kv, const std::string& name) {
@@ -270,8 +355,11 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   }
 }
 
+const std::vector<std::string>& known_keys();
+
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
             std::vector<Reader::Doc>* docs_out) {
+  if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
   Reader r(root, name, overridden);
   r.documenting = docs_out != nullptr;
   Scene s;
@@ -419,6 +507,19 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
     s.sim.membranes.push_back(setup);
   }
   return s;
+}
+
+// Every key a scene may have, as `sphib keys` lists them (membrane.* stands for membranes[k].*).
+const std::vector<std::string>& known_keys() {
+  static const std::vector<std::string> keys = [] {
+    toml::table empty;
+    std::vector<Reader::Doc> docs;
+    build(empty, "keys", {}, &docs);
+    std::vector<std::string> k;
+    for (const auto& d : docs) k.push_back(d.key);
+    return k;
+  }();
+  return keys;
 }
 
 Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides) {

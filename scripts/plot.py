@@ -82,7 +82,7 @@ class Snapshot:
         self.x = group["x"][()]
         self.y = group["y"][()]
         self.scalars = {k: v[()] for k, v in group.items()
-                        if isinstance(v, h5py.Dataset) and k not in ("x", "y")}
+                        if isinstance(v, h5py.Dataset) and v.ndim == 1 and k not in ("x", "y")}
         self.membranes = []
         for k in sorted((k for k in group if k.startswith("membrane_")),
                         key=lambda s: int(s.split("_")[1])):

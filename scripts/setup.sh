@@ -3,7 +3,7 @@
 set -euo pipefail
 pkgs=(cmake g++ ninja-build libeigen3-dev libsuitesparse-dev libhdf5-dev libtomlplusplus-dev
       libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libfftw3-dev liblapack-dev
-      libopenblas0-serial ccache python3-matplotlib python3-h5py python3-numpy)
+      libopenblas0-serial ccache python3-matplotlib python3-h5py python3-numpy pybind11-dev python3-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

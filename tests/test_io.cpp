@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fluid/lattice.hpp"
 #include "io/csv_writer.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/summary.hpp"
@@ -192,6 +193,12 @@ TEST_F(IoTest, Hdf5WriterWritesSnapshotsAttributesAndSeries) {
     auto v = read_dataset<double>(f, g + "/v", &dims);
     EXPECT_EQ(u[3], r.u[3]);
     EXPECT_EQ(v[7], r.v[7]);
+    auto vel = read_dataset<double>(f, g + "/velocity", &dims);  // (u, v, 0) for XDMF
+    EXPECT_EQ(dims, (std::vector<hsize_t>{10, 3}));
+    EXPECT_TRUE(vel[9] == r.u[3] && vel[10] == r.v[3] && vel[11] == 0.0);
+    auto xy = read_dataset<double>(f, g + "/xy", &dims);  // moving particles: positions for XDMF
+    EXPECT_EQ(dims, (std::vector<hsize_t>{10, 2}));
+    EXPECT_TRUE(xy[14] == r.x(7, 0) && xy[15] == r.x(7, 1));
 
     auto X = read_dataset<double>(f, g + "/membrane_0/X", &dims);
     EXPECT_EQ(dims, (std::vector<hsize_t>{6, 2}));
@@ -229,25 +236,70 @@ TEST_F(IoTest, Hdf5WriterWritesSnapshotsAttributesAndSeries) {
   EXPECT_EQ(ids.back(), 9);
   H5Fclose(f);
 
-  // XDMF: two time steps, references the final file name relatively, balanced elements.
+  // XDMF: the fluid and the membranes in two files (ParaView's default reader merges the grids of
+  // one time into one dataset), two time steps each, the final file name relative, balanced elements.
   const std::string x = slurp(file("output.xdmf"));
-  EXPECT_EQ(count(x, "<Time Value="), 2);
-  EXPECT_EQ(count(x, "CollectionType=\"Temporal\""), 1);
-  EXPECT_EQ(count(x, "<Grid"), 1 + 2 * 3);
-  EXPECT_EQ(count(x, "<Grid"), count(x, "</Grid>"));
-  EXPECT_EQ(count(x, "<DataItem"), count(x, "</DataItem>"));
-  EXPECT_EQ(count(x, "<Attribute"), count(x, "</Attribute>"));
-  EXPECT_EQ(count(x, ".part"), 0);
-  EXPECT_EQ(count(x, dir_.string()), 0);
+  const std::string xm = slurp(file("output_membranes.xdmf"));
+  for (const std::string* t : {&x, &xm}) {
+    EXPECT_EQ(count(*t, "<Time Value="), 2);
+    EXPECT_EQ(count(*t, "CollectionType=\"Temporal\""), 1);
+    EXPECT_EQ(count(*t, "<Grid"), count(*t, "</Grid>"));
+    EXPECT_EQ(count(*t, "<DataItem"), count(*t, "</DataItem>"));
+    EXPECT_EQ(count(*t, "<Attribute"), count(*t, "</Attribute>"));
+    EXPECT_EQ(count(*t, ".part"), 0);
+    EXPECT_EQ(count(*t, dir_.string()), 0);
+  }
+  EXPECT_EQ(count(x, "<Grid"), 1 + 2);
+  EXPECT_EQ(count(x, "membrane"), 0);
+  EXPECT_EQ(count(xm, "<Grid"), 1 + 2 * 2);
   for (const char* item :
-       {">output.h5:/snapshots/000000/x<", ">output.h5:/snapshots/000001/y<",
+       {">output.h5:/snapshots/000000/xy<", ">output.h5:/snapshots/000001/xy<",
         ">output.h5:/snapshots/000001/p<", ">output.h5:/snapshots/000000/phi<",
-        ">output.h5:/snapshots/000001/membrane_0/conn<", ">output.h5:/snapshots/000001/membrane_0/X<",
-        ">output.h5:/snapshots/000001/membrane_0/f3<", ">output.h5:/snapshots/000001/membrane_0/T<",
-        ">output.h5:/xdmf/vertices_10<", "TopologyType=\"Polyvertex\"",
-        "TopologyType=\"Polyline\" NumberOfElements=\"1\" NodesPerElement=\"7\"",
-        "GeometryType=\"X_Y\"", "<Time Value=\"0.5\"/>"})
+        ">output.h5:/snapshots/000001/velocity<", "Attribute Name=\"velocity\" AttributeType=\"Vector\"",
+        ">output.h5:/xdmf/vertices_10<", "TopologyType=\"Polyvertex\" NumberOfElements=\"10\"",
+        "GeometryType=\"XY\"", "<Time Value=\"0.5\"/>"})
     EXPECT_NE(x.find(item), std::string::npos) << item;
+  EXPECT_EQ(count(x, "X_Y"), 0);  // ParaView's default reader (Xdmf3) has no X_Y geometry
+  EXPECT_LT(x.find("/snapshots/000000/p<"), x.find("/snapshots/000000/u<"));  // p first: coloured by p
+  for (const char* item :
+       {">output.h5:/snapshots/000001/membrane_0/conn<", ">output.h5:/snapshots/000001/membrane_0/X<",
+        ">output.h5:/snapshots/000001/membrane_0/f3<", ">output.h5:/snapshots/000001/membrane_0/T<",
+        "TopologyType=\"Polyline\" NumberOfElements=\"1\" NodesPerElement=\"7\"", "<Time Value=\"0.5\"/>"})
+    EXPECT_NE(xm.find(item), std::string::npos) << item;
+}
+
+// Particles on a fixed lattice: a mesh of quadrilaterals joining neighbours, its positions once.
+TEST_F(IoTest, Hdf5WriterWritesALatticeAsAQuadMesh) {
+  Domain d;
+  d.x0 = -1.0, d.x1 = 2.0, d.y0 = 0.0, d.y1 = 1.0;
+  const Lattice L = make_lattice(d, 4, 3);
+  Vec p = Vec::LinSpaced(12, 0.0, 11.0), u = -p, v = 2.0 * p;
+  {
+    Hdf5Writer w(file("lat.h5"), {});
+    for (int s = 0; s < 2; ++s) w.write_snapshot(s, 0.1 * s, L.x, {{"u", &u}, {"v", &v}, {"p", &p}}, {}, &L);
+    EXPECT_THROW(w.write_snapshot(2, 0.2, L.x.topRows(6), {}, {}, &L), std::invalid_argument);
+  }
+  const hid_t f = H5Fopen(file("lat.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  std::vector<hsize_t> dims;
+  const auto quads = read_dataset<int>(f, "/xdmf/lattice_4x3/quads", &dims);
+  EXPECT_EQ(dims, (std::vector<hsize_t>{6, 4}));
+  EXPECT_EQ(std::vector<int>(quads.begin(), quads.begin() + 4), (std::vector<int>{0, 1, 5, 4}));  // i + nx j
+  EXPECT_EQ(std::vector<int>(quads.end() - 4, quads.end()), (std::vector<int>{6, 7, 11, 10}));
+  const auto xy = read_dataset<double>(f, "/xdmf/lattice_4x3/xy", &dims);
+  EXPECT_EQ(dims, (std::vector<hsize_t>{12, 2}));
+  for (int i = 0; i < 12; ++i) EXPECT_TRUE(xy[2 * i] == L.x(i, 0) && xy[2 * i + 1] == L.x(i, 1)) << i;
+  const auto vel = read_dataset<double>(f, "/snapshots/000001/velocity", &dims);
+  EXPECT_EQ(dims, (std::vector<hsize_t>{12, 3}));
+  for (int i = 0; i < 12; ++i) EXPECT_TRUE(vel[3 * i] == u[i] && vel[3 * i + 1] == v[i] && vel[3 * i + 2] == 0.0) << i;
+  EXPECT_EQ(H5Lexists(f, "/snapshots/000000/xy", H5P_DEFAULT), 0);  // the lattice does not move
+  EXPECT_EQ(H5Lexists(f, "/xdmf/vertices_12", H5P_DEFAULT), 0);
+  EXPECT_EQ(H5Lexists(f, "/snapshots/000000/x", H5P_DEFAULT), 1);  // the documented layout stays
+  H5Fclose(f);
+  const std::string x = slurp(file("lat.xdmf"));
+  EXPECT_EQ(count(x, "TopologyType=\"Quadrilateral\" NumberOfElements=\"6\""), 2);
+  EXPECT_EQ(count(x, ">lat.h5:/xdmf/lattice_4x3/xy<"), 2);
+  EXPECT_FALSE(fs::exists(file("lat_membranes.xdmf")));  // no membranes, no file
 }
 
 TEST_F(IoTest, Hdf5WriterDestructorRenamesUnclosedFile) {
@@ -259,6 +311,7 @@ TEST_F(IoTest, Hdf5WriterDestructorRenamesUnclosedFile) {
   EXPECT_TRUE(fs::exists(path));
   EXPECT_FALSE(fs::exists(path + ".part"));
   EXPECT_TRUE(fs::exists(file("run.xdmf")));
+  EXPECT_TRUE(fs::exists(file("run_membranes.xdmf")));
 }
 
 TEST_F(IoTest, Hdf5WriterRejectsMismatchedSizes) {
@@ -267,6 +320,7 @@ TEST_F(IoTest, Hdf5WriterRejectsMismatchedSizes) {
   const Vec short_p = Vec::Zero(9);
   EXPECT_THROW(w.write_snapshot(0, 0.0, r.x, {{"p", &short_p}}, {}), std::invalid_argument);
   EXPECT_THROW(w.write_snapshot(0, 0.0, r.x, {{"x", &r.u}}, {}), std::invalid_argument);
+  EXPECT_THROW(w.write_snapshot(0, 0.0, r.x, {{"velocity", &r.u}}, {}), std::invalid_argument);
   EXPECT_THROW(w.write_snapshot(0, 0.0, r.x, {{"p", &r.p}, {"p", &r.u}}, {}), std::invalid_argument);
   const Vec short_T = Vec::Zero(5);
   EXPECT_THROW(w.write_snapshot(0, 0.0, r.x, {}, {MembraneSnapshot{&r.X, &r.f, &short_T}}),

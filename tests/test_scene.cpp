@@ -54,6 +54,31 @@ TEST(Scene, UnknownKeyNamesKeyAndLine) {
   EXPECT_NE(m2.find("unknown key 'viscosity'"), std::string::npos) << m2;
 }
 
+// A misspelt key next to a required one: the misspelling is named with its line and the nearest
+// valid key, not the required key it leaves missing.
+TEST(Scene, UnknownKeyIsNamedBeforeMissingOnesWithTheNearestValidKey) {
+  const std::string m = refusal("[grid]\nnx = 8\nny = 8\n[fluid]\nrho = 1.0\nmuu = 0.1\n[time]\ndt = 0.1\nend = 1.0\n");
+  EXPECT_NE(m.find("scene.toml:6: unknown key 'fluid.muu': did you mean 'mu'?"), std::string::npos) << m;
+  EXPECT_EQ(m.find("missing"), std::string::npos) << m;
+  // The same name in another table: the full key.
+  const std::string m2 = refusal(std::string(kMinimal) + "[output]\ndt = 0.5\n");
+  EXPECT_NE(m2.find("scene.toml:12: unknown key 'output.dt': did you mean 'time.dt'?"), std::string::npos) << m2;
+  // An entry of [[membranes]]: its own key.
+  const std::string m3 = refusal(std::string(kMinimal) + "[[membranes]]\nr0 = 0.2\nT0 = 1.0\nradus = 0.3\n");
+  EXPECT_NE(m3.find("scene.toml:14: unknown key 'membranes[0].radus': did you mean 'radius'?"), std::string::npos)
+      << m3;
+  // An override.
+  const std::string m4 = refusal(kMinimal, {"grid.nxx=4"});
+  EXPECT_NE(m4.find("(--set grid.nxx): unknown key 'grid.nxx': did you mean 'nx'?"), std::string::npos) << m4;
+  // Nothing near: no guess.
+  const std::string m5 = refusal(std::string("viscosity = 1\n") + kMinimal);
+  EXPECT_NE(m5.find("unknown key 'viscosity'"), std::string::npos) << m5;
+  EXPECT_EQ(m5.find("did you mean"), std::string::npos) << m5;
+  // A value where a table of keys belongs is a type error, not an unknown key.
+  const std::string m6 = refusal(std::string("membrane = 3\n") + kMinimal);
+  EXPECT_NE(m6.find("membrane: must be a table"), std::string::npos) << m6;
+}
+
 TEST(Scene, WrongTypeNamesKey) {
   const std::string m = refusal(kMinimal, {"grid.nx=\"many\""});
   EXPECT_NE(m.find("grid.nx"), std::string::npos) << m;

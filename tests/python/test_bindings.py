@@ -1,0 +1,235 @@
+"""The Python module: scenes, membranes, callbacks, observers, views, errors. Run by ctest
+(python_bindings, label unit) as /usr/bin/python3 -m unittest discover -s tests/python, with
+PYTHONPATH=build/python, SPHIB_BINARY (the command, to compare messages) and SPHIB_SOURCE_DIR."""
+import csv
+import gc
+import json
+import os
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+import sphib
+
+SOURCE = os.environ.get("SPHIB_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+BINARY = os.environ.get("SPHIB_BINARY", os.path.join(SOURCE, "build", "sphib"))
+OSCILLATION = os.path.join(SOURCE, "cases", "membrane_oscillation.toml")
+SMALL = {"grid.nx": 32, "grid.ny": 32, "membrane.nb": 64}  # the main case at a quarter of its particles
+
+
+def command_error(*args):
+    """The message `sphib ARGS` prints after 'sphib: error: ' (and its exit status)."""
+    p = subprocess.run([BINARY, *args], capture_output=True, text=True)
+    lines = [l for l in p.stderr.splitlines() if l.startswith("sphib: error: ")]
+    return (lines[-1][len("sphib: error: "):] if lines else ""), p.returncode
+
+
+def channel(**more):
+    """A Stokes channel between walls, 16 x 16, built from keys."""
+    keys = {"domain": {"x": [0, 1], "y": [0, 1]}, "grid": {"nx": 16, "ny": 16},
+            "fluid": {"rho": 1.0, "mu": 1.0, "convection": False}, "time": {"dt": 1e-3, "end": 0.01}}
+    keys.update(more)
+    return sphib.Scene(keys)
+
+
+class Scenes(unittest.TestCase):
+    def test_load_scene_with_overrides(self):
+        s = sphib.load_scene(OSCILLATION, set={"grid.nx": 32, "grid": {"ny": 24}, "time.end": 0.5})
+        self.assertEqual((s.nx, s.ny, s.end, s.mu, s.membrane_count), (32, 24, 0.5, 0.1, 1))
+        self.assertEqual(s.domain, ((-1.5, 1.5), (-1.5, 1.5)))
+        self.assertEqual(s.keys["grid.nx"], "32")
+        s.set({"fluid.mu": 0.05})
+        self.assertEqual(s.mu, 0.05)
+
+    def test_scene_errors_carry_the_command_lines_messages(self):
+        for sets in ({"fluid.muu": 0.1}, {"fluid.mu": -1}, {"grid.nx": "many"}, {"observe.exact": "vortex"}):
+            with self.assertRaises(sphib.SceneError) as e:
+                sphib.load_scene(OSCILLATION, set=sets)
+            (k, v), = sets.items()
+            text = f'"{v}"' if isinstance(v, str) else str(v)
+            expected, status = command_error("check", OSCILLATION, "--set", f"{k}={text}")
+            self.assertEqual(status, 2)
+            self.assertEqual(str(e.exception), expected)
+            self.assertIn(k, str(e.exception))
+        with self.assertRaisesRegex(sphib.SceneError, r"unknown key 'fluid.muu': did you mean 'mu'\?"):
+            channel(fluid={"rho": 1.0, "muu": 1.0})
+        with self.assertRaisesRegex(sphib.SceneError, "grid.nx: missing"):
+            sphib.Scene({"fluid.mu": 1.0})
+        s = channel()
+        with self.assertRaises(sphib.SceneError):
+            s.set({"time.dt": 0})
+        self.assertEqual(s.dt, 1e-3)  # a refused change leaves the scene as it was
+        with self.assertRaisesRegex(TypeError, "grid.nx"):
+            channel(grid={"nx": object(), "ny": 16})
+
+    def test_a_membrane_outside_the_domain_is_refused_as_by_the_command(self):
+        s = sphib.load_scene(OSCILLATION, set={"membrane.centre": [0.0, 1.2]})
+        expected, status = command_error("check", OSCILLATION, "--set", "membrane.centre=[0.0, 1.2]")
+        self.assertEqual(status, 2)
+        with self.assertRaises(ValueError) as e:
+            sphib.Simulation(s)
+        self.assertEqual(str(e.exception), expected)
+
+
+class Membranes(unittest.TestCase):
+    def test_shapes_match_the_scene_files(self):
+        sim = sphib.Simulation(sphib.load_scene(OSCILLATION))
+        m = sphib.ellipse(nb=128, r0=0.5, rx=0.75, ry=0.5, T0=10.0)
+        self.assertTrue(np.array_equal(m.X, sim.markers(0)))
+        self.assertEqual((m.nb, m.T0), (128, 10.0))
+        self.assertAlmostEqual(m.L0, np.pi, places=15)
+        c = sphib.circle(nb=64, r0=0.3, centre=(0.1, -0.2))
+        self.assertLess(np.abs(np.hypot(c.X[:, 0] - 0.1, c.X[:, 1] + 0.2) - 0.3).max(), 1e-15)
+        star = sphib.polar(lambda th: 0.3 * (1 + 0.2 * np.cos(3 * th)), nb=96, r0=0.3)
+        r = np.hypot(star.X[:, 0], star.X[:, 1])
+        self.assertAlmostEqual(r.max(), 0.36, places=3)
+        pts = sphib.from_points(np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]]) * 0.4, nb=40, r0=0.2)
+        self.assertEqual(pts.X.shape, (40, 2))
+        with self.assertRaisesRegex(ValueError, "clockwise"):
+            sphib.from_points(np.array([[0, 0], [0, 1], [1, 1], [1, 0.0]]), nb=40, r0=0.2)
+        shape = sphib.measure(m.X, m.L0, m.T0)
+        self.assertAlmostEqual(shape["area"], np.pi * 0.75 * 0.5, places=4)
+
+
+class Simulations(unittest.TestCase):
+    def test_views_are_read_only_shared_and_keep_the_simulation_alive(self):
+        sim = sphib.Simulation(sphib.load_scene(OSCILLATION, set=SMALL))
+        u = sim.u
+        self.assertEqual(u.shape, (1024, 2))
+        self.assertFalse(u.flags.writeable)
+        with self.assertRaises(ValueError):
+            u[0, 0] = 1.0
+        self.assertTrue(np.shares_memory(u, sim.u))  # a view, not a copy
+        self.assertTrue(np.shares_memory(sim.markers(0), sim.markers(0)))
+        self.assertTrue(np.array_equal(sim.x[:, 0].reshape(32, 32)[0], sim.x[:32, 0]))  # particle i + nx j
+        T = sim.tension(0)
+        self.assertGreater(T.max(), 4.0)  # the stretched ellipse starts under tension
+        sim.step(20)
+        self.assertAlmostEqual(sim.time, 20 * 1e-4, places=15)
+        self.assertGreater(np.abs(sim.u).max(), 0.0)
+        p = sim.p
+        del sim
+        gc.collect()
+        self.assertTrue(np.isfinite(p).all())  # the view keeps the simulation alive
+        self.assertEqual(p.shape, (1024,))
+
+    def test_a_failing_step_raises_run_error_naming_the_step(self):
+        sim = sphib.Simulation(sphib.load_scene(OSCILLATION, set={**SMALL, "time.dt": 0.003, "membrane.T0": 1e4}))
+        with self.assertRaisesRegex(sphib.RunError, r"^step 1 \(t = 0.003\): membrane 0: blow-up at step 1"):
+            sim.step()
+
+    def test_initial_velocity_and_body_force_callables(self):
+        s = channel()
+        s.initial_velocity = lambda x, y: (np.sin(np.pi * y), 0.1 * x)
+        sim = sphib.Simulation(s)
+        x = sim.x
+        self.assertTrue(np.array_equal(sim.u[:, 0], np.sin(np.pi * x[:, 1])))
+        self.assertTrue(np.array_equal(sim.u[:, 1], 0.1 * x[:, 0]))
+        # A body force given as a callable of arrays is the constant body force, bit for bit, and is
+        # called once per step with every particle.
+        calls = []
+
+        def F(x, y, t):
+            calls.append(len(x))
+            return 2.0 + 0 * x, 0.0
+
+        a = channel()
+        a.body_force = F
+        b = channel(fluid={"rho": 1.0, "mu": 1.0, "convection": False, "body_force": [2.0, 0.0]})
+        sa, sb = sphib.Simulation(a), sphib.Simulation(b)
+        sa.step(10)
+        sb.step(10)
+        self.assertTrue(np.array_equal(sa.u, sb.u))
+        self.assertGreater(sa.u[:, 0].max(), 0.01)
+        self.assertEqual(calls, [256] * 10)
+
+
+class Runs(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.out = self.tmp.name
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def test_run_writes_observers_and_returns_the_summary(self):
+        s = sphib.load_scene(OSCILLATION, set={**SMALL, "time.end": 0.005, "output.diagnostics_every": 10})
+        s.observe("clock", lambda sim: sim.time)
+        s.observe("T_mean", lambda sim: float(sim.tension(0).mean()))
+        summary = sphib.run(s, out=self.out)
+        self.assertIsInstance(summary, dict)
+        self.assertEqual((summary["steps"], summary["stop_reason"]), (50, "end time"))
+        with open(os.path.join(self.out, "summary.json")) as f:
+            self.assertEqual(json.load(f)["steps"], 50)
+        with open(os.path.join(self.out, "diagnostics.csv")) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 6)
+        for r in rows:
+            self.assertEqual(float(r["clock"]), float(r["t"]))
+            self.assertGreater(float(r["T_mean"]), 1.0)
+        self.assertAlmostEqual(summary["clock"], summary["time"], places=15)
+        self.assertTrue(os.path.exists(os.path.join(self.out, "output_membranes.xdmf")))
+
+    def test_python_scene_with_two_membranes_and_a_body_force(self):
+        s = sphib.Scene({"domain": {"x": [-1, 1], "y": [-1, 1]}, "walls": {"top": [0.5, 0], "bottom": [-0.5, 0]},
+                         "grid": {"nx": 24, "ny": 24}, "fluid": {"rho": 1.0, "mu": 0.2},
+                         "time": {"dt": 2e-3, "end": 0.02}})
+        s.body_force = lambda x, y, t: (np.sin(np.pi * y), 0 * x)
+        s.add_membrane(sphib.circle(nb=48, r0=0.2, radius=0.22, centre=(-0.45, 0)), fixed=True)
+        s.add_membrane(sphib.polar(lambda th: 0.2 * (1 + 0.1 * np.cos(3 * th)), nb=48, r0=0.2, centre=(0.45, 0)))
+        self.assertEqual(s.membrane_count, 2)
+        summary = sphib.run(s, out=self.out)
+        self.assertEqual(summary["steps"], 10)
+        sim = sphib.Simulation(s)
+        sim.step(10)
+        self.assertTrue(np.array_equal(sim.markers(0), sphib.circle(nb=48, r0=0.2, radius=0.22, centre=(-0.45, 0)).X))
+        self.assertGreater(np.abs(sim.markers(1) - s_markers(s, 1)).max(), 0.0)
+
+    def test_run_faults_raise_run_error_with_the_command_lines_message(self):
+        sets = {**SMALL, "time.dt": 0.003, "membrane.T0": 1e4, "time.end": 0.1}
+        expected, status = command_error("run", OSCILLATION, "--out", self.out, "--quiet",
+                                         *[a for k, v in sets.items() for a in ("--set", f"{k}={v}")])
+        self.assertEqual(status, 1)
+        with self.assertRaises(sphib.RunError) as e:
+            sphib.run(sphib.load_scene(OSCILLATION, set=sets), out=self.out)
+        self.assertEqual(str(e.exception), expected)
+        self.assertIn("the last good state is in", expected)
+
+    def test_a_python_exception_in_a_callback_comes_back_as_itself(self):
+        s = channel()
+        s.observe("broken", lambda sim: 1 / 0)
+        with self.assertRaises(ZeroDivisionError) as e:
+            sphib.run(s, out=self.out)
+        self.assertTrue(any("sphib: " in n for n in getattr(e.exception, "__notes__", [])))
+        s = channel()
+        s.observe("text", lambda sim: "not a number")
+        with self.assertRaisesRegex(TypeError, "observer 'text' must return a number"):
+            sphib.run(s, out=self.out)
+        s = channel()
+        s.body_force = lambda x, y, t: (x, y, x)
+        with self.assertRaisesRegex(ValueError, r"body_force must return \(Fx, Fy\)"):
+            sphib.Simulation(s).step()
+
+    def test_restart_continues_a_run(self):
+        s = sphib.load_scene(OSCILLATION, set={**SMALL, "time.end": 0.002})
+        sphib.run(s, out=self.out)
+        s.set({"time.end": 0.004})
+        again = os.path.join(self.out, "again")
+        summary = sphib.run(s, out=again, restart=os.path.join(self.out, "checkpoint.h5"))
+        straight = sphib.run(s, out=os.path.join(self.out, "straight"))
+        self.assertEqual(summary["steps"], 40)
+        self.assertEqual(summary["area"], straight["area"])  # bit for bit
+        s.set({"fluid.mu": 0.2})
+        with self.assertRaisesRegex(RuntimeError, "its scene does not match: fluid.mu"):
+            sphib.run(s, out=again, restart=os.path.join(self.out, "checkpoint.h5"))
+
+
+def s_markers(scene, k):
+    """Membrane k's markers when the scene is built (before any step)."""
+    return sphib.Simulation(scene).markers(k).copy()
+
+
+if __name__ == "__main__":
+    unittest.main()
