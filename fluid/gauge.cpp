@@ -1,5 +1,7 @@
 #include "fluid/gauge.hpp"
 
+#include <cstddef>
+
 namespace sphib {
 
 Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
@@ -18,15 +20,88 @@ Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
     }
 }
 
+namespace {
+
+// c[sy][sx] = <f, (-1)^{sx i_x + sy i_y}> / N from the even- and odd-column sums of each row.
+void mode_coefficients(const double* f, int nx, int ny, double c[2][2]) {
+  c[0][0] = c[0][1] = c[1][0] = c[1][1] = 0.0;
+  for (int iy = 0; iy < ny; ++iy) {
+    const double* r = f + static_cast<std::size_t>(nx) * iy;
+    double e = 0, o = 0;
+    int ix = 0;
+    for (; ix + 1 < nx; ix += 2) { e += r[ix]; o += r[ix + 1]; }
+    if (ix < nx) e += r[ix];
+    const double s = (iy & 1) ? -1.0 : 1.0;
+    c[0][0] += e + o;
+    c[0][1] += e - o;
+    c[1][0] += s * (e + o);
+    c[1][1] += s * (e - o);
+  }
+  const double N = static_cast<double>(nx) * ny;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) c[a][b] /= N;
+}
+
+// f += w * sum over `modes` of c[sy][sx] (-1)^{sx i_x + sy i_y}
+template <class Modes>
+void add_modes(double* f, int nx, int ny, const Modes& modes, const double c[2][2], double w) {
+  for (int iy = 0; iy < ny; ++iy) {
+    double even = 0, odd = 0;  // the value added at even and odd i_x in this row
+    for (const auto& m : modes) {
+      const double v = w * c[m.sy][m.sx] * ((m.sy && (iy & 1)) ? -1.0 : 1.0);
+      even += v;
+      odd += m.sx ? -v : v;
+    }
+    double* r = f + static_cast<std::size_t>(nx) * iy;
+    int ix = 0;
+    for (; ix + 1 < nx; ix += 2) { r[ix] += even; r[ix + 1] += odd; }
+    if (ix < nx) r[ix] += even;
+  }
+}
+
+}  // namespace
+
 void Gauge::project(Vec& f) const {
-  const int N = nx_ * ny_;
-  for (const Mode& m : modes_) {
+  if (modes_.empty()) return;
+  if (modes_.size() == 1 && modes_[0].sx == 0 && modes_[0].sy == 0) {  // the constants: the mean, in order
     double s = 0;
-    for (int iy = 0; iy < ny_; ++iy)
-      for (int ix = 0; ix < nx_; ++ix) s += ((m.sx * ix + m.sy * iy) & 1 ? -f[ix + nx_ * iy] : f[ix + nx_ * iy]);
-    s /= N;  // every null vector has |z|^2 = N
-    for (int iy = 0; iy < ny_; ++iy)
-      for (int ix = 0; ix < nx_; ++ix) f[ix + nx_ * iy] -= ((m.sx * ix + m.sy * iy) & 1 ? -s : s);
+    for (int i = 0; i < f.size(); ++i) s += f[i];
+    s /= f.size();
+    for (int i = 0; i < f.size(); ++i) f[i] -= s;
+    return;
+  }
+  double c[2][2];
+  mode_coefficients(f.data(), nx_, ny_, c);  // every null vector has |z|^2 = N
+  add_modes(f.data(), nx_, ny_, modes_, c, -1.0);
+}
+
+VelocityModes::VelocityModes(const Lattice& L) {
+  for (int comp = 0; comp < 2; ++comp) {
+    Gauge& g = comp_[comp];
+    g.nx_ = L.nx;
+    g.ny_ = L.ny;
+    auto factors = [&](bool periodic, int n, bool normal) -> std::vector<int> {
+      if (periodic) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
+      return {normal ? 1 : 0};
+    };
+    const std::vector<int> fx = factors(L.domain.periodic_x, L.nx, comp == 0);
+    const std::vector<int> fy = factors(L.domain.periodic_y, L.ny, comp == 1);
+    const bool channel = L.domain.periodic_x != L.domain.periodic_y;
+    for (int sy : fy)
+      for (int sx : fx) {
+        if (sx == 0 && sy == 0 && channel) continue;  // the flux: the stream function's
+        g.modes_.push_back({sx, sy});
+      }
+  }
+}
+
+void VelocityModes::add_components(const Mat2& from, Mat2& to) const {
+  for (int comp = 0; comp < 2; ++comp) {
+    const Gauge& g = comp_[comp];
+    if (g.modes_.empty()) continue;
+    double c[2][2];
+    mode_coefficients(from.col(comp).data(), g.nx_, g.ny_, c);
+    add_modes(to.col(comp).data(), g.nx_, g.ny_, g.modes_, c, 1.0);
   }
 }
 

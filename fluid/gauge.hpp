@@ -49,6 +49,24 @@ class Gauge {
   std::vector<Mode> modes_;
   std::vector<int> pins_;
   int nx_ = 0, ny_ = 0;
+  friend class VelocityModes;
+};
+
+// The velocity fields the divergence D = -G^T of the exact projection does not see and no curl of a
+// stream function makes: per component the alternating modes that continue through its images
+// (along a periodic axis 1 and (-1)^i; across a wall the normal component alternates, the
+// tangential one is constant), the uniform flow of a doubly periodic box included, the uniform flux
+// of a channel not (a stream function carries it in its wall values). The exact projection keeps
+// them as they are.
+class VelocityModes {
+ public:
+  VelocityModes() = default;
+  explicit VelocityModes(const Lattice& L);
+  // to += the components of `from` along the modes (column c of both for velocity component c)
+  void add_components(const Mat2& from, Mat2& to) const;
+
+ private:
+  Gauge comp_[2];  // the modes of each component, as a gauge's mode list
 };
 
 }  // namespace sphib

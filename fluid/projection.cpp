@@ -35,29 +35,42 @@ Fluid::Fluid(const FluidParams& params)
   SpMat I(N, N);
   I.setIdentity();
   const SpMat A_cn = I - a * op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28)
-  // Poisson (Eq. 32) as a symmetric semi-definite system A phi = -(rho/dt) D u*.
-  // Exact projection: D = -G^T, the divergence of a vector field whose wall images mirror it (tangential
-  // part even, normal part odd), and A = G^T G = -D G, so that u^{n+1} = u* - dt/rho G phi is the
-  // orthogonal projection of u* onto D u = 0: D u^{n+1} = 0 to solver precision, and the projection
-  // cannot amplify anything, however small the eigenvalues of A near its grid-scale null modes.
-  // (The velocity divergence of Eq. (30) takes no-slip images, tangential part odd; with it the
-  // projection would be oblique and, with A's tiny eigenvalues, unstable: measured on Poiseuille at
-  // h = 3 dx. The two differ only in the rows within 2h of a wall.)
-  // Approximate (the paper): A = -lap phi (Eq. 31), D from Eq. (30).
-  // The null space (fluid/gauge.hpp) is fixed by projecting the right-hand side onto its complement,
-  // pinning phi = 0 at one particle per null vector for a direct factorisation, and removing the
-  // null components from phi after the solve.
+  // The projection (Eqs. 32-34). Exact: u^{n+1} is the orthogonal projection of u* onto D u = 0,
+  // with D = -G^T the divergence of a vector field whose wall images mirror it (tangential part even,
+  // normal part odd). Its kernel is spanned by the curls (Gy psi, -Gx psi) of stream functions with
+  // odd images (psi constant along each wall; D of such a curl is 0 identically), the uniform flux
+  // of a channel, and the alternating velocity modes G does not see (fluid/gauge.hpp). So the
+  // projection is made through psi: the least-squares psi of u* (normal equations with G^T G, odd
+  // images), u^{n+1} = its curl plus u*'s components along those modes, and G phi = rho/dt (u* -
+  // u^{n+1}) (Eq. 34 read backwards). D u^{n+1} = 0 to solver precision; the same psi moves the
+  // markers (stream_function()); phi itself (G^T G phi = G^T G phi) is solved only when the pressure
+  // or phi is asked for. An orthogonal projection cannot amplify anything, however small the
+  // eigenvalues of G^T G near its grid-scale null modes. (With the no-slip divergence of Eq. (30),
+  // tangential images odd, the projection would be oblique and, with those tiny eigenvalues,
+  // unstable: measured on Poiseuille at h = 3 dx. The two divergences differ only within 2h of a wall.)
+  // Approximate (the paper): -lap phi = -(rho/dt) div u* (Eqs. 31-32) with Eq. (30)'s divergence,
+  // u^{n+1} = u* - dt/rho G phi (Eq. 34).
+  // The null spaces (fluid/gauge.hpp) are fixed by projecting right-hand sides onto their
+  // complement, pinning one particle per null vector for a direct factorisation, and removing the
+  // null components from the solution.
   const bool exact = prm_.projection == Projection::Exact;
-  SpMat A_phi;
   if (exact) {
+    for (int k = 0; k < 4; ++k) {
+      const Side w = static_cast<Side>(k);
+      const int nrm = (w == Left || w == Right) ? 0 : 1;
+      if (prm_.domain.is_wall(w) && prm_.domain.wall_velocity[k][nrm] != 0.0)
+        throw std::invalid_argument(std::string("walls.") + (w == Left ? "left" : w == Right ? "right" : w == Bottom ? "bottom" : "top") +
+                                    ": a wall velocity with a normal component lets fluid through the wall; "
+                                    "the exact projection (fluid.projection = \"exact\") needs impermeable walls");
+    }
     div_x_ = -SpMat(op_.grad_phix.transpose());
     div_y_ = -SpMat(op_.grad_phiy.transpose());
     div_st_ = find_row_stencil({&div_x_, &div_y_});
-    A_phi = -(SpMat(div_x_ * op_.grad_phix) + SpMat(div_y_ * op_.grad_phiy));
+    gauge_ = Gauge(lat_, NullSpace::GradientEvenImages);
+    vmodes_ = VelocityModes(lat_);
   } else {
-    A_phi = -op_.lap_phi;
+    gauge_ = Gauge(lat_, NullSpace::Constants);
   }
-  gauge_ = Gauge(lat_, exact ? NullSpace::GradientEvenImages : NullSpace::Constants);
   if (!same_pattern(op_.lap_u.A, op_.grad_ux.A) || !same_pattern(op_.grad_ux.A, op_.grad_uy.A) ||
       !same_pattern(op_.grad_phix, op_.grad_phiy))
     throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
@@ -96,8 +109,9 @@ Fluid::Fluid(const FluidParams& params)
   // Poisson, auto: on a lattice periodic in x and walled in y the operator is block circulant in x
   // and the FFT solver (fluid/fft_poisson.hpp) solves it in O(N log nx); it takes the singular
   // operator itself (its own gauge), so no pin enters the right-hand side. Otherwise CHOLMOD.
-  poisson_ = poisson_solver(exact ? "Poisson (exact projection, G^T G)" : "Poisson", A_phi, gauge_,
-                            prm_.poisson_solver, &poisson_fft_);
+  // Exact projection: the stream function's system (make_psi_solver), phi's only when asked for.
+  if (exact) make_psi_solver();
+  else poisson_ = poisson_solver("Poisson", -op_.lap_phi, gauge_, prm_.poisson_solver, &poisson_fft_);
   setup_.emplace_back("factorisation", seconds_since(t0));
 
   const int M = im_.size();
@@ -113,13 +127,7 @@ Fluid::Fluid(const FluidParams& params)
   add_image_terms(op_.grad_uy.B, gy_b_rows_, c_wall_, conv_wall_y_);
   add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
   phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
-  c_normal_ = Mat2::Zero(M, 2);
-  for (int m = 0; m < M; ++m) {  // the exact projection's images: u_n' = 2 u_w.n - u_n (corners: walls at rest)
-    const int w = im_.wall[m];
-    if (w < 0) continue;
-    const int nrm = (w == Left || w == Right) ? 0 : 1;
-    c_normal_(m, nrm) = 2.0 * lat_.domain.wall_velocity[w][nrm];
-  }
+  grad_psi_ = Mat2::Zero(N, 2);
   V_ = Vec::Constant(N, lat_.volume);
 
   k_images_ = prof_.phase("images (Eq. 42)");
@@ -131,6 +139,7 @@ Fluid::Fluid(const FluidParams& params)
   k_project_ = prof_.phase("projection (Eq. 34)");
   k_pressure_ = prof_.phase("pressure (Eq. 35)");
   k_psi_ = prof_.phase("stream function");
+  if (exact) psi_revision_ = revision_;  // psi = 0 of the fluid at rest
 }
 
 std::unique_ptr<LinearSolver> Fluid::poisson_solver(const std::string& system, const SpMat& A, const Gauge& g,
@@ -202,17 +211,24 @@ void Fluid::step(const Mat2& F) {
     }
     cn_->solve(rhs_.data(), u_star_.data(), 2);
   }
+  if (prm_.projection == Projection::Exact) project_exact();
+  else project_approximate();
+  first_ = false;
+  t_ += dt;
+  ++n_;
+  if (prm_.projection == Projection::Exact) psi_revision_ = revision_;  // psi is u^{n+1}'s
+}
+
+void Fluid::project_approximate() {
+  const double dt = prm_.dt, rho = prm_.rho;
+  const Operators& op = op_;
+  const int N = size();
   {
     ScopedTimer tm(prof_, k_div_);
-    if (prm_.projection == Projection::Exact) {
-      exact_divergence(u_star_, div_);  // D u*, D = -G^T (constructor)
-    } else {
-      // Eq. (30): div u* with images of u* (offsets c*)
-      divergence(op.grad_ux.A, op.grad_uy.A, u_star_, div_, &vel_st_);
-      add_image_terms(op.grad_ux.B, gx_b_rows_, c_star_.col(0).data(), div_.data());
-      add_image_terms(op.grad_uy.B, gy_b_rows_, c_star_.col(1).data(), div_.data());
-    }
-    // Eq. (32): A phi = -(rho/dt) D u*
+    // Eq. (30): div u* with images of u* (offsets c*); Eq. (32): -lap phi = -(rho/dt) div u*
+    divergence(op.grad_ux.A, op.grad_uy.A, u_star_, div_, &vel_st_);
+    add_image_terms(op.grad_ux.B, gx_b_rows_, c_star_.col(0).data(), div_.data());
+    add_image_terms(op.grad_uy.B, gy_b_rows_, c_star_.col(1).data(), div_.data());
     for (int i = 0; i < N; ++i) b_phi_[i] = (-rho / dt) * div_[i];
     gauge_.project(b_phi_);  // onto the range of the singular operator (gauge, see constructor)
     if (!poisson_fft_) gauge_.pin_rhs(b_phi_);
@@ -220,25 +236,82 @@ void Fluid::step(const Mat2& F) {
   {
     ScopedTimer tm(prof_, k_solve_poisson_);
     poisson_->solve(b_phi_.data(), phi_.data(), 1);
-    if (gauge_.dimension() == 1) phi_.array() -= phi_.mean();
-    else gauge_.project(phi_);
+    phi_.array() -= phi_.mean();
   }
-
   {
     ScopedTimer tm(prof_, k_project_);
     // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
     gradient(op.grad_phix, op.grad_phiy, phi_, grad_phi_, &phi_st_);
     u_.noalias() = u_star_ - (dt / rho) * grad_phi_;
   }
-  first_ = false;
-  t_ += dt;
-  ++n_;
 }
 
-void Fluid::exact_divergence(const Mat2& u, Vec& d) const {
-  divergence(div_x_, div_y_, u, d, &div_st_);
-  add_image_terms(op_.grad_ux.B, gx_b_rows_, c_normal_.col(0).data(), d.data());
-  add_image_terms(op_.grad_uy.B, gy_b_rows_, c_normal_.col(1).data(), d.data());
+void Fluid::project_exact() {
+  const double dt = prm_.dt, rho = prm_.rho;
+  const Operators& op = op_;
+  const int N = size();
+  double Q = 0;
+  {
+    ScopedTimer tm(prof_, k_div_);
+    Q = psi_rhs(u_star_);  // the normal equations' right-hand side C^T u* - Q ..., in b_psi_
+    if (!psi_fft_) psi_gauge_.pin_rhs(b_psi_);
+  }
+  {
+    ScopedTimer tm(prof_, k_solve_poisson_);
+    psi_solver_->solve(b_psi_.data(), psi_.data(), 1);
+    psi_gauge_.project(psi_);
+  }
+  {
+    ScopedTimer tm(prof_, k_project_);
+    // u^{n+1} = (Gy psi + Q By c1, -(Gx psi + Q Bx c1)) + u*'s alternating modes (and mean)
+    gradient(op.grad_ux.A, op.grad_uy.A, psi_, grad_psi_, &vel_st_);
+    for (int i = 0; i < N; ++i) {
+      u_(i, 0) = grad_psi_(i, 1) + Q * psi_by1_[i];
+      u_(i, 1) = -(grad_psi_(i, 0) + Q * psi_bx1_[i]);
+    }
+    vmodes_.add_components(u_star_, u_);
+    psi_mean_.setZero();
+    if (lat_.domain.periodic_x && lat_.domain.periodic_y) psi_mean_ << u_star_.col(0).mean(), u_star_.col(1).mean();
+    // Eq. (34): G phi^{n+1} = rho/dt (u* - u^{n+1}); phi itself on demand (phi())
+    grad_phi_ = (rho / dt) * (u_star_ - u_);
+    phi_step_ = -1;
+  }
+}
+
+double Fluid::psi_rhs(const Mat2& u) const {
+  const Domain& d = lat_.domain;
+  divergence(psi_ty_, psi_tx_, u, b_psi_, &psi_st_);  // Gy^T u - Gx^T v (= C^T u)
+  double Q = 0;
+  if (d.periodic_x != d.periodic_y) {
+    // psi on the far wall: the flux (int u dy along a channel in x, -int v dx in y), the
+    // least-squares value (make_psi_solver)
+    Q = u.cwiseProduct(psi_r1_).sum();
+    b_psi_.noalias() -= Q * psi_flux_;
+  }
+  psi_gauge_.project(b_psi_);  // G^T of a uniform flow is 0 on a periodic box: its mean is the stream function's U
+  return Q;
+}
+
+void Fluid::exact_divergence(const Mat2& u, Vec& d) const { divergence(div_x_, div_y_, u, d, &div_st_); }
+
+const Vec& Fluid::phi() const {
+  if (prm_.projection == Projection::Exact && phi_step_ != n_) {
+    // G^T G phi = G^T (G phi), with G phi = rho/dt (u* - u^{n+1}) from the step
+    if (!poisson_) {
+      const SpMat Gxt = op_.grad_phix.transpose(), Gyt = op_.grad_phiy.transpose();
+      const SpMat A = SpMat(Gxt * op_.grad_phix) + SpMat(Gyt * op_.grad_phiy);
+      poisson_ = poisson_solver("Poisson (phi of the exact projection, G^T G, for the pressure)", A, gauge_,
+                                prm_.poisson_solver, &poisson_fft_);
+    }
+    exact_divergence(grad_phi_, b_phi_);  // D G phi = -G^T G phi
+    b_phi_ *= -1.0;
+    gauge_.project(b_phi_);
+    if (!poisson_fft_) gauge_.pin_rhs(b_phi_);
+    poisson_->solve(b_phi_.data(), phi_.data(), 1);
+    gauge_.project(phi_);
+    phi_step_ = n_;
+  }
+  return phi_;
 }
 
 const Vec& Fluid::p() const {
@@ -249,11 +322,10 @@ const Vec& Fluid::p() const {
       pressure_from_phi(op_.lap_phi, phi_, a, p_);  // Eq. (35)
     } else {
       // Eq. (35) with the Laplacian of the exact projection, D G = -G^T G:
-      // p = phi + (nu dt/2) G^T G phi. phi's null components are removed (fluid/gauge.hpp), so
+      // p = phi - (nu dt/2) D G phi. phi's null components are removed (fluid/gauge.hpp), so
       // no checkerboard remains (tests/test_projection.cpp).
-      p_.noalias() = div_x_ * grad_phi_.col(0);  // -G^T G phi = D G phi, G phi = grad_phi_
-      p_.noalias() += div_y_ * grad_phi_.col(1);
-      p_ = phi_ - a * p_;
+      exact_divergence(grad_phi_, p_);  // D G phi, G phi = grad_phi_
+      p_ = phi() - a * p_;
     }
     p_step_ = n_;
   }
@@ -283,24 +355,22 @@ void Fluid::make_psi_solver() const {
   psi_tx_ = -SpMat(Gx.transpose());
   psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
   const Domain& d = lat_.domain;
-  const bool periodic = d.periodic_x && d.periodic_y;
   psi_gauge_ = Gauge(lat_, NullSpace::GradientOddImages);
   const SpMat A = psi_ty_ * Gy + SpMat(Gx.transpose()) * Gx;
-  bool fft = false;
-  psi_solver_ = poisson_solver("stream function (G^T G, odd images)", A, psi_gauge_,
-                               prm_.poisson_solver == SolverKind::Fft ? SolverKind::Auto : prm_.poisson_solver,
-                               &fft);
-  psi_fft_ = fft;
+  psi_solver_ = poisson_solver(prm_.projection == Projection::Exact ? "Poisson (exact projection: the stream function, G^T G, odd images)"
+                                                                    : "stream function (G^T G, odd images)",
+                               A, psi_gauge_, prm_.poisson_solver, &psi_fft_);
   const int N = size(), M = im_.size();
-  psi_flux_ = Vec::Zero(N);
-  psi_ = b_psi_ = Vec::Zero(N);
-  const Side far = d.periodic_x && !d.periodic_y ? Top : Right;  // the wall that carries psi = Q
-  if (!periodic && (d.periodic_x != d.periodic_y)) {
+  psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
+  psi_r1_ = Mat2::Zero(N, 2);
+  if (d.periodic_x != d.periodic_y) {
+    const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
     Vec c1 = Vec::Zero(M);
     for (int m = 0; m < M; ++m)
       if (im_.wall[m] == far) c1[m] = 2.0;
-    const Vec by = op_.grad_uy.B * c1, bx = op_.grad_ux.B * c1;
-    psi_flux_ = psi_ty_ * by - psi_tx_ * bx;  // Gy^T By c1 + Gx^T Bx c1
+    psi_by1_ = op_.grad_uy.B * c1;
+    psi_bx1_ = op_.grad_ux.B * c1;
+    psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
     // The flux Q by least squares too: with C psi + Q b1 the velocity of (psi, Q) (b1 = (By c1,
     // -Bx c1)), the best Q for u is <u, r1> / <r1, r1> with r1 = (I - P_C) b1 = C psi1 + b1,
     // psi1 = -(C^T C)^{-1} C^T b1 (P_C the orthogonal projection onto the curls). (The flux from the
@@ -311,32 +381,22 @@ void Fluid::make_psi_solver() const {
     if (!psi_fft_) psi_gauge_.pin_rhs(b);
     psi_solver_->solve(b.data(), psi1.data(), 1);
     psi_gauge_.project(psi1);
-    psi_r1_.resize(N, 2);
-    psi_r1_.col(0) = Gy * psi1 + by;
-    psi_r1_.col(1) = -(Gx * psi1 + bx);
+    psi_r1_.col(0) = Gy * psi1 + psi_by1_;
+    psi_r1_.col(1) = -(Gx * psi1 + psi_bx1_);
     psi_r1_ /= psi_r1_.squaredNorm();
   }
 }
 
 StreamFunction Fluid::stream_function() const {
-  if (psi_revision_ != revision_) {
+  if (psi_revision_ != revision_) {  // the approximate projection (the exact one makes psi in its step)
     ScopedTimer tm(prof_, k_psi_);
     if (!psi_solver_) make_psi_solver();
-    const Domain& d = lat_.domain;
-    divergence(psi_ty_, psi_tx_, u_, b_psi_, &psi_st_);  // Gy^T u - Gx^T v
-    psi_mean_.setZero();
-    if (d.periodic_x && d.periodic_y) {
-      psi_mean_ << u_.col(0).mean(), u_.col(1).mean();  // the uniform flow; G^T of a constant is 0
-    } else if (d.periodic_x || d.periodic_y) {
-      // psi on the far wall: the flux (int u dy along a channel in x, -int v dx in y), the least-squares
-      // value (make_psi_solver)
-      const double Q = u_.cwiseProduct(psi_r1_).sum();
-      b_psi_.noalias() -= Q * psi_flux_;
-    }
-    psi_gauge_.project(b_psi_);
+    psi_rhs(u_);
     if (!psi_fft_) psi_gauge_.pin_rhs(b_psi_);
     psi_solver_->solve(b_psi_.data(), psi_.data(), 1);
     psi_gauge_.project(psi_);
+    psi_mean_.setZero();
+    if (lat_.domain.periodic_x && lat_.domain.periodic_y) psi_mean_ << u_.col(0).mean(), u_.col(1).mean();
     psi_revision_ = revision_;
   }
   return {&psi_, psi_mean_};
@@ -345,14 +405,17 @@ StreamFunction Fluid::stream_function() const {
 double Fluid::kinetic_energy() const { return 0.5 * prm_.rho * lat_.volume * u_.squaredNorm(); }
 
 double Fluid::poisson_residual() const {
-  // ||A phi - b|| / ||b|| with the unpinned operator and the right-hand side of the last step
-  Vec b = (-prm_.rho / prm_.dt) * div_;
-  gauge_.project(b);
-  Vec r;
+  // ||A x - b|| / ||b|| with the unpinned operator and the right-hand side of the last step:
+  // the stream function's normal equations (exact projection) or Eq. (32)
+  Vec r, b;
   if (prm_.projection == Projection::Exact) {
-    r = op_.grad_phix.transpose() * grad_phi_.col(0);  // G^T G phi, G phi = grad_phi_
-    r.noalias() += op_.grad_phiy.transpose() * grad_phi_.col(1);
+    psi_rhs(u_star_);
+    b = b_psi_;
+    r = psi_ty_ * (op_.grad_uy.A * psi_);  // Gy^T Gy psi + Gx^T Gx psi
+    r.noalias() -= psi_tx_ * (op_.grad_ux.A * psi_);
   } else {
+    b = (-prm_.rho / prm_.dt) * div_;
+    gauge_.project(b);
     r = -(op_.lap_phi * phi_);
   }
   r -= b;
@@ -361,8 +424,10 @@ double Fluid::poisson_residual() const {
 }
 
 std::vector<SolverInfo> Fluid::solver_info() const {
-  std::vector<SolverInfo> v{cn_->info(), poisson_->info()};
-  if (psi_solver_) v.push_back(psi_solver_->info());
+  std::vector<SolverInfo> v{cn_->info()};
+  if (psi_solver_ && prm_.projection == Projection::Exact) v.push_back(psi_solver_->info());
+  if (poisson_) v.push_back(poisson_->info());
+  if (psi_solver_ && prm_.projection != Projection::Exact) v.push_back(psi_solver_->info());
   return v;
 }
 
@@ -375,6 +440,7 @@ std::vector<std::string> Fluid::describe() const {
     << (prm_.projection == Projection::Exact ? "exact projection (Poisson operator D G)"
                                               : "approximate projection (Poisson operator: Morris Laplacian)") << "; products: " << vel_st_.stencil_rows() << " velocity and "
     << phi_st_.stencil_rows() << " phi rows of " << size() << " applied as a lattice stencil";
+  if (prm_.projection == Projection::Exact) m << " (D = -G^T: " << div_st_.stencil_rows() << " rows)";
   std::vector<std::string> lines{m.str()};
   for (const auto& si : solver_info()) lines.push_back(si.describe());
   return lines;
@@ -403,13 +469,20 @@ double Fluid::floor_seconds(int reps) const {
   double total = 0;
   if (prm_.convection) total += best([&] { gradient2(op.grad_ux.A, op.grad_uy.A, u_, a, b, &vel_st_); });
   total += best([&] { apply2(op.lap_u.A, u_, c, &vel_st_); });
-  total += best([&] { divergence(op.grad_ux.A, op.grad_uy.A, u_star_, d, &vel_st_); });
-  total += best([&] { gradient(op.grad_phix, op.grad_phiy, phi_, a, &phi_st_); });
   total += best([&] {
     x = u_star_;  // the same warm start a step gives an iterative solver
     cn_->solve(rhs_.data(), x.data(), 2);
   });
-  total += best([&] { poisson_->solve(b_phi_.data(), f.data(), 1); });
+  if (prm_.projection == Projection::Exact) {  // C^T u*, the stream function's solve, its curl
+    Vec b = b_psi_;
+    total += best([&] { divergence(psi_ty_, psi_tx_, u_star_, d, &psi_st_); });
+    total += best([&] { psi_solver_->solve(b.data(), f.data(), 1); });
+    total += best([&] { gradient(op.grad_ux.A, op.grad_uy.A, psi_, a, &vel_st_); });
+  } else {
+    total += best([&] { divergence(op.grad_ux.A, op.grad_uy.A, u_star_, d, &vel_st_); });
+    total += best([&] { poisson_->solve(b_phi_.data(), f.data(), 1); });
+    total += best([&] { gradient(op.grad_phix, op.grad_phiy, phi_, a, &phi_st_); });
+  }
   return total;
 }
 
@@ -418,8 +491,10 @@ double Fluid::floor_seconds(int reps) const {
 NamedArrays Fluid::state() const {
   Eigen::MatrixXd clock(1, 3);
   clock << t_, static_cast<double>(n_), first_ ? 1.0 : 0.0;
-  return {{"u", u_},           {"conv_old", conv_old_},     {"phi", phi_},        {"grad_phi", grad_phi_},
-          {"u_star", u_star_}, {"u_star_old", u_star_old_}, {"clock", clock}};
+  NamedArrays st{{"u", u_},           {"conv_old", conv_old_},     {"phi", phi()},  {"grad_phi", grad_phi_},
+                 {"u_star", u_star_}, {"u_star_old", u_star_old_}, {"clock", clock}};
+  if (prm_.projection == Projection::Exact) st.emplace_back("psi", psi_);  // what the markers follow
+  return st;
 }
 
 void Fluid::restore(const NamedArrays& state) {
@@ -439,6 +514,13 @@ void Fluid::restore(const NamedArrays& state) {
   n_ = static_cast<long>(clock(0, 1));
   first_ = clock(0, 2) != 0.0;
   p_step_ = -1;
+  phi_step_ = n_;
+  if (prm_.projection == Projection::Exact) {
+    psi_ = get("psi", N, 1);
+    psi_mean_.setZero();
+    if (lat_.domain.periodic_x && lat_.domain.periodic_y) psi_mean_ << u_.col(0).mean(), u_.col(1).mean();
+    psi_revision_ = revision_;
+  }
 }
 
 double Fluid::setup_seconds(const std::string& what) const {

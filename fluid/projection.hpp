@@ -40,7 +40,7 @@ class Fluid final : public FluidSolver {
   const Vec& volumes() const override { return V_; }
 
   const Mat2& u() const override { return u_; }      // u^{n}
-  const Vec& phi() const override { return phi_; }   // phi^{n}
+  const Vec& phi() const override;  // phi^{n} (exact projection: solved when first asked for)
   // p^{n-1/2} (Eq. 35), zero mean (gauge); recovered from phi only when asked for, once per step.
   const Vec& p() const override;
   const Mat2& grad_phi() const { return grad_phi_; }
@@ -83,15 +83,21 @@ class Fluid final : public FluidSolver {
   RowStencil vel_st_, phi_st_;  // the lattice rows of the velocity and phi operator patterns
   std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
   Mat2 conv_wall_x_, conv_wall_y_, lap_wall_;  // B c_wall of grad_ux, grad_uy, lap_u: constant
-  std::unique_ptr<LinearSolver> cn_, poisson_;
+  std::unique_ptr<LinearSolver> cn_;
+  mutable std::unique_ptr<LinearSolver> poisson_;  // exact projection: made when phi is first asked for
   bool cn_iterative_ = false;
-  bool poisson_fft_ = false;  // the FFT solver of the unpinned operator (no pin in the right-hand side)
+  mutable bool poisson_fft_ = false;  // the FFT solver of the unpinned operator (no pin in the right-hand side)
   Gauge gauge_;      // of the Poisson operator in use (fluid/gauge.hpp)
-  // Exact projection: the divergence D = -G^T (Dx, Dy, one pattern, their stencil), and the image
-  // offsets of the normal velocity components it takes (2 u_w.n for single reflections).
+  // Exact projection: the divergence D = -G^T (Dx, Dy, one pattern, their stencil), the velocity
+  // modes it does not see, phi made on demand (phi_step_: the step it belongs to).
   SpMat div_x_, div_y_;
   RowStencil div_st_;
-  Mat2 c_normal_;
+  VelocityModes vmodes_;
+  mutable long phi_step_ = 0;
+  Mat2 grad_psi_;
+  void project_exact();
+  void project_approximate();
+  double psi_rhs(const Mat2& u) const;  // b_psi_ = C^T u - Q flux term, projected; returns Q
   void exact_divergence(const Mat2& u, Vec& d) const;  // D u with the normal offsets
   // The stream function (stream_function()): its normal equations' solver, the transposed
   // velocity gradients (Gy^T, -Gx^T) that make their right-hand side, and the wall term per unit flux.
@@ -100,7 +106,7 @@ class Fluid final : public FluidSolver {
   mutable bool psi_fft_ = false;
   mutable SpMat psi_ty_, psi_tx_;
   mutable RowStencil psi_st_;
-  mutable Vec psi_, psi_flux_, b_psi_;
+  mutable Vec psi_, psi_flux_, b_psi_, psi_by1_, psi_bx1_;
   mutable Mat2 psi_r1_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
   mutable Eigen::Vector2d psi_mean_ = Eigen::Vector2d::Zero();
   mutable long psi_revision_ = -1;
@@ -113,7 +119,8 @@ class Fluid final : public FluidSolver {
 
   // state and workspace (sized once)
   Mat2 u_, u_star_, u_star_old_, du_dx_, du_dy_, rhs_, conv_, conv_old_, grad_phi_, c_wall_, c_star_;
-  Vec phi_, div_, b_phi_, V_;
+  mutable Vec phi_, b_phi_;
+  Vec div_, V_;
   mutable Vec p_;
   mutable long p_step_ = -1;
   double t_ = 0;

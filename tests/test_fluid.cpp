@@ -768,15 +768,17 @@ TEST(Fluid, PoiseuilleConvergesSecondOrderAtLargeSmoothingLength) {
 }
 
 // Unidirectional flow: u.grad u = 0, so convection on and off agree to round-off.
-// Measured max |u_on - u_off| = 2.8e-17 with max |u| = 1.02; max |v| = 8e-17. Tolerance 1e-13.
+// Measured max |u_on - u_off| = 1.8e-12 with max |u| = 1.02; max |v| = 6.8e-12 (the exact
+// projection makes u^{n+1} as the curl of a stream function solved every step: round-off times the
+// condition of its system; the approximate projection: 2.8e-17 and 8e-17). Tolerance 1e-10.
 // The Crank-Nicolson solver is pinned: Auto may time its way to Jacobi-PCG in one run and to
 // CHOLMOD in the other, which differ at the PCG tolerance (1e-14 x condition number).
 TEST(Fluid, PoiseuilleConvectionOnEqualsOff) {
   const Fluid on = run_poiseuille(16, 3.0, 1.25e-4, 100, true, SolverKind::CholmodSupernodal);
   const Fluid off = run_poiseuille(16, 3.0, 1.25e-4, 100, false, SolverKind::CholmodSupernodal);
   EXPECT_GT(max_abs(off.u()), 0.9);
-  EXPECT_LT(max_abs(on.u() - off.u()), 1e-13);
-  EXPECT_LT(on.u().col(1).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT(max_abs(on.u() - off.u()), 1e-10);
+  EXPECT_LT(on.u().col(1).cwiseAbs().maxCoeff(), 1e-10);
 }
 
 // Couette flow from rest, top wall moving at (1, 0), rho = mu = 1, nx = 16, h/dx = 1.2,
