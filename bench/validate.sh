@@ -12,15 +12,25 @@
 #   fig19          area error at t = 1, 2 against Nx = 40..120 (Fig. 19)
 #   table3         self-convergence at t = 0.0625, Nx = 32, 64, 128 against Nx = 256 (Table 3)
 #   sweep          the Poiseuille sweep of Figs. 4, 7 and Table 1 (bench/poiseuille_sweep)
+#   equilibrium_t10  free membrane in equilibrium without the steady-state stop, t = 10 (area, jump)
+#   oscillation_pair the main job with each projection x interpolation pair (area at t = 1, 2, 10)
+#   capsule        the capsule in shear (build/capsule_shear), Ca = 0.05, 0.1, 0.2
 # Without arguments: all but fig10 and sweep (the long ones).
+# PAIR=paper runs every scene with the paper's approximate projection and SPH interpolation
+# (fluid.projection = "approximate", coupling.interpolation = "sph") into bench_out/paper/; the
+# default is the conservative pair (exact projection, divergence-free markers).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SPHIB=build/sphib
 SWEEP="/usr/bin/python3 scripts/sweep.py"
 OUT=bench_out
+if [ "${PAIR:-}" = paper ]; then
+  OUT=bench_out/paper
+  SWEEP="$SWEEP --set fluid.projection=approximate --set coupling.interpolation=sph"
+fi
 sections=("$@")
 [ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19 table3)
-cmake --build build --target sphib poiseuille_sweep > /dev/null
+cmake --build build --target sphib poiseuille_sweep capsule_shear > /dev/null
 
 for s in "${sections[@]}"; do
   case "$s" in
@@ -70,6 +80,17 @@ for s in "${sections[@]}"; do
       /usr/bin/python3 scripts/self_convergence.py --out $OUT/table3 ;;
     sweep)
       build/poiseuille_sweep --out $OUT/poiseuille_sweep ;;
+    equilibrium_t10)
+      $SWEEP --scene cases/membrane_equilibrium.toml --out $OUT/equilibrium_t10 --vary grid.nx=70 \
+        --set time.steady_eps=0 --set time.end=10 \
+        --report pressure_jump,pressure_mad_error,velocity_mad_error,area_relative_error_at.1,area_relative_error_at.5,area_relative_error_at.10,max_speed ;;
+    oscillation_pair)
+      /usr/bin/python3 scripts/sweep.py --scene cases/membrane_oscillation.toml --out $OUT/oscillation_pair \
+        --vary fluid.projection=exact,approximate --vary coupling.interpolation=divergence_free,sph \
+        --report period,amplitude_decay,rx_first_minimum,t_first_minimum,area_relative_error_at.1,area_relative_error_at.2,area_relative_error_at.10,seconds_per_step ;;
+    capsule)
+      if [ "${PAIR:-}" = paper ]; then build/capsule_shear --out $OUT/capsule_shear --paper-pair
+      else build/capsule_shear --out $OUT/capsule_shear; fi ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done

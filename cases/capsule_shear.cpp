@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   app.add_option("--nx", nx, "particles along x (ny = nx/2)");
   app.add_option("--t-end", t_end, "end time in units of 1/G");
   app.add_option("--cfl", cfl, "time step dt = cfl dx / U");
+  bool paper = false;
+  app.add_flag("--paper-pair", paper, "the paper's approximate projection and SPH interpolation (Eq. 63)");
   CLI11_PARSE(app, argc, argv);
 
   const double H = 2.0, L = 4.0, U = 1.0, G = 2.0 * U / H, r0 = 0.4, rho = 1.0, mu = 1.0;
@@ -55,6 +57,10 @@ int main(int argc, char** argv) {
     f.domain.wall_velocity[Top] = {U, 0.0};
     f.domain.wall_velocity[Bottom] = {-U, 0.0};
     f.nx = nx, f.ny = nx / 2, f.rho = rho, f.mu = mu;
+    if (paper) {
+      f.projection = Projection::Approximate;
+      s.sim.interpolation = MarkerInterpolation::Sph;
+    }
     const double dx = L / nx, h_star = 1.4 * f.h_over_dx * dx, T0 = mu * G * r0 / Ca;
     f.dt = cfl * dx / U;  // below the elastic limit max(sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`
     const int nb = static_cast<int>(std::lround(2 * M_PI * r0 / (0.5 * dx)));  // two markers per dx

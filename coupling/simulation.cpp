@@ -52,6 +52,8 @@ Simulation::Simulation(const SimulationParams& params)
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
     mem_.emplace_back(prm_.membranes[k]);
   }
+  if (prm_.markers.max_move <= 0)  // a marker moving more than a lattice spacing in a step is a blow-up
+    prm_.markers.max_move = std::min(fluid_->lattice().dx, fluid_->lattice().dy);
   interp_ = prm_.interpolation;
   if (interp_ == MarkerInterpolation::Auto)
     interp_ = fluid_->has_stream_function() ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
@@ -106,52 +108,57 @@ void Simulation::marker_velocity(const Mat2& X, Mat2& U) const {
   }
 }
 
-void Simulation::body_force(double t) {
-  if (!prm_.body_force_field) return;
-  const Mat2& x = fluid_->x();
-  for (int i = 0; i < x.rows(); ++i) F_body_.row(i) = prm_.body_force_field(x(i, 0), x(i, 1), t).transpose();
+// One IB time step, t_n -> t_{n+1} (ARCHITECTURE.md, "One IB time step"):
+//   F^n = body force + S f^n;  PMIII: u^n -> u^{n+1};  X^{n+1} by the trapezoidal rule;  f^{n+1}.
+void Simulation::step() {
+  external_force(time());      // F^n: the body force at t_n
+  spread_membrane_forces();    // F^n += sum_k f_k^n W(x_i - X_k^n, h*) ds (Eq. 53)
+  marker_velocities_now();     // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
+  fluid_->step(F_);            // PMIII with prefactored systems: u^n -> u*, u^{n+1} (Eqs. 28-35)
+  move_markers();              // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) (Eqs. 56-60)
+  ScopedTimer t(prof_, k_force_);
+  update_membrane_forces();    // f^{n+1}, T^{n+1} (Eqs. 47-50): the next step's, and what output sees
 }
 
-void Simulation::step() {
-  FluidSolver& fluid = *fluid_;
-  const double dt = fluid.params().dt;
-  if (fluid.particles_move() && !mem_.empty()) grid_.build(fluid.x());  // LPSPH, WCSPH: O(N)
-  body_force(time());  // F^n: external body force at t_n
-  F_ = F_body_;
-  for (auto& s : mem_) {
-    // f_k^n = d(T tau)/ds from the periodic spline through X^n (Eqs. 47-50): s.f, computed when the
-    // markers last changed (the end of the last step, the constructor or set_markers)
-    {  // F_i += sum_k f_k W(x_i - X_k, h*) ds (Eq. 53)
-      ScopedTimer t(prof_, k_spread_);
-      spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F_);
-    }
-    if (!s.fixed) {  // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
-      ScopedTimer t(prof_, k_interp_);
-      if (s.U_revision == fluid.revision()) s.U_n = s.U;  // the last marker iterate: u^n at X^n, bit for bit
-      else marker_velocity(s.m.X, s.U_n);
-    }
+void Simulation::external_force(double t) {
+  if (prm_.body_force_field) {
+    const Mat2& x = fluid_->x();
+    for (int i = 0; i < x.rows(); ++i) F_body_.row(i) = prm_.body_force_field(x(i, 0), x(i, 1), t).transpose();
   }
-  fluid.step(F_);  // PMIII with prefactored systems: u^n -> u*, phi^{n+1}, u^{n+1}, p^{n+1/2}
+  F_ = F_body_;
+  if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // LPSPH, WCSPH: O(N)
+}
+
+void Simulation::spread_membrane_forces() {
+  ScopedTimer t(prof_, k_spread_);
+  for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F_);  // Eq. (53)
+}
+
+void Simulation::marker_velocities_now() {
+  ScopedTimer t(prof_, k_interp_);
   for (auto& s : mem_) {
     if (s.fixed) continue;
-    ScopedTimer t(prof_, k_markers_);
-    // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) by fixed-point iteration (Eqs. 56-60)
-    MarkerUpdateParams mp = prm_.markers;
-    if (mp.max_move <= 0) mp.max_move = std::min(fluid.lattice().dx, fluid.lattice().dy);
-    if (fluid.particles_move()) grid_.build(fluid.x());  // the particles of u^{n+1}
+    if (s.U_revision == fluid_->revision()) s.U_n = s.U;  // the last marker iterate: u^n at X^n, bit for bit
+    else marker_velocity(s.m.X, s.U_n);
+  }
+}
+
+void Simulation::move_markers() {
+  ScopedTimer t(prof_, k_markers_);
+  if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // the particles of u^{n+1}
+  const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U) { marker_velocity(X, U); };
+  for (auto& s : mem_) {
+    if (s.fixed) continue;
     s.U_revision = -1;
     try {
-      s.last = advance_markers([this](const Mat2& X, Mat2& U) { marker_velocity(X, U); }, s.U_n, dt, mp,
-                               fluid.steps(), s.m.X, s.X_n, s.U);
+      s.last = advance_markers(U_new, s.U_n, fluid_->params().dt, prm_.markers, fluid_->steps(), s.m.X, s.X_n, s.U);
     } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
       throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
     }
-    s.U_revision = fluid.revision();  // converged: U = u^{n+1}(X^{n+1}), the next step's U^n(X^n)
+    s.U_revision = fluid_->revision();  // converged: U = u^{n+1}(X^{n+1}), the next step's U^n(X^n)
     s.iterations += s.last.iterations;
     ++s.updates;
   }
-  ScopedTimer t(prof_, k_force_);
-  update_membrane_forces();  // f, T at X^{n+1}: the next step's f^n, and what output and observers see
 }
 
 }  // namespace sphib

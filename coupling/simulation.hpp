@@ -72,7 +72,11 @@ class Simulation {
   void marker_velocity(const Mat2& X, Mat2& U) const;
 
  private:
-  void body_force(double t);
+  // The named parts of step():
+  void external_force(double t);   // F = the body force at t
+  void spread_membrane_forces();   // F += S f (Eq. 53)
+  void marker_velocities_now();    // U^n(X^n) of every free membrane
+  void move_markers();             // the trapezoidal fixed point (Eqs. 56-60)
 
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
