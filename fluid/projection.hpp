@@ -53,11 +53,13 @@ class Fluid final : public FluidSolver {
   double max_abs_divergence() const override;
   double kinetic_energy() const override;      // sum_i rho V |u_i|^2 / 2
   double poisson_residual() const;             // ||A phi - b|| / ||b|| of the last Poisson solve
-  // The stream function of u^n (computed on the first call after a step): psi minimises
-  // sum_i |(Gy psi, -Gx psi)_i - u_i|^2 over the particles, with G the velocity gradient of Eq. (30)
-  // (psi's images odd: psi is constant along each wall, psi = 0 on the bottom or left wall and the
-  // flux on the other; closed boxes psi = 0 on every wall). After the exact projection u^n is
-  // discretely divergence-free and, on a periodic lattice, equals that curl to solver precision.
+  // The stream function the markers follow (computed on the first call after a step): psi_m with
+  // -lap psi_m = C^T u (the Morris Laplacian of Eq. 31 with odd images: psi_m constant along each
+  // wall, 0 on the bottom or left wall and the flux on the other; C^T u = Gy^T u - Gx^T v, the
+  // discrete vorticity). Its curl is divergence-free and, like Eq. (63), smooths u at the scale h;
+  // the least-squares psi of the exact projection (u = its curl exactly) would instead give the
+  // markers the grid-scale velocity unsmoothed, amplified by 1/|G| near the gradient's null modes
+  // (measured: a membrane with narrow spreading, h* = h/2, blows up within 20 steps).
   StreamFunction stream_function() const override;
   bool has_stream_function() const override { return true; }
 
@@ -88,6 +90,7 @@ class Fluid final : public FluidSolver {
   bool cn_iterative_ = false;
   mutable bool poisson_fft_ = false;  // the FFT solver of the unpinned operator (no pin in the right-hand side)
   Gauge gauge_;      // of the Poisson operator in use (fluid/gauge.hpp)
+  Gauge gauge_phi_;  // exact projection: of phi~'s Morris Laplacian (the constants)
   // Exact projection: the divergence D = -G^T (Dx, Dy, one pattern, their stencil), the velocity
   // modes it does not see, phi made on demand (phi_step_: the step it belongs to).
   SpMat div_x_, div_y_;
@@ -97,7 +100,8 @@ class Fluid final : public FluidSolver {
   Mat2 grad_psi_;
   void project_exact();
   void project_approximate();
-  double psi_rhs(const Mat2& u) const;  // b_psi_ = C^T u - Q flux term, projected; returns Q
+  void curl_transpose(const Mat2& u) const;  // cu_ = C^T u, Q_ = the least-squares flux of u
+  void psi_rhs() const;  // b_psi_ = cu_ - Q_ (flux term), projected
   void exact_divergence(const Mat2& u, Vec& d) const;  // D u with the normal offsets
   // The stream function (stream_function()): its normal equations' solver, the transposed
   // velocity gradients (Gy^T, -Gx^T) that make their right-hand side, and the wall term per unit flux.
@@ -107,6 +111,14 @@ class Fluid final : public FluidSolver {
   mutable SpMat psi_ty_, psi_tx_;
   mutable RowStencil psi_st_;
   mutable Vec psi_, psi_flux_, b_psi_, psi_by1_, psi_bx1_;
+  // the markers' psi_m (stream_function()): its solver, the wall term per unit flux, C^T u and Q of
+  // the last step (exact projection: of u*, equal to u^{n+1}'s up to round-off)
+  mutable std::unique_ptr<LinearSolver> mpsi_solver_;
+  mutable Gauge mpsi_gauge_;
+  mutable bool mpsi_fft_ = false;
+  mutable Vec psi_m_, mpsi_flux_, cu_, b_m_;
+  mutable double Q_ = 0, mpsi_scale_ = 1;
+  mutable long cu_revision_ = -1;
   mutable Mat2 psi_r1_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
   mutable Eigen::Vector2d psi_mean_ = Eigen::Vector2d::Zero();
   mutable long psi_revision_ = -1;

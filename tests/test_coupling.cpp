@@ -281,17 +281,16 @@ Membrane discrete_rest_circle(int nb, double r0, double cx, double cy, double T0
 // (1, 0.5) in a periodic box (nx = 16, mu = 0.1, dt = 0.01, convection on), crossing the seam
 // x = 1, translates with the flow. After 20 steps (t = 0.2), measured with the exact projection,
 // SPH interpolation (Eq. 63) / divergence-free (the uniform flow is the stream function's mean):
-//   centroid - (c0 + U t): 2.6e-10 / 3.9e-9;  max marker deviation from X0 + U t: 5.3e-9 / 3.7e-7;
-//   rx - rx0: 1.6e-9 / 1.8e-7, ry - ry0: 3.0e-9 / 2.8e-7, area - area0: 8.3e-10 / 2.8e-11 (the
-//   relaxation of the rest circle, see discrete_rest_circle and the next test: the divergence-free
-//   markers cannot shrink, so the circle relaxes its tension by other shapes; with the discrete rest
-//   state all of these are < 1e-15). (The approximate projection with Eq. (63): 8.6e-10, 8.4e-8,
-//   7.7e-8, 8.2e-8, 9.9e-8.)
-// Tolerance 1.5x measured.
+//   centroid - (c0 + U t): 2.6e-10 / 2.1e-10;  max marker deviation from X0 + U t: 5.3e-9 / 2.7e-9;
+//   rx - rx0: 1.6e-9 / 9.2e-10, ry - ry0: 3.0e-9 / 1.4e-9, area - area0: 8.3e-10 / 3.0e-14 (the
+//   relaxation of the rest circle, see discrete_rest_circle; with the discrete rest state all of
+//   these are < 1e-15). (The approximate projection with Eq. (63): 8.6e-10, 8.4e-8, 7.7e-8, 8.2e-8,
+//   9.9e-8.)
+// Tolerance 1.5x measured (the area of the divergence-free run: 1e-12, round-off).
 TEST(Coupling, MembraneTranslatesWithUniformFlow) {
   struct Row { MarkerInterpolation interp; double centroid, markers, rx, ry, area; };
   for (const Row& r : {Row{MarkerInterpolation::Sph, 2.6e-10, 5.3e-9, 1.6e-9, 3.0e-9, 8.3e-10},
-                       Row{MarkerInterpolation::DivergenceFree, 3.9e-9, 3.7e-7, 1.8e-7, 2.8e-7, 2.8e-11}}) {
+                       Row{MarkerInterpolation::DivergenceFree, 2.1e-10, 2.7e-9, 9.2e-10, 1.4e-9, 6.7e-13}}) {
     SimulationParams sp = periodic_ib(16, 0.01);
     sp.interpolation = r.interp;
     MembraneSetup ms;
@@ -325,11 +324,10 @@ TEST(Coupling, MembraneTranslatesWithUniformFlow) {
 
 // A membrane in its discrete rest state in a fluid at rest stays at rest: measured max |u| and
 // max marker displacement after 20 steps (nx = 16, dt = 0.01, divergence-free markers): exact
-// projection 8.4e-12 and 1.9e-13, approximate 1.5e-11 and 1.9e-13. Tolerances 1e-10 and 2e-12
-// (round-off, amplified by the G^T G solves near their null modes; with the approximate projection
-// and Eq. (63) it was 4.4e-14 and 2.2e-16). The geometric rest circle (L0 = 2 pi r0 exactly)
-// instead relaxes its spline tension -5.2e-6 T0: measured max |u| = 1.53e-6 / 5.96e-6, marker
-// displacement 1.76e-7 / 1.76e-7 (exact / approximate; tolerance 1.5x).
+// projection 5.0e-14 and 6.7e-16, approximate 7.9e-14 and 6.7e-16. Tolerances 1e-12 and 1e-14
+// (round-off). The geometric rest circle (L0 = 2 pi r0 exactly) instead relaxes its spline tension
+// -5.2e-6 T0: measured max |u| = 3.06e-7 / 2.13e-6, marker displacement 6.96e-9 / 6.96e-9
+// (exact / approximate; tolerance 1.5x; with Eq. (63): 9.4e-7, 8.8e-8).
 TEST(Coupling, MembraneAtRestStaysAtRest) {
   for (Projection pr : {Projection::Exact, Projection::Approximate})
     for (bool discrete : {true, false}) {
@@ -345,11 +343,11 @@ TEST(Coupling, MembraneAtRestStaysAtRest) {
       const double u_max = sim.fluid().u().cwiseAbs().maxCoeff();
       const double dX = (sim.membranes()[0].m.X - ms.membrane.X).cwiseAbs().maxCoeff();
       if (discrete) {
-        EXPECT_LT(u_max, 1e-10) << "exact " << exact;
-        EXPECT_LT(dX, 2e-12) << "exact " << exact;
+        EXPECT_LT(u_max, 1e-12) << "exact " << exact;
+        EXPECT_LT(dX, 1e-14) << "exact " << exact;
       } else {
-        EXPECT_LT(u_max, 1.5 * (exact ? 1.53e-6 : 5.96e-6)) << "exact " << exact;
-        EXPECT_LT(dX, 1.5 * 1.76e-7) << "exact " << exact;
+        EXPECT_LT(u_max, 1.5 * (exact ? 3.06e-7 : 2.13e-6)) << "exact " << exact;
+        EXPECT_LT(dX, 1.5 * 6.96e-9) << "exact " << exact;
       }
     }
 }
