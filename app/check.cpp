@@ -6,7 +6,6 @@
 #include <ostream>
 #include <sstream>
 
-#include "fluid/projection.hpp"
 #include "membrane/geometry.hpp"
 
 namespace sphib::app {
@@ -31,8 +30,6 @@ double figure(const FluidSolver& f, const std::string& name, double def) {
     if (k == name) return v;
   return def;
 }
-
-long nnz(const SpMat& A) { return static_cast<long>(A.nonZeros()); }
 
 }  // namespace
 
@@ -64,22 +61,13 @@ int check_scene(const Scene& scene, std::ostream& out) {
   }
 
   // ---- Memory estimate (EPSPH: what the fixed-particle method keeps for the whole run)
-  if (const auto* e = dynamic_cast<const Fluid*>(&f)) {
-    const Operators& op = e->operators();
-    const long n_op = nnz(op.lap_u.A) + nnz(op.lap_u.B) + nnz(op.grad_ux.A) + nnz(op.grad_ux.B) +
-                      nnz(op.grad_uy.A) + nnz(op.grad_uy.B) + nnz(op.lap_phi) + nnz(op.grad_phix) +
-                      nnz(op.grad_phiy);
-    long n_fac = 0, n_sys = 0;
-    for (const auto& si : e->solver_info()) {
-      n_fac += si.nnz_factor ? si.nnz_factor : si.nnz_used;  // an iterative solver keeps A itself
-      if (si.system == "Poisson") n_sys += si.nnz_A;          // kept for the residual check
-    }
-    const long pairs = static_cast<long>(e->pairs().size());
-    const double b_op = 12.0 * n_op, b_fac = 12.0 * (n_fac + n_sys), b_pairs = 28.0 * pairs + 4.0 * (N + 1);
+  if (const auto kept = f.footprint()) {
+    const double b_op = 12.0 * kept->operator_nonzeros, b_fac = 12.0 * kept->factor_nonzeros;
+    const double b_pairs = 28.0 * kept->pairs + 4.0 * (N + 1);
     const double b_fields = 8.0 * (34.0 * N + 8.0 * (std::isnan(images) ? 0.0 : images));
     out << "  memory estimate: " << bytes(b_op + b_fac + b_pairs + b_fields) << " = operators " << bytes(b_op)
-        << " (" << n_op << " non-zeros) + factors " << bytes(b_fac) << " (" << n_fac + n_sys
-        << " non-zeros) + pair list " << bytes(b_pairs) << " (" << pairs << " pairs) + fields " << bytes(b_fields)
+        << " (" << kept->operator_nonzeros << " non-zeros) + factors " << bytes(b_fac) << " (" << kept->factor_nonzeros
+        << " non-zeros) + pair list " << bytes(b_pairs) << " (" << kept->pairs << " pairs) + fields " << bytes(b_fields)
         << "\n    (counts: every non-zero of the operator matrices, of the Cholesky/LU factors and of the kept"
            " Poisson matrix at 12 bytes (8-byte value + 4-byte index); each pair at 28 bytes (index, x_ij, r);"
            " 34 doubles per particle (u, u*, AB2 and Crank-Nicolson work arrays, phi, p, forces, positions) and"
@@ -167,11 +155,8 @@ int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& 
   // the fluid's added mass rho/k; the T0 dt^2/h scaling of the explicit-IB stability analysis of
   // Hua & Peskin 2021, arXiv:2111.15065), and viscous, dt below a constant times mu/(T0 k) (the
   // Stokes relaxation rate of that mode). The constants are NOT from a source: they were measured
-  // with this code (a nearly circular membrane: `cases/membrane_oscillation.toml` with rx = 0.51,
-  // ry = 0.49, nx = 32 and 64, mu = 0.1 and 1, T0 = 10, 100, 1000, 300 steps, dt doubled until a
-  // blow-up): the largest stable dt lay between 0.7 and 4 times
-  //   max(sqrt(rho h*^3 / T0), 10 mu h* / T0),
-  // the estimate used here. Treat it as a factor-of-two guide, not a bound (README: "sphib check").
+  // with this code, a factor-of-two guide, not a bound (README: "sphib check", "Stability at the
+  // extremes").
   for (size_t k = 0; k < sim.membranes().size(); ++k) {
     const auto& m = sim.membranes()[k];
     if (m.fixed || m.m.T0 <= 0) continue;

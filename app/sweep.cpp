@@ -75,41 +75,49 @@ bool as_number(const nlohmann::json& v, double& x) {
   return end && *end == '\0' && end != s.c_str();
 }
 
-}  // namespace
+// One run of the sweep: its varied and derived values, the overrides and the scene they give.
+struct Run {
+  std::map<std::string, std::string> env;  // varied and derived values as set
+  std::vector<std::string> sets;
+  Scene scene;
+  std::string dir;
+};
 
-SweepResult run_sweep(const SweepOptions& o) {
-  // Keys and values
+// The varied keys with their values, the derived keys with their expressions.
+struct Plan {
   std::vector<std::string> keys;
   std::vector<std::vector<std::string>> values;
+  std::vector<std::pair<std::string, std::string>> derives;
+};
+
+Plan parse_plan(const SweepOptions& o) {
+  Plan p;
   for (const auto& v : o.vary) {
     auto [k, list] = split_kv(v, "--vary");
-    keys.push_back(k);
-    values.push_back(split(list, ','));
-    if (values.back().empty()) throw UsageError("--vary " + v + ": no values");
+    p.keys.push_back(k);
+    p.values.push_back(split(list, ','));
+    if (p.values.back().empty()) throw UsageError("--vary " + v + ": no values");
   }
-  if (keys.empty()) throw UsageError("give at least one --vary key=v1,v2,...");
-  std::vector<std::pair<std::string, std::string>> derives;
-  for (const auto& d : o.derive) derives.push_back(split_kv(d, "--derive"));
+  if (p.keys.empty()) throw UsageError("give at least one --vary key=v1,v2,...");
+  for (const auto& d : o.derive) p.derives.push_back(split_kv(d, "--derive"));
   for (const auto& s : o.set) split_kv(s, "--set");
   if (o.report.empty()) throw UsageError("give the summary fields to tabulate: --report a,b");
+  return p;
+}
 
-  // Every combination, the last key fastest (itertools.product), set up before anything runs.
-  struct Run {
-    std::map<std::string, std::string> env;  // varied and derived values as set
-    std::vector<std::string> sets;
-    Scene scene;
-    std::string dir;
-  };
+// Every combination, the last key fastest (itertools.product), set up before anything runs
+// (SceneError: refused before anything runs).
+std::vector<Run> combinations(const Plan& p, const SweepOptions& o) {
   std::vector<Run> runs;
-  std::vector<size_t> idx(keys.size(), 0);
+  std::vector<size_t> idx(p.keys.size(), 0);
   while (true) {
     Run r;
-    for (size_t k = 0; k < keys.size(); ++k) {
-      r.env[keys[k]] = values[k][idx[k]];
-      r.sets.push_back(keys[k] + "=" + values[k][idx[k]]);
+    for (size_t k = 0; k < p.keys.size(); ++k) {
+      r.env[p.keys[k]] = p.values[k][idx[k]];
+      r.sets.push_back(p.keys[k] + "=" + p.values[k][idx[k]]);
     }
-    std::map<std::string, std::string> varied(r.env);
-    for (const auto& [dk, expr] : derives) {
+    const std::map<std::string, std::string> varied(r.env);
+    for (const auto& [dk, expr] : p.derives) {
       const std::string v = format_number(evaluate(substitute(expr, varied)));
       r.env[dk] = v;
       r.sets.push_back(dk + "=" + v);
@@ -118,73 +126,65 @@ SweepResult run_sweep(const SweepOptions& o) {
     char name[32];
     std::snprintf(name, sizeof name, "run_%03zu", runs.size());
     r.dir = (fs::path(o.out) / name).string();
-    r.scene = load_scene(o.scene, r.sets);  // SceneError: refused before anything runs
+    r.scene = load_scene(o.scene, r.sets);
     runs.push_back(std::move(r));
-    size_t k = keys.size();
-    while (k > 0 && ++idx[k - 1] == values[k - 1].size()) idx[--k] = 0;
-    if (k == 0) break;
+    size_t k = p.keys.size();
+    while (k > 0 && ++idx[k - 1] == p.values[k - 1].size()) idx[--k] = 0;
+    if (k == 0) return runs;
   }
+}
 
-  fs::create_directories(o.out);
-  SweepResult res;
-  std::vector<nlohmann::json> rows;
-  for (size_t i = 0; i < runs.size(); ++i) {
-    if (o.stop && o.stop->load()) break;
-    Run& r = runs[i];
-    const std::string summary_path = r.dir + "/summary.json";
-    nlohmann::json s;
+// Runs r unless a complete earlier run is in its directory (an interrupted one is run again);
+// returns its summary, or null if set-up failed before anything was written.
+nlohmann::json run_or_reuse(const Run& r, const SweepOptions& o, SweepResult& res) {
+  const std::string summary_path = r.dir + "/summary.json";
+  bool done = false;
+  if (fs::exists(summary_path)) {
+    std::ifstream in(summary_path);
+    try { done = nlohmann::json::parse(in).value("stop_reason", "") != "interrupted"; } catch (const std::exception&) {}
+  }
+  if (done) {
+    ++res.reused;
+    if (o.log) *o.log << "sweep: " << r.dir << ": already run (summary.json kept)" << std::endl;
+  } else {
     std::string settings;
     for (const auto& kv : r.sets) settings += " " + kv;
-    bool done = false;  // a complete earlier run (an interrupted one is run again)
-    if (fs::exists(summary_path)) {
-      std::ifstream in(summary_path);
-      try { done = nlohmann::json::parse(in).value("stop_reason", "") != "interrupted"; } catch (const std::exception&) {}
+    if (o.log) *o.log << "sweep: " << r.dir << ":" << settings << std::endl;
+    RunOptions ro;
+    ro.out_dir = r.dir;
+    ro.stop = o.stop;
+    try {
+      run_scene(r.scene, ro);
+    } catch (const std::exception& e) {
+      ++res.failed;
+      if (o.log) *o.log << "sweep: " << r.dir << " failed: " << e.what() << std::endl;
     }
-    if (done) {
-      ++res.reused;
-      if (o.log) *o.log << "sweep: " << r.dir << ": already run (summary.json kept)" << std::endl;
-    } else {
-      if (o.log) *o.log << "sweep: " << r.dir << ":" << settings << std::endl;
-      RunOptions ro;
-      ro.out_dir = r.dir;
-      ro.stop = o.stop;
-      try {
-        run_scene(r.scene, ro);
-      } catch (const std::exception& e) {
-        ++res.failed;
-        if (o.log) *o.log << "sweep: " << r.dir << " failed: " << e.what() << std::endl;
-      }
-    }
-    if (fs::exists(summary_path)) {
-      std::ifstream in(summary_path);
-      try { s = nlohmann::json::parse(in); } catch (const std::exception&) { s = nlohmann::json::object(); }
-    } else {
-      continue;  // set-up failed before anything was written
-    }
-    ++res.runs;
-    nlohmann::json row = nlohmann::json::object();
-    for (const auto& [k, v] : r.env) row[k] = v;
-    for (const auto& rep : o.report) {  // a dotted name reaches into nested objects
-      const nlohmann::json* v = &s;
-      for (const auto& part : split(rep, '.')) {
-        if (v->is_object() && v->contains(part)) v = &(*v)[part];
-        else { v = nullptr; break; }
-      }
-      row[rep] = v ? *v : nlohmann::json();
-    }
-    row["steps"] = s.value("steps", nlohmann::json());
-    row["wall_seconds"] = s.value("wall_seconds", nlohmann::json());
-    row["run"] = r.dir;
-    rows.push_back(row);
   }
+  if (!fs::exists(summary_path)) return nullptr;
+  std::ifstream in(summary_path);
+  try { return nlohmann::json::parse(in); } catch (const std::exception&) { return nlohmann::json::object(); }
+}
 
-  // Tables
-  std::vector<std::string> cols(keys);
-  for (const auto& [dk, e] : derives)
-    if (std::find(cols.begin(), cols.end(), dk) == cols.end()) cols.push_back(dk);
-  cols.insert(cols.end(), o.report.begin(), o.report.end());
-  for (const char* c : {"steps", "wall_seconds", "run"}) cols.emplace_back(c);
+// A table row: the run's values and the reported summary fields (a dotted name reaches into
+// nested objects).
+nlohmann::json table_row(const Run& r, const nlohmann::json& s, const std::vector<std::string>& report) {
+  nlohmann::json row = nlohmann::json::object();
+  for (const auto& [k, v] : r.env) row[k] = v;
+  for (const auto& rep : report) {
+    const nlohmann::json* v = &s;
+    for (const auto& part : split(rep, '.')) {
+      if (v->is_object() && v->contains(part)) v = &(*v)[part];
+      else { v = nullptr; break; }
+    }
+    row[rep] = v ? *v : nlohmann::json();
+  }
+  row["steps"] = s.value("steps", nlohmann::json());
+  row["wall_seconds"] = s.value("wall_seconds", nlohmann::json());
+  row["run"] = r.dir;
+  return row;
+}
 
+std::string csv_table(const std::vector<std::string>& cols, const std::vector<nlohmann::json>& rows) {
   std::ostringstream csv;
   for (size_t c = 0; c < cols.size(); ++c) csv << (c ? "," : "") << csv_field(cols[c]);
   csv << "\n";
@@ -192,18 +192,23 @@ SweepResult run_sweep(const SweepOptions& o) {
     for (size_t c = 0; c < cols.size(); ++c) csv << (c ? "," : "") << csv_field(cell(row.value(cols[c], nlohmann::json()), false));
     csv << "\n";
   }
-  write_file_atomic((fs::path(o.out) / "sweep.csv").string(), csv.str());
+  return csv.str();
+}
 
+// The Markdown table (without the run column) with the observed order of each reported field
+// along the first varied key: against the last earlier row with the other varied keys equal.
+std::string markdown_table(const std::vector<std::string>& cols, const std::vector<nlohmann::json>& rows,
+                           const std::vector<std::string>& keys, const std::vector<std::string>& report) {
   std::ostringstream md;
   md << "|";
   for (size_t c = 0; c + 1 < cols.size(); ++c) md << " " << cols[c] << " |";
-  for (const auto& rep : o.report) md << " order " << rep << " |";
+  for (const auto& rep : report) md << " order " << rep << " |";
   md << "\n|";
-  for (size_t c = 0; c + 1 < cols.size() + o.report.size(); ++c) md << "---|";
+  for (size_t c = 0; c + 1 < cols.size() + report.size(); ++c) md << "---|";
   md << "\n";
   const std::string& res_key = keys[0];
   for (size_t i = 0; i < rows.size(); ++i) {
-    const nlohmann::json* prev = nullptr;  // the last earlier row with the other varied keys equal
+    const nlohmann::json* prev = nullptr;
     for (size_t j = i; j-- > 0;) {
       bool same = true;
       for (size_t k = 1; k < keys.size(); ++k) same = same && rows[j][keys[k]] == rows[i][keys[k]];
@@ -211,7 +216,7 @@ SweepResult run_sweep(const SweepOptions& o) {
     }
     md << "|";
     for (size_t c = 0; c + 1 < cols.size(); ++c) md << " " << cell(rows[i].value(cols[c], nlohmann::json()), true) << " |";
-    for (const auto& rep : o.report) {
+    for (const auto& rep : report) {
       double e0, e1, n0, n1;
       std::string order;
       if (prev && as_number((*prev)[rep], e0) && as_number(rows[i][rep], e1) && as_number((*prev)[res_key], n0) &&
@@ -225,7 +230,31 @@ SweepResult run_sweep(const SweepOptions& o) {
     }
     md << "\n";
   }
-  res.markdown = md.str();
+  return md.str();
+}
+
+}  // namespace
+
+SweepResult run_sweep(const SweepOptions& o) {
+  const Plan plan = parse_plan(o);
+  const std::vector<Run> runs = combinations(plan, o);
+  fs::create_directories(o.out);
+  SweepResult res;
+  std::vector<nlohmann::json> rows;
+  for (const Run& r : runs) {
+    if (o.stop && o.stop->load()) break;
+    const nlohmann::json s = run_or_reuse(r, o, res);
+    if (s.is_null()) continue;
+    ++res.runs;
+    rows.push_back(table_row(r, s, o.report));
+  }
+  std::vector<std::string> cols(plan.keys);
+  for (const auto& [dk, e] : plan.derives)
+    if (std::find(cols.begin(), cols.end(), dk) == cols.end()) cols.push_back(dk);
+  cols.insert(cols.end(), o.report.begin(), o.report.end());
+  for (const char* c : {"steps", "wall_seconds", "run"}) cols.emplace_back(c);
+  write_file_atomic((fs::path(o.out) / "sweep.csv").string(), csv_table(cols, rows));
+  res.markdown = markdown_table(cols, rows, plan.keys, o.report);
   write_file_atomic((fs::path(o.out) / "sweep.md").string(), res.markdown);
   if (o.table) *o.table << res.markdown << std::flush;
   return res;

@@ -3,8 +3,8 @@
 // (2012). Three parts, each printed, with a CSV and a section of DIR/lpsph_comparison.md:
 //
 // poiseuille  Start-up planar Poiseuille (Section 5.1, Tables 1-2): Re = 0.0125 (rho = 1,
-//             mu = 1/Re, F = 8/Re, u_max = 1), [0,1]^2 periodic in x, walls at y = 0, 1,
-//             dt = 1.25e-6, 10 000 steps (--steps to shorten), Nx = Ny in --nx x h/dx in --h.
+//             mu = 1/Re, F = 8/Re, u_max = 1; bench/poiseuille.hpp), 10 000 steps (--steps to
+//             shorten), Nx = Ny in --nx x h/dx in --h.
 //             Both methods with the same settings and solvers (auto); rms error (Eq. 69) at the
 //             final time and wall time (set-up + loop); the LPSPH per-step breakdown, how often
 //             the symbolic analysis was kept, and the time ratio LPSPH/EPSPH next to the paper's
@@ -23,41 +23,26 @@
 //   lpsph_comparison [--parts poiseuille,fig9,fig18] [--nx LIST] [--h LIST] [--steps N]
 //                    [--fig9-nx LIST] [--fig9-end T] [--fig9-reinit N] [--fig18-end T] [--out DIR]
 //
-// Single-threaded (re-executes itself with OMP_NUM_THREADS=1 and the BLAS equivalents), as the
-// paper's timings are for one core.
-#include <unistd.h>
-
+// Single-threaded, as the paper's timings are for one core.
 #include <algorithm>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
-#include <iostream>
-#include <map>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "bench/common.hpp"
-#include "io/atomic_file.hpp"
+#include "bench/poiseuille.hpp"
 #include "coupling/simulation.hpp"
-#include "fluid/exact.hpp"
 #include "fluid/lagrangian.hpp"
-#include "fluid/projection.hpp"
-#include "membrane/geometry.hpp"
 #include "io/scene.hpp"
+#include "membrane/geometry.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using namespace sphib::bench;
+using namespace sphib::bench::poiseuille;
+using sphib::seconds_since;
 
 // The scene files: cases/ of the source tree this file was compiled from (CMake passes absolute
 // source paths), or SPHIB_CASES if set.
@@ -66,37 +51,8 @@ fs::path cases_dir() {
   return fs::path(__FILE__).parent_path().parent_path() / "cases";
 }
 
-constexpr double kRe = 0.0125;
-constexpr double kDt = 1.25e-6;
-constexpr long kPaperSteps = 10000;
-
-// Tables 1 (EPSPH) and 2 (LPSPH) of the paper: CPU seconds / 1e5 for 10 000 steps, rows h/dx,
-// columns dx = 1/16, 1/24, 1/32, 1/48, 1/64 (2.66 GHz, one core). Table 2 has no 5.00 dx, 1/64.
-const std::vector<double> kPaperH = {1.2, 1.525, 2.2, 2.75, 3.0, 4.0, 5.0};
-const std::vector<int> kPaperNx = {16, 24, 32, 48, 64};
-const double kTable1[7][5] = {{0.035022, 0.067669, 0.113006, 0.239269, 0.415746},
-                              {0.046215, 0.089396, 0.147856, 0.311473, 0.540184},
-                              {0.090997, 0.178537, 0.294559, 0.617233, 1.060960},
-                              {0.147899, 0.287261, 0.472361, 0.982132, 1.677688},
-                              {0.203369, 0.391393, 0.640025, 1.306324, 2.274285},
-                              {0.333689, 0.645198, 1.042638, 2.120318, 3.552049},
-                              {0.669753, 1.283128, 2.119406, 4.022646, 7.023340}};
-const double kTable2[7][5] = {{0.099005, 0.187561, 0.319504, 0.714037, 1.323536},
-                              {0.127923, 0.252388, 0.424687, 0.948320, 1.760337},
-                              {0.274136, 0.538272, 0.908807, 2.010848, 3.731087},
-                              {0.475463, 0.930296, 1.573539, 3.561883, 6.672354},
-                              {0.571796, 1.116098, 1.891615, 4.573303, 10.035217},
-                              {1.197621, 2.303141, 3.975691, 9.391495, 18.396347},
-                              {2.277747, 5.864076, 10.2052380, 21.126515, -1.0}};
-
 // The paper's LPSPH/EPSPH time ratio for (nx, h/dx), NaN when not tabulated.
-double paper_ratio(int nx, double hdx) {
-  for (size_t r = 0; r < kPaperH.size(); ++r)
-    for (size_t c = 0; c < kPaperNx.size(); ++c)
-      if (std::abs(kPaperH[r] - hdx) < 1e-9 && kPaperNx[c] == nx && kTable2[r][c] > 0)
-        return kTable2[r][c] / kTable1[r][c];
-  return NAN;
-}
+double paper_ratio(int nx, double hdx) { return paper_seconds(true, nx, hdx) / paper_seconds(false, nx, hdx); }
 
 struct Options {
   std::vector<std::string> parts{"poiseuille", "fig9", "fig18"};
@@ -108,25 +64,8 @@ struct Options {
   int fig9_reinit = 10;
   double fig18_end = 1.2;
   std::string out = "bench_out/lpsph";
+  bool wants(const std::string& part) const { return std::find(parts.begin(), parts.end(), part) != parts.end(); }
 };
-
-std::string fmt(double v, int prec = 3, bool sci = false) {
-  if (!std::isfinite(v)) return "–";
-  std::ostringstream s;
-  s << (sci ? std::scientific : std::fixed) << std::setprecision(prec) << v;
-  return s.str();
-}
-
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
-
-void write_atomic(const std::filesystem::path& path, const std::string& text) {
-  sphib::write_file_atomic(path.string(), text);  // io/atomic_file.hpp: .part, fsync, rename
-}
 
 // ---------------------------------------------------------------- Poiseuille (Tables 1-2)
 
@@ -146,30 +85,15 @@ struct PoiseuilleRun {
 PoiseuilleRun poiseuille_run(const std::string& method, int nx, double hdx, long steps) {
   PoiseuilleRun r;
   r.steps = steps;
-  sphib::FluidParams p;
-  p.method = method;
-  p.domain = sphib::Domain{0.0, 1.0, 0.0, 1.0, true, false};
-  p.nx = p.ny = nx;
-  p.h_over_dx = hdx;
-  p.rho = 1.0;
-  p.mu = 1.0 / kRe;
-  p.dt = kDt;
-  p.convection = false;  // unidirectional: (u.grad)u = 0 (EPSPH); LPSPH has no convection term
   try {
     auto t0 = Clock::now();
-    auto f = sphib::make_fluid(p);
-    r.t_setup = since(t0);
-    sphib::Mat2 F = sphib::Mat2::Zero(f->size(), 2);
-    F.col(0).setConstant(8.0 / kRe);
+    auto f = sphib::make_fluid(params(method, nx, hdx));  // Stokes: LPSPH has no convection term
+    r.t_setup = seconds_since(t0);
+    const sphib::Mat2 F = body_force(f->size());
     t0 = Clock::now();
     for (long s = 0; s < steps; ++s) f->step(F);
-    r.t_loop = since(t0);
-    double e = 0;  // Eq. (69) at the particles' positions
-    for (int i = 0; i < f->size(); ++i) {
-      const double du = sphib::exact::poiseuille_u(f->x()(i, 1), f->time(), kRe) - f->u()(i, 0);
-      e += du * du + f->u()(i, 1) * f->u()(i, 1);
-    }
-    r.rms = std::sqrt(e / f->size());
+    r.t_loop = seconds_since(t0);
+    r.rms = error(*f).rms;  // Eq. (69) at the particles' positions
     if (!std::isfinite(r.rms)) r.status = "non-finite velocity";
     if (auto* l = dynamic_cast<sphib::LagrangianFluid*>(f.get())) {
       const sphib::Profile& P = l->profile();
@@ -211,13 +135,13 @@ std::string poiseuille_csv(const std::vector<PoiseuillePair>& rs) {
        "lps_symbolic_reused_cn,lps_symbolic_reused_poisson,lps_refactorised,lps_lowest_kernel_sum,lps_nnz_factor,"
        "lps_poisson_method,ratio_total,ratio_loop,ratio_total_10k,paper_ratio\n";
   for (const auto& r : rs) {
-    o << r.nx << ',' << r.hdx << ',' << r.e.steps << ',' << num(r.e.steps * kDt) << ",\"" << r.e.status << "\","
-      << num(r.e.rms) << ',' << num(r.e.t_setup) << ',' << num(r.e.t_loop) << ",\"" << r.l.status << "\","
-      << num(r.l.rms) << ',' << num(r.l.t_setup) << ',' << num(r.l.t_loop) << ',' << num(r.l.t_neighbours) << ','
-      << num(r.l.t_operators) << ',' << num(r.l.t_factor) << ',' << num(r.l.t_solves) << ',' << num(r.l.nb) << ','
-      << r.l.reused_cn << ',' << r.l.reused_poisson << ',' << r.l.refactorised << ',' << num(r.l.s_low) << ','
-      << r.l.nnz_factor << ",\"" << r.l.method << "\"," << num(r.ratio()) << ',' << num(r.ratio_loop()) << ','
-      << num(r.ratio_10k()) << ',' << num(paper_ratio(r.nx, r.hdx)) << '\n';
+    o << r.nx << ',' << r.hdx << ',' << r.e.steps << ',' << csv_num(r.e.steps * kDt) << ",\"" << r.e.status << "\","
+      << csv_num(r.e.rms) << ',' << csv_num(r.e.t_setup) << ',' << csv_num(r.e.t_loop) << ",\"" << r.l.status << "\","
+      << csv_num(r.l.rms) << ',' << csv_num(r.l.t_setup) << ',' << csv_num(r.l.t_loop) << ',' << csv_num(r.l.t_neighbours) << ','
+      << csv_num(r.l.t_operators) << ',' << csv_num(r.l.t_factor) << ',' << csv_num(r.l.t_solves) << ',' << csv_num(r.l.nb) << ','
+      << r.l.reused_cn << ',' << r.l.reused_poisson << ',' << r.l.refactorised << ',' << csv_num(r.l.s_low) << ','
+      << r.l.nnz_factor << ",\"" << r.l.method << "\"," << csv_num(r.ratio()) << ',' << csv_num(r.ratio_loop()) << ','
+      << csv_num(r.ratio_10k()) << ',' << csv_num(paper_ratio(r.nx, r.hdx)) << '\n';
   }
   return o.str();
 }
@@ -225,10 +149,10 @@ std::string poiseuille_csv(const std::vector<PoiseuillePair>& rs) {
 std::string poiseuille_md(const std::vector<PoiseuillePair>& rs, const Options& o) {
   std::ostringstream m;
   m << "## Start-up Poiseuille, EPSPH against LPSPH (Section 5.1, Tables 1-2)\n\n"
-    << "Re = 0.0125, dt = 1.25e-6, " << o.steps << " steps (t = " << fmt(o.steps * kDt, 6, true)
+    << "Re = 0.0125, dt = 1.25e-6, " << o.steps << " steps (t = " << sci(o.steps * kDt, 6)
     << "), the same solvers (auto) for both; one core.";
   if (o.steps != kPaperSteps)
-    m << " **Shortened**: the errors are at t = " << fmt(o.steps * kDt, 6, true)
+    m << " **Shortened**: the errors are at t = " << sci(o.steps * kDt, 6)
       << ", not the developed flow of t = 0.0125; the 10 000-step totals are extrapolated (set-up once, loop "
          "scaled).";
   m << "\n\n";
@@ -252,25 +176,25 @@ std::string poiseuille_md(const std::vector<PoiseuillePair>& rs, const Options& 
   };
   auto ok = [](const PoiseuillePair& p) { return p.e.status == "ok" && p.l.status == "ok"; };
   table("rms error (Eq. 69), EPSPH / LPSPH", [&](const PoiseuillePair& p) {
-    return ok(p) ? fmt(p.e.rms, 3, true) + " / " + fmt(p.l.rms, 3, true) : std::string("failed");
+    return ok(p) ? sci(p.e.rms, 3) + " / " + sci(p.l.rms, 3) : std::string("failed");
   });
   table("Wall time, set-up + loop, s: EPSPH / LPSPH", [&](const PoiseuillePair& p) {
-    return ok(p) ? fmt(p.e.total(), 2) + " / " + fmt(p.l.total(), 2) : std::string("failed");
+    return ok(p) ? fix(p.e.total(), 2) + " / " + fix(p.l.total(), 2) : std::string("failed");
   });
   table("Time ratio LPSPH / EPSPH: ours over these steps (loop only) [paper, Table 2 / Table 1]",
         [&](const PoiseuillePair& p) {
-          return ok(p) ? fmt(p.ratio(), 1) + " (" + fmt(p.ratio_loop(), 1) + ") [" + fmt(paper_ratio(p.nx, p.hdx), 2) + "]"
+          return ok(p) ? fix(p.ratio(), 1) + " (" + fix(p.ratio_loop(), 1) + ") [" + fix(paper_ratio(p.nx, p.hdx), 2) + "]"
                        : std::string("failed");
         });
   if (o.steps != kPaperSteps)
     table("Time ratio LPSPH / EPSPH extrapolated to 10 000 steps", [&](const PoiseuillePair& p) {
-      return ok(p) ? fmt(p.ratio_10k(), 1) : std::string("failed");
+      return ok(p) ? fix(p.ratio_10k(), 1) : std::string("failed");
     });
   table("LPSPH per step, ms: neighbours + images / operators / factorisations / solves", [&](const PoiseuillePair& p) {
     if (!ok(p) || !p.l.steps) return std::string("failed");
     const double s = 1e3 / p.l.steps;
-    return fmt(p.l.t_neighbours * s, 2) + " / " + fmt(p.l.t_operators * s, 2) + " / " + fmt(p.l.t_factor * s, 2) +
-           " / " + fmt(p.l.t_solves * s, 2);
+    return fix(p.l.t_neighbours * s, 2) + " / " + fix(p.l.t_operators * s, 2) + " / " + fix(p.l.t_factor * s, 2) +
+           " / " + fix(p.l.t_solves * s, 2);
   });
   table("LPSPH: symbolic analysis kept in K of N steps (Poisson; Crank-Nicolson the same unless shown)",
         [&](const PoiseuillePair& p) {
@@ -284,7 +208,7 @@ std::string poiseuille_md(const std::vector<PoiseuillePair>& rs, const Options& 
     if (ok(r)) { lo = std::min(lo, r.ratio_10k()); hi = std::max(hi, r.ratio_10k()); }
   if (std::isfinite(lo))
     m << "Our LPSPH/EPSPH time ratio (" << (o.steps == kPaperSteps ? "10 000 steps" : "extrapolated to 10 000 steps")
-      << "): " << fmt(lo, 1) << " to " << fmt(hi, 1)
+      << "): " << fix(lo, 1) << " to " << fix(hi, 1)
       << "; the paper's text says 2.83 to 5.25, its Tables 2/1 give 2.77 to 5.25.\n\n";
   for (const auto& r : rs) {
     if (r.e.status != "ok") m << "- EPSPH Nx = " << r.nx << ", h/dx = " << r.hdx << ": " << r.e.status << "\n";
@@ -354,7 +278,7 @@ Fig9Run fig9_run(int nx, const std::string& method, int reinit, const Options& o
   } catch (const std::exception& e) {
     r.stop = e.what();
   }
-  r.seconds = since(t0);
+  r.seconds = seconds_since(t0);
   if (auto* l = dynamic_cast<const sphib::LagrangianFluid*>(&sim.fluid())) {
     r.s_low = l->lowest_kernel_sum();
     r.reused = l->symbolic_reused_poisson();
@@ -368,7 +292,7 @@ std::string fig9_csv(const std::vector<Fig9Run>& rs) {
   o << "nx,variant,t,pressure_mad_error,pressure_jump\n";
   for (const auto& r : rs)
     for (size_t k = 0; k < r.t.size(); ++k)
-      o << r.nx << ",\"" << r.variant << "\"," << num(r.t[k]) << ',' << num(r.p_mad[k]) << ',' << num(r.jump[k]) << '\n';
+      o << r.nx << ",\"" << r.variant << "\"," << csv_num(r.t[k]) << ',' << csv_num(r.p_mad[k]) << ',' << csv_num(r.jump[k]) << '\n';
   return o.str();
 }
 
@@ -396,19 +320,19 @@ std::string fig9_md(const std::vector<Fig9Run>& rs, const Options& o) {
   std::vector<double> times{0.0};
   for (int k = 1; k <= 10; ++k) times.push_back(o.fig9_end * k / 10.0);
   for (double T : times) {
-    m << "| " << fmt(T, 2) << " |";
+    m << "| " << fix(T, 2) << " |";
     for (const auto& r : rs) {
       const double e = T == 0.0 ? (r.p_mad.empty() ? NAN : r.p_mad.front()) : at(r, T, r.p_mad);
       const double j = T == 0.0 ? (r.jump.empty() ? NAN : r.jump.front()) : at(r, T, r.jump);
-      m << ' ' << fmt(e, 4) << " (" << fmt(j, 3) << ") |";
+      m << ' ' << fix(e, 4) << " (" << fix(j, 3) << ") |";
     }
     m << '\n';
   }
   m << "\n(t = 0 row: after the first step.)\n\n";
   for (const auto& r : rs) {
-    m << "- Nx = " << r.nx << ", " << r.variant << ": " << fmt(r.seconds, 1) << " s";
+    m << "- Nx = " << r.nx << ", " << r.variant << ": " << fix(r.seconds, 1) << " s";
     if (std::isfinite(r.s_low))
-      m << ", lowest kernel sum " << fmt(r.s_low, 3) << ", symbolic analysis kept in " << r.reused << " of "
+      m << ", lowest kernel sum " << fix(r.s_low, 3) << ", symbolic analysis kept in " << r.reused << " of "
         << r.refactorised << " steps";
     m << "; stopped: " << r.stop << "\n";
   }
@@ -450,11 +374,11 @@ Fig18Run fig18_run(const Options& o) {
         broken = true;
         r.stop = e.what();
       }
-      r.seconds += since(t0);
+      r.seconds += seconds_since(t0);
     }
     const auto t0 = Clock::now();
     sim_e.step();
-    r.seconds_e += since(t0);
+    r.seconds_e += seconds_since(t0);
     if (k % every == 0 || k == n) {
       const sphib::MembraneShape a = D.measure(sim.membranes()[0].m.X, sim.membranes()[0].m.T0);
       const sphib::MembraneShape b = D.measure(sim_e.membranes()[0].m.X, sim_e.membranes()[0].m.T0);
@@ -463,7 +387,7 @@ Fig18Run fig18_run(const Options& o) {
       if (k % (10 * every) == 0)
         std::printf("  t = %.3f  LPSPH: min kernel sum %.4f rx %.4f ry %.4f | EPSPH rx %.4f ry %.4f  (%.0f s)\n",
                     sim_e.time(), r.samples.back().s_min, r.samples.back().rx, r.samples.back().ry, b.rx, b.ry,
-                    since(t_start));
+                    seconds_since(t_start));
       std::fflush(stdout);
     }
   }
@@ -479,8 +403,8 @@ std::string fig18_csv(const Fig18Run& r) {
   std::ostringstream o;
   o << "t,lpsph_min_kernel_sum,lpsph_rx,lpsph_ry,epsph_rx,epsph_ry\n";
   for (const auto& x : r.samples)
-    o << num(x.t) << ',' << num(x.s_min) << ',' << num(x.rx) << ',' << num(x.ry) << ',' << num(x.rx_e) << ','
-      << num(x.ry_e) << '\n';
+    o << csv_num(x.t) << ',' << csv_num(x.s_min) << ',' << csv_num(x.rx) << ',' << csv_num(x.ry) << ',' << csv_num(x.rx_e) << ','
+      << csv_num(x.ry_e) << '\n';
   return o.str();
 }
 
@@ -496,125 +420,26 @@ std::string fig18_md(const Fig18Run& r, const Options& o) {
   for (size_t k = 0; k < r.samples.size(); ++k) {
     const auto& x = r.samples[k];
     if (k % 2 && k + 1 != r.samples.size()) continue;  // every 0.05
-    m << "| " << fmt(x.t, 3) << " | " << fmt(x.s_min, 4) << " | " << fmt(x.rx, 4) << " | " << fmt(x.ry, 4) << " | "
-      << fmt(x.rx_e, 4) << " | " << fmt(x.ry_e, 4) << " |\n";
+    m << "| " << fix(x.t, 3) << " | " << fix(x.s_min, 4) << " | " << fix(x.rx, 4) << " | " << fix(x.ry, 4) << " | "
+      << fix(x.rx_e, 4) << " | " << fix(x.ry_e, 4) << " |\n";
   }
-  m << "\n- LPSPH stopped: " << r.stop << " (after " << r.steps << " steps, t = " << fmt(r.t_stop, 4)
-    << "); lowest kernel sum " << fmt(r.s_low, 4) << "; symbolic analysis kept in " << r.reused << " of "
-    << r.refactorised << " steps; " << fmt(r.seconds, 1) << " s (EPSPH " << fmt(r.seconds_e, 1)
-    << " s, ratio " << fmt(r.seconds / r.seconds_e, 1) << ")\n\n";
+  m << "\n- LPSPH stopped: " << r.stop << " (after " << r.steps << " steps, t = " << fix(r.t_stop, 4)
+    << "); lowest kernel sum " << fix(r.s_low, 4) << "; symbolic analysis kept in " << r.reused << " of "
+    << r.refactorised << " steps; " << fix(r.seconds, 1) << " s (EPSPH " << fix(r.seconds_e, 1)
+    << " s, ratio " << fix(r.seconds / r.seconds_e, 1) << ")\n\n";
   return m.str();
 }
 
-// ---------------------------------------------------------------- main
-
-template <class T>
-std::vector<T> parse_list(const std::string& s, const char* what) {
-  std::vector<T> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (item.empty()) continue;
-    size_t pos = 0;
-    T x{};
-    try {
-      if constexpr (std::is_same_v<T, int>) x = std::stoi(item, &pos);
-      else if constexpr (std::is_same_v<T, double>) x = std::stod(item, &pos);
-      else { x = item; pos = item.size(); }
-    } catch (const std::exception&) {
-      pos = 0;
-    }
-    if (pos != item.size()) throw std::invalid_argument(std::string("bad value '") + item + "' in " + what);
-    v.push_back(x);
-  }
-  if (v.empty()) throw std::invalid_argument(std::string("empty list for ") + what);
-  return v;
-}
-
-[[noreturn]] void usage(const char* prog, int code) {
-  (code ? std::cerr : std::cout)
-      << "usage: " << prog
-      << " [--parts poiseuille,fig9,fig18] [--nx LIST] [--h LIST] [--steps N]\n"
-         "       [--fig9-nx LIST] [--fig9-end T] [--fig9-reinit N] [--fig18-end T] [--out DIR]\n"
-         "  --parts LIST     which comparisons (default all three)\n"
-         "  --nx, --h LIST   Poiseuille grid: Nx = Ny (default 16,24,32,48,64) and h/dx (default 1.2,1.525,2.2,3)\n"
-         "  --steps N        Poiseuille steps (default 10000, t = 0.0125)\n"
-         "  --fig9-nx LIST   Fig. 9 resolutions (default 40,80); --fig9-end T (default 3); --fig9-reinit N\n"
-         "                   (reinitialisation interval in steps, default 10)\n"
-         "  --fig18-end T    Fig. 18 end time (default 1.2; LPSPH stops at the breakdown, t = 1.145 measured)\n"
-         "  --out DIR        output directory (default bench_out/lpsph)\n";
-  std::exit(code);
-}
-
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i], val;
-    bool has_val = false;
-    if (const auto eq = a.find('='); a.rfind("--", 0) == 0 && eq != std::string::npos) {
-      val = a.substr(eq + 1);
-      a = a.substr(0, eq);
-      has_val = true;
-    }
-    auto value = [&]() -> std::string {
-      if (has_val) return val;
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    auto one = [&](const char* what) {
-      const auto v = parse_list<double>(value(), what);
-      if (v.size() != 1 || !(v[0] > 0)) throw std::invalid_argument(std::string(what) + " needs one positive number");
-      return v[0];
-    };
-    if (a == "--help" || a == "-h") usage(argv[0], 0);
-    else if (a == "--parts") o.parts = parse_list<std::string>(value(), "--parts");
-    else if (a == "--nx") o.nx = parse_list<int>(value(), "--nx");
-    else if (a == "--h") o.h = parse_list<double>(value(), "--h");
-    else if (a == "--steps") o.steps = std::lround(one("--steps"));
-    else if (a == "--fig9-nx") o.fig9_nx = parse_list<int>(value(), "--fig9-nx");
-    else if (a == "--fig9-end") o.fig9_end = one("--fig9-end");
-    else if (a == "--fig9-reinit") o.fig9_reinit = static_cast<int>(std::lround(one("--fig9-reinit")));
-    else if (a == "--fig18-end") o.fig18_end = one("--fig18-end");
-    else if (a == "--out") o.out = value();
-    else throw std::invalid_argument("unknown option " + a);
-  }
-  for (const auto& p : o.parts)
-    if (p != "poiseuille" && p != "fig9" && p != "fig18") throw std::invalid_argument("unknown part " + p);
-  return o;
-}
-
-void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("lpsph_comparison", argv); }
-
-bool wants(const Options& o, const std::string& part) {
-  return std::find(o.parts.begin(), o.parts.end(), part) != o.parts.end();
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
-  Options o;
-  try {
-    o = parse(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "lpsph_comparison: " << e.what() << "\n";
-    usage(argv[0], 2);
-  }
-  ensure_single_thread(argv);
-  const fs::path dir(o.out);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) {
-    std::cerr << "lpsph_comparison: cannot create " << dir << ": " << ec.message() << "\n";
-    return 1;
-  }
+int compare(const Options& o) {
+  const fs::path dir = create_out_dir(o.out);
   std::string md_poiseuille, md_fig9, md_fig18;
   auto write_md = [&]() {
-    write_atomic(dir / "lpsph_comparison.md",
+    sphib::write_file_atomic((dir / "lpsph_comparison.md").string(),
                  "# LPSPH against EPSPH (Noutcheuwa & Owens 2012, Sections 3.1, 5.1, 5.2)\n\n" + md_poiseuille +
                      md_fig9 + md_fig18);
   };
 
-  if (wants(o, "poiseuille")) {
+  if (o.wants("poiseuille")) {
     std::printf("== Start-up Poiseuille: %zu x %zu runs per method, %ld steps\n", o.nx.size(), o.h.size(), o.steps);
     std::vector<PoiseuillePair> rs;
     for (double h : o.h)
@@ -628,14 +453,14 @@ int main(int argc, char** argv) {
                     p.l.status == "ok" ? "" : (" LPSPH: " + p.l.status).c_str());
         std::fflush(stdout);
         rs.push_back(p);
-        write_atomic(dir / "lpsph_poiseuille.csv", poiseuille_csv(rs));
+        sphib::write_file_atomic((dir / "lpsph_poiseuille.csv").string(), poiseuille_csv(rs));
         md_poiseuille = poiseuille_md(rs, o);
         write_md();
       }
     std::printf("\n%s", md_poiseuille.c_str());
   }
 
-  if (wants(o, "fig9")) {
+  if (o.wants("fig9")) {
     std::printf("== Fig. 9: fixed membrane in equilibrium, Nx in {");
     for (int n : o.fig9_nx) std::printf(" %d", n);
     std::printf(" }, t in [0, %g]\n", o.fig9_end);
@@ -647,21 +472,39 @@ int main(int argc, char** argv) {
         std::printf("Nx=%d %-16s %.1f s, error at t = %g: %.4f; stopped: %s\n", n, r.variant.c_str(), r.seconds,
                     r.t.empty() ? 0.0 : r.t.back(), r.p_mad.empty() ? NAN : r.p_mad.back(), r.stop.c_str());
         std::fflush(stdout);
-        write_atomic(dir / "lpsph_fig9.csv", fig9_csv(rs));
+        sphib::write_file_atomic((dir / "lpsph_fig9.csv").string(), fig9_csv(rs));
         md_fig9 = fig9_md(rs, o);
         write_md();
       }
     std::printf("\n%s", md_fig9.c_str());
   }
 
-  if (wants(o, "fig18")) {
+  if (o.wants("fig18")) {
     std::printf("== Fig. 18: oscillating membrane, LPSPH, 64 x 64, to t = %g\n", o.fig18_end);
     const Fig18Run r = fig18_run(o);
-    write_atomic(dir / "lpsph_fig18.csv", fig18_csv(r));
+    sphib::write_file_atomic((dir / "lpsph_fig18.csv").string(), fig18_csv(r));
     md_fig18 = fig18_md(r, o);
     write_md();
     std::printf("\n%s", md_fig18.c_str());
   }
   std::printf("wrote %s\n", (dir / "lpsph_comparison.md").c_str());
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"LPSPH against EPSPH: Poiseuille (Tables 1-2), Figs. 9 and 18", "lpsph_comparison"};
+  app.add_option("--parts", o.parts, "which comparisons")->delimiter(',')
+      ->check(CLI::IsMember({"poiseuille", "fig9", "fig18"}))->capture_default_str();
+  app.add_option("--nx", o.nx, "Poiseuille Nx = Ny")->delimiter(',')->check(CLI::Range(2, 1 << 16))->capture_default_str();
+  app.add_option("--h", o.h, "Poiseuille h/dx")->delimiter(',')->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--steps", o.steps, "Poiseuille steps (10000: t = 0.0125)")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--fig9-nx", o.fig9_nx, "Fig. 9 resolutions")->delimiter(',')->check(CLI::Range(2, 1 << 16))->capture_default_str();
+  app.add_option("--fig9-end", o.fig9_end, "Fig. 9 end time")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--fig9-reinit", o.fig9_reinit, "reinitialisation interval in steps")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--fig18-end", o.fig18_end, "Fig. 18 end time (LPSPH stops at its breakdown, README: LPSPH)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--out", o.out, "output directory")->capture_default_str();
+  return run_main(app, argc, argv, [&] { return compare(o); });
 }

@@ -23,7 +23,7 @@
 // step; Eigen: repeated solves of the same systems outside the step).
 //
 //   scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane]
-//           [--variants LIST] [--seconds S] [--out DIR] [--keep | --report-only]
+//           [--variants LIST] [--seconds S] [--out DIR] [--keep | --report-only]      (--help)
 //
 // --keep reads DIR/scaling.csv and DIR/solvers.csv back and runs only the rows they lack;
 // --report-only reads them back and rewrites them and DIR/scaling.md without running anything.
@@ -32,24 +32,13 @@
 // smallest sizes are dominated by fixed overheads). Writes DIR/scaling.csv, DIR/solvers.csv,
 // DIR/scaling.md atomically after every child. Times are wall seconds of a single-threaded child
 // on a 2-core machine shared with other jobs (CPU seconds of the loop are reported beside them).
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <functional>
-#include <iomanip>
-#include <iostream>
-#include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -60,7 +49,6 @@
 #include "bench/common.hpp"
 #include "coupling/simulation.hpp"
 #include "fluid/projection.hpp"
-#include "io/atomic_file.hpp"
 #include "io/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -68,13 +56,9 @@ using nlohmann::json;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-using sphib::bench::cpu_seconds;
-using sphib::bench::csv_num;
-using sphib::bench::fix;
-using sphib::bench::num;
-using sphib::bench::sci;
-using sphib::bench::since;
+using namespace sphib::bench;
+using sphib::seconds_since;
+
 long status_kb(const char* key) {  // VmHWM, VmRSS of this process in kB
   std::ifstream f("/proc/self/status");
   std::string line;
@@ -113,10 +97,10 @@ json eigen_ldlt(const std::string& system, const sphib::SpMat& A_rows, int k) {
   LDLT ldlt;
   auto t0 = Clock::now();
   ldlt.analyzePattern(A);
-  x["analyse_s"] = since(t0);
+  x["analyse_s"] = seconds_since(t0);
   t0 = Clock::now();
   ldlt.factorize(A);
-  x["factor_s"] = since(t0);
+  x["factor_s"] = seconds_since(t0);
   if (ldlt.info() != Eigen::Success) throw std::runtime_error("Eigen SimplicialLDLT failed on " + system);
   // L is stored without its unit diagonal; CHOLMOD's nnz(L) counts the diagonal
   x["nnz_factor"] = static_cast<long>(ldlt.matrixL().nestedExpression().nonZeros()) + A.rows();
@@ -128,8 +112,8 @@ json eigen_ldlt(const std::string& system, const sphib::SpMat& A_rows, int k) {
   do {
     X = ldlt.solve(B);
     ++reps;
-  } while (since(t0) < 0.3 || reps < 5);
-  x["solve_s"] = since(t0) / reps;
+  } while (seconds_since(t0) < 0.3 || reps < 5);
+  x["solve_s"] = seconds_since(t0) / reps;
   x["solve_reps"] = reps;
   x["residual"] = (A * X - B).norm() / B.norm();
   return x;
@@ -148,7 +132,7 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     const sphib::Scene s = sphib::load_scene((cases / scene_file(c)).string(), scene_sets(c, nx, cn, poisson));
     auto t0 = Clock::now();
     sphib::Simulation sim(s.sim);
-    j["setup_s"] = since(t0);
+    j["setup_s"] = seconds_since(t0);
     j["rss_after_setup_kb"] = status_kb("VmRSS");
     const auto* f = dynamic_cast<const sphib::Fluid*>(&sim.fluid());
     if (!f) throw std::runtime_error("not an EPSPH fluid");
@@ -211,7 +195,7 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     const double c0 = cpu_seconds();
     t0 = Clock::now();
     for (long k = 0; k < steps; ++k) sim.step();
-    const double loop = since(t0);
+    const double loop = seconds_since(t0);
     j["steps"] = steps;
     j["loop_s"] = loop;
     j["loop_cpu_s"] = cpu_seconds() - c0;
@@ -246,7 +230,7 @@ json spawn(const Options& o, const std::string& c, int nx, const std::string& cn
   int fd[2];
   if (pipe(fd) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
   const std::vector<std::string> args{"/proc/self/exe", "--child",  c, std::to_string(nx), cn, poisson,
-                                      std::to_string(steps), "--cases", o.cases_dir.string()};
+                                      std::to_string(steps), "--cases-dir", o.cases_dir.string()};
   const auto t0 = Clock::now();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
@@ -284,21 +268,9 @@ json spawn(const Options& o, const std::string& c, int nx, const std::string& cn
     j["poisson"] = poisson;
     j["error"] = "child failed (status " + std::to_string(st) + ")";
   }
-  j["child_wall_s"] = since(t0);
+  j["child_wall_s"] = seconds_since(t0);
   j["ru_maxrss_kb"] = ru.ru_maxrss;
   return j;
-}
-
-// least squares of log y against log N: the exponent a of y ~ N^a
-double exponent(const std::vector<std::pair<double, double>>& pts) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int n = 0;
-  for (auto [N, y] : pts) {
-    if (!(y > 0) || !(N > 0)) continue;
-    const double lx = std::log(N), ly = std::log(y);
-    sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly; ++n;
-  }
-  return n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : NAN;
 }
 
 struct Bench {
@@ -458,127 +430,137 @@ struct Bench {
          "picked instead, its factorisation time includes a discarded simplicial factorisation (`factorize`, "
          "fluid/linear_solver.cpp, factorises simplicial to learn nnz(L) and, above 8e5, again supernodal); part S "
          "below times each kind alone. The FFT solver's nnz(L) is its banded factors' storage.\n\n";
-    for (const std::string& c : o.cases) {
-      std::vector<const json*> rs;
-      for (const json& j : scale)
-        if (j["case"] == c && !j.contains("error")) rs.push_back(&j);
-      if (rs.empty()) continue;
-      m << "## " << c << " (" << (c == "poiseuille" ? "cases/poiseuille.toml, h = 1.525 dx, Stokes" : "cases/membrane_oscillation.toml, h = 1.2 dx, Nb = 2 Nx")
-        << "), solvers auto\n\n"
-        << "| Nx | N | pairs/particle | steps | ms/step | µs/step/particle | solves ms/step | membrane ms/step | "
-           "neighbours s | assembly s | factorisation s | CN: method, nnz(L) | Poisson: method, nnz(L) | peak MB | "
-           "peak − start MB | ru_maxrss MB |\n"
-        << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|\n";
-      for (const json* j : rs) {
-        const double N = jnum(*j, "n"), per = jnum(*j, "per_step_s");
-        const double memb = phase_sum(*j, "membrane") + phase_sum(*j, "spread") + phase_sum(*j, "interpolat") +
-                            phase_sum(*j, "marker");
-        auto meth = [&](const std::string& sys) {
-          const json* s = solver(*j, sys);
-          if (!s) return std::string();
-          std::string mth = (*s)["method"].get<std::string>();
-          mth = mth.substr(0, mth.find(" ("));
-          return mth + ", " + ((*s)["nnz_factor"].get<long>() > 0 ? sci((*s)["nnz_factor"].get<double>()) : "–");
-        };
-        m << "| " << (*j)["nx"].get<int>() << " | " << static_cast<long>(N) << " | " << fix(jnum(*j, "pairs_per_particle"), 1)
-          << " | " << (*j)["steps"].get<long>() << " | " << fix(1e3 * per, 3) << " | " << fix(1e6 * per / N, 3) << " | "
-          << fix(1e3 * phase_sum(*j, "solve"), 3) << " | " << fix(1e3 * memb, 3) << " | "
-          << fix(jnum(*j, "setup_neighbours_s"), 3) << " | " << fix(jnum(*j, "setup_assembly_s"), 3) << " | "
-          << fix(jnum(*j, "setup_factorisation_s"), 3) << " | " << meth("Crank-Nicolson") << " | " << meth("Poisson")
-          << " | " << fix(jnum(*j, "vmhwm_kb") / 1024, 1) << " | "
-          << fix((jnum(*j, "vmhwm_kb") - jnum(*j, "rss_start_kb")) / 1024, 1) << " | "
-          << fix(jnum(*j, "ru_maxrss_kb") / 1024, 1) << " |\n";
-      }
-      // exponents over Nx >= 64
-      auto fit = [&](const std::function<double(const json&)>& y) {
-        std::vector<std::pair<double, double>> pts;
-        for (const json* j : rs)
-          if ((*j)["nx"].get<int>() >= 64) pts.emplace_back(jnum(*j, "n"), y(*j));
-        return exponent(pts);
+    for (const std::string& c : o.cases) m << size_md(c);
+    if (!compare.empty()) m << solvers_md();
+    return m.str();
+  }
+
+  // Part N of one case: a row per size, then the exponents.
+  std::string size_md(const std::string& c) const {
+    std::ostringstream m;
+    std::vector<const json*> rs;
+    for (const json& j : scale)
+      if (j["case"] == c && !j.contains("error")) rs.push_back(&j);
+    if (rs.empty()) return "";
+    m << "## " << c << " (" << (c == "poiseuille" ? "cases/poiseuille.toml, h = 1.525 dx, Stokes" : "cases/membrane_oscillation.toml, h = 1.2 dx, Nb = 2 Nx")
+      << "), solvers auto\n\n"
+      << "| Nx | N | pairs/particle | steps | ms/step | µs/step/particle | solves ms/step | membrane ms/step | "
+         "neighbours s | assembly s | factorisation s | CN: method, nnz(L) | Poisson: method, nnz(L) | peak MB | "
+         "peak − start MB | ru_maxrss MB |\n"
+      << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|\n";
+    for (const json* j : rs) {
+      const double N = jnum(*j, "n"), per = jnum(*j, "per_step_s");
+      const double memb = phase_sum(*j, "membrane") + phase_sum(*j, "spread") + phase_sum(*j, "interpolat") +
+                          phase_sum(*j, "marker");
+      auto meth = [&](const std::string& sys) {
+        const json* s = solver(*j, sys);
+        if (!s) return std::string();
+        std::string mth = (*s)["method"].get<std::string>();
+        mth = mth.substr(0, mth.find(" ("));
+        return mth + ", " + ((*s)["nnz_factor"].get<long>() > 0 ? sci((*s)["nnz_factor"].get<double>()) : "–");
       };
-      m << "\nObserved exponents a in y ~ N^a (least squares over Nx ≥ 64):\n\n"
-        << "- time per step: **" << fix(fit([](const json& j) { return jnum(j, "per_step_s"); }), 2) << "**"
-        << "; solves: " << fix(fit([](const json& j) { return phase_sum(j, "solve"); }), 2)
-        << "; everything but the solves: "
-        << fix(fit([](const json& j) { return jnum(j, "per_step_s") - phase_sum(j, "solve"); }), 2) << "\n"
-        << "- set-up: neighbours " << fix(fit([](const json& j) { return jnum(j, "setup_neighbours_s"); }), 2)
-        << ", assembly " << fix(fit([](const json& j) { return jnum(j, "setup_assembly_s"); }), 2)
-        << ", analysis + factorisation " << fix(fit([](const json& j) { return jnum(j, "setup_factorisation_s"); }), 2)
-        << ", total " << fix(fit([](const json& j) { return jnum(j, "setup_s"); }), 2) << "\n"
-        << "- factor non-zeros: Crank-Nicolson "
-        << fix(fit([](const json& j) { return sv(j, "Crank-Nicolson", "nnz_factor"); }), 2) << ", Poisson "
-        << fix(fit([](const json& j) { return sv(j, "Poisson", "nnz_factor"); }), 2) << "\n"
-        << "- peak memory above the start: "
-        << fix(fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }), 2) << "\n\n";
+      m << "| " << (*j)["nx"].get<int>() << " | " << static_cast<long>(N) << " | " << fix(jnum(*j, "pairs_per_particle"), 1)
+        << " | " << (*j)["steps"].get<long>() << " | " << fix(1e3 * per, 3) << " | " << fix(1e6 * per / N, 3) << " | "
+        << fix(1e3 * phase_sum(*j, "solve"), 3) << " | " << fix(1e3 * memb, 3) << " | "
+        << fix(jnum(*j, "setup_neighbours_s"), 3) << " | " << fix(jnum(*j, "setup_assembly_s"), 3) << " | "
+        << fix(jnum(*j, "setup_factorisation_s"), 3) << " | " << meth("Crank-Nicolson") << " | " << meth("Poisson")
+        << " | " << fix(jnum(*j, "vmhwm_kb") / 1024, 1) << " | "
+        << fix((jnum(*j, "vmhwm_kb") - jnum(*j, "rss_start_kb")) / 1024, 1) << " | "
+        << fix(jnum(*j, "ru_maxrss_kb") / 1024, 1) << " |\n";
     }
-    if (!compare.empty()) {
-      const std::vector<json> cmp = sorted_compare();
-      m << "## Linear solvers on the same matrices\n\n"
-           "Per solve = one call per step (Crank-Nicolson: both velocity components at once; Poisson: one). "
-           "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by CHOLMOD simplicial. `fft` = the "
-           "FFT-in-x + banded-Cholesky solver for both. `eigen_ldlt` = Eigen's SimplicialLDLT with AMD "
-           "ordering on the two matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them "
-           "(the same non-zero counts: checked, `matrices_match` in the CSV); its time per solve is from repeated "
-           "solves of the same systems outside the step (the others' from the running step), its nnz(L) counts "
-           "L's unit diagonal as CHOLMOD's counts the diagonal, and its memory is the RSS the two factors add "
-           "(its process also holds the `auto` solvers of the simulation it takes the operators from), so it "
-           "has no ms/step or peak.\n\n"
-           "| case | Nx | variant | CN method | CN analyse+factor s | CN nnz(L) | CN ms/solve | PCG iterations | "
-           "Poisson method | Poisson analyse+factor s | Poisson nnz(L) | Poisson ms/solve | ms/step | peak MB |\n"
-           "|---|---:|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n";
-      for (const json& j : cmp) {
-        m << "| " << j["case"].get<std::string>() << " | " << j["nx"].get<int>() << " | " << j["cn"].get<std::string>()
-          << " | ";
-        if (j.contains("error")) {
-          m << "failed: " << j["error"].get<std::string>().substr(0, 80) << " | | | | | | | | | | |\n";
-          continue;
-        }
-        auto meth = [&](const std::string& sys) {
-          const json* s = solver(j, sys);
-          if (!s) return std::string();
-          const std::string mth = (*s)["method"].get<std::string>();
-          return mth.substr(0, mth.find(" ("));
+    // exponents over Nx >= 64
+    auto fit = [&](const std::function<double(const json&)>& y) {
+      std::vector<std::pair<double, double>> pts;
+      for (const json* j : rs)
+        if ((*j)["nx"].get<int>() >= 64) pts.emplace_back(jnum(*j, "n"), y(*j));
+      return power_law_exponent(pts);
+    };
+    m << "\nObserved exponents a in y ~ N^a (least squares over Nx ≥ 64):\n\n"
+      << "- time per step: **" << fix(fit([](const json& j) { return jnum(j, "per_step_s"); }), 2) << "**"
+      << "; solves: " << fix(fit([](const json& j) { return phase_sum(j, "solve"); }), 2)
+      << "; everything but the solves: "
+      << fix(fit([](const json& j) { return jnum(j, "per_step_s") - phase_sum(j, "solve"); }), 2) << "\n"
+      << "- set-up: neighbours " << fix(fit([](const json& j) { return jnum(j, "setup_neighbours_s"); }), 2)
+      << ", assembly " << fix(fit([](const json& j) { return jnum(j, "setup_assembly_s"); }), 2)
+      << ", analysis + factorisation " << fix(fit([](const json& j) { return jnum(j, "setup_factorisation_s"); }), 2)
+      << ", total " << fix(fit([](const json& j) { return jnum(j, "setup_s"); }), 2) << "\n"
+      << "- factor non-zeros: Crank-Nicolson "
+      << fix(fit([](const json& j) { return sv(j, "Crank-Nicolson", "nnz_factor"); }), 2) << ", Poisson "
+      << fix(fit([](const json& j) { return sv(j, "Poisson", "nnz_factor"); }), 2) << "\n"
+      << "- peak memory above the start: "
+      << fix(fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }), 2) << "\n\n";
+    return m.str();
+  }
+
+  // Part S: the solvers on the same matrices, then their exponents.
+  std::string solvers_md() const {
+    std::ostringstream m;
+    const std::vector<json> cmp = sorted_compare();
+    m << "## Linear solvers on the same matrices\n\n"
+         "Per solve = one call per step (Crank-Nicolson: both velocity components at once; Poisson: one). "
+         "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by CHOLMOD simplicial. `fft` = the "
+         "FFT-in-x + banded-Cholesky solver for both. `eigen_ldlt` = Eigen's SimplicialLDLT with AMD "
+         "ordering on the two matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them "
+         "(the same non-zero counts: checked, `matrices_match` in the CSV); its time per solve is from repeated "
+         "solves of the same systems outside the step (the others' from the running step), its nnz(L) counts "
+         "L's unit diagonal as CHOLMOD's counts the diagonal, and its memory is the RSS the two factors add "
+         "(its process also holds the `auto` solvers of the simulation it takes the operators from), so it "
+         "has no ms/step or peak.\n\n"
+         "| case | Nx | variant | CN method | CN analyse+factor s | CN nnz(L) | CN ms/solve | PCG iterations | "
+         "Poisson method | Poisson analyse+factor s | Poisson nnz(L) | Poisson ms/solve | ms/step | peak MB |\n"
+         "|---|---:|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n";
+    for (const json& j : cmp) {
+      m << "| " << j["case"].get<std::string>() << " | " << j["nx"].get<int>() << " | " << j["cn"].get<std::string>()
+        << " | ";
+      if (j.contains("error")) {
+        m << "failed: " << j["error"].get<std::string>().substr(0, 80) << " | | | | | | | | | | |\n";
+        continue;
+      }
+      auto meth = [&](const std::string& sys) {
+        const json* s = solver(j, sys);
+        if (!s) return std::string();
+        const std::string mth = (*s)["method"].get<std::string>();
+        return mth.substr(0, mth.find(" ("));
+      };
+      auto nnz = [&](const std::string& sys) {
+        const double v = sv(j, sys, "nnz_factor");
+        return v > 0 ? sci(v) : std::string("–");
+      };
+      m << meth("Crank-Nicolson") << " | "
+        << fix(sv(j, "Crank-Nicolson", "analyse_s") + sv(j, "Crank-Nicolson", "factor_s"), 3) << " | "
+        << nnz("Crank-Nicolson") << " | " << fix(1e3 * phase_sum(j, "solve Crank"), 3) << " | "
+        << (j["cn"] == "pcg" ? fix(jnum(j, "cn_mean_iterations"), 1) : std::string("–")) << " | " << meth("Poisson")
+        << " | " << fix(sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"), 3) << " | " << nnz("Poisson")
+        << " | " << fix(1e3 * phase_sum(j, "solve Poisson"), 3) << " | " << fix(1e3 * jnum(j, "per_step_s"), 3)
+        << " | "
+        << (j["cn"] == "eigen_ldlt" ? "+" + fix(jnum(j, "factor_rss_kb") / 1024, 1) + " (factors)"
+                                    : fix(jnum(j, "vmhwm_kb") / 1024, 1))
+        << " |\n";
+    }
+    m << "\nObserved exponents a in time ~ N^a per variant (least squares over Nx ≥ 64):\n\n"
+         "| case | variant | CN per solve | Poisson per solve | CN analyse+factor | Poisson analyse+factor | "
+         "nnz(L) Poisson | peak memory |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::string& c : o.cases)
+      for (const std::string v : {"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt", "fft"}) {
+        std::vector<const json*> rs;
+        for (const json& j : cmp)
+          if (j["case"] == c && j["cn"] == v && !j.contains("error") && j["nx"].get<int>() >= 64) rs.push_back(&j);
+        if (rs.size() < 2) continue;
+        auto fit = [&](const std::function<double(const json&)>& y) {
+          std::vector<std::pair<double, double>> pts;
+          for (const json* j : rs) pts.emplace_back(jnum(*j, "n"), y(*j));
+          return fix(power_law_exponent(pts), 2);
         };
-        auto nnz = [&](const std::string& sys) {
-          const double v = sv(j, sys, "nnz_factor");
-          return v > 0 ? sci(v) : std::string("–");
-        };
-        m << meth("Crank-Nicolson") << " | "
-          << fix(sv(j, "Crank-Nicolson", "analyse_s") + sv(j, "Crank-Nicolson", "factor_s"), 3) << " | "
-          << nnz("Crank-Nicolson") << " | " << fix(1e3 * phase_sum(j, "solve Crank"), 3) << " | "
-          << (j["cn"] == "pcg" ? fix(jnum(j, "cn_mean_iterations"), 1) : std::string("–")) << " | " << meth("Poisson")
-          << " | " << fix(sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"), 3) << " | " << nnz("Poisson")
-          << " | " << fix(1e3 * phase_sum(j, "solve Poisson"), 3) << " | " << fix(1e3 * jnum(j, "per_step_s"), 3)
-          << " | "
-          << (j["cn"] == "eigen_ldlt" ? "+" + fix(jnum(j, "factor_rss_kb") / 1024, 1) + " (factors)"
-                                      : fix(jnum(j, "vmhwm_kb") / 1024, 1))
+        m << "| " << c << " | " << v << " | " << fit([](const json& j) { return phase_sum(j, "solve Crank"); })
+          << " | " << fit([](const json& j) { return phase_sum(j, "solve Poisson"); }) << " | "
+          << fit([](const json& j) { return sv(j, "Crank-Nicolson", "analyse_s") + sv(j, "Crank-Nicolson", "factor_s"); })
+          << " | " << fit([](const json& j) { return sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"); })
+          << " | " << fit([](const json& j) { return sv(j, "Poisson", "nnz_factor"); }) << " | "
+          << (v == "eigen_ldlt" ? fit([](const json& j) { return jnum(j, "factor_rss_kb"); }) + " (factors)"
+                                : fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }))
           << " |\n";
       }
-      m << "\nObserved exponents a in time ~ N^a per variant (least squares over Nx ≥ 64):\n\n"
-           "| case | variant | CN per solve | Poisson per solve | CN analyse+factor | Poisson analyse+factor | "
-           "nnz(L) Poisson | peak memory |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
-      for (const std::string& c : o.cases)
-        for (const std::string v : {"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt", "fft"}) {
-          std::vector<const json*> rs;
-          for (const json& j : cmp)
-            if (j["case"] == c && j["cn"] == v && !j.contains("error") && j["nx"].get<int>() >= 64) rs.push_back(&j);
-          if (rs.size() < 2) continue;
-          auto fit = [&](const std::function<double(const json&)>& y) {
-            std::vector<std::pair<double, double>> pts;
-            for (const json* j : rs) pts.emplace_back(jnum(*j, "n"), y(*j));
-            return fix(exponent(pts), 2);
-          };
-          m << "| " << c << " | " << v << " | " << fit([](const json& j) { return phase_sum(j, "solve Crank"); })
-            << " | " << fit([](const json& j) { return phase_sum(j, "solve Poisson"); }) << " | "
-            << fit([](const json& j) { return sv(j, "Crank-Nicolson", "analyse_s") + sv(j, "Crank-Nicolson", "factor_s"); })
-            << " | " << fit([](const json& j) { return sv(j, "Poisson", "analyse_s") + sv(j, "Poisson", "factor_s"); })
-            << " | " << fit([](const json& j) { return sv(j, "Poisson", "nnz_factor"); }) << " | "
-            << (v == "eigen_ldlt" ? fit([](const json& j) { return jnum(j, "factor_rss_kb"); }) + " (factors)"
-                                  : fit([](const json& j) { return jnum(j, "vmhwm_kb") - jnum(j, "rss_start_kb"); }))
-            << " |\n";
-        }
-      m << "\n";
-    }
+    m << "\n";
     return m.str();
   }
 
@@ -632,90 +614,44 @@ struct Bench {
   }
 };
 
-template <class T>
-std::vector<T> parse_list(const std::string& s) {
-  std::vector<T> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) {
-      if constexpr (std::is_same_v<T, int>) v.push_back(std::stoi(item));
-      else v.push_back(item);
-    }
-  return v;
-}
-
-[[noreturn]] void usage(int code) {
-  (code ? std::cerr : std::cout)
-      << "usage: scaling [--parts NS] [--nx LIST] [--compare-nx LIST] [--cases poiseuille,membrane] [--variants LIST]\n"
-         "               [--seconds S] [--out DIR] [--cases-dir DIR] [--keep | --report-only]\n"
-         "  --parts       N time per step / set-up / memory against N, S solver comparison (default NS)\n"
-         "  --nx          sizes for N (default 32,64,128,256,512)\n"
-         "  --compare-nx  sizes for S (default 32,64,128,256)\n"
-         "  --variants    solvers for S (default cholmod_supernodal,cholmod_simplicial,pcg,eigen_ldlt,fft)\n"
-         "  --seconds     loop time to aim for per run (default 3)\n"
-         "  --keep        read DIR's CSV files back and run only the rows they lack (or that failed)\n"
-         "  --report-only read DIR's CSV files back, rewrite them and scaling.md; run nothing\n"
-         "  --out         output directory (default bench_out/scaling)\n";
-  std::exit(code);
-}
-
-void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("scaling", argv); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc >= 8 && std::string(argv[1]) == "--child") {
-    fs::path cases = "cases";
-    if (argc >= 10 && std::string(argv[8]) == "--cases") cases = argv[9];
-    return child(cases, argv[2], std::atoi(argv[3]), argv[4], argv[5], std::atol(argv[6]));
-  }
   Options o;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) usage(2);
-        return argv[++i];
-      };
-      if (a == "--help" || a == "-h") usage(0);
-      else if (a == "--parts") o.parts = value();
-      else if (a == "--nx") o.nx = parse_list<int>(value());
-      else if (a == "--compare-nx") o.compare_nx = parse_list<int>(value());
-      else if (a == "--cases") o.cases = parse_list<std::string>(value());
-      else if (a == "--seconds") o.seconds = std::stod(value());
-      else if (a == "--out") o.out = value();
-      else if (a == "--cases-dir") o.cases_dir = value();
-      else if (a == "--variants") o.variants = parse_list<std::string>(value());
-      else if (a == "--keep") o.keep = true;
-      else if (a == "--report-only") o.report_only = true;
-      else {
-        std::cerr << "scaling: unknown option " << a << "\n";
-        usage(2);
-      }
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "scaling: " << e.what() << "\n";
-    usage(2);
+  CLI::App app{"Scaling of EPSPH with N: time per step, set-up and memory (N); linear solvers on the same matrices (S)",
+               "scaling"};
+  add_parts(app, o.parts, "NS", "N time per step / set-up / memory against N, S solver comparison");
+  app.add_option("--nx", o.nx, "sizes for N")->delimiter(',')->check(CLI::Range(2, 1 << 16))->capture_default_str();
+  app.add_option("--compare-nx", o.compare_nx, "sizes for S")->delimiter(',')->check(CLI::Range(2, 1 << 16))->capture_default_str();
+  app.add_option("--cases", o.cases, "cases")->delimiter(',')->check(CLI::IsMember({"poiseuille", "membrane"}))->capture_default_str();
+  app.add_option("--variants", o.variants, "solvers for S")->delimiter(',')
+      ->check(CLI::IsMember({"cholmod_supernodal", "cholmod_simplicial", "pcg", "eigen_ldlt", "fft"}))->capture_default_str();
+  app.add_option("--seconds", o.seconds, "loop time to aim for per run")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--out", o.out, "output directory")->capture_default_str();
+  app.add_option("--cases-dir", o.cases_dir, "scene directory")->capture_default_str();
+  auto* keep = app.add_flag("--keep", o.keep, "read DIR's CSV files back and run only the rows they lack (or that failed)");
+  app.add_flag("--report-only", o.report_only, "read DIR's CSV files back, rewrite them and scaling.md; run nothing")->excludes(keep);
+  std::vector<std::string> child_args;  // the parent's call of one child: case nx cn poisson steps
+  app.add_option("--child", child_args)->expected(5)->group("");
+  if (argc > 1 && std::string(argv[1]) == "--child") {  // a child: no re-execution, its JSON line on stdout
+    CLI11_PARSE(app, argc, argv);
+    return child(o.cases_dir, child_args[0], std::stoi(child_args[1]), child_args[2], child_args[3], std::stol(child_args[4]));
   }
-  ensure_single_thread(argv);
-  fs::create_directories(o.out);
-  Bench b{o, {}, {}};
-  const auto t0 = Clock::now();
-  try {
+  return run_main(app, argc, argv, [&] {
+    create_out_dir(o.out.string());
+    Bench b{o, {}, {}};
+    const auto t0 = Clock::now();
     if (o.keep || o.report_only) b.load();
     if (o.report_only) {
       b.write();
       std::printf("rewrote %s/scaling.csv, solvers.csv, scaling.md\n", o.out.c_str());
       return 0;
     }
-    if (o.parts.find('N') != std::string::npos) b.part_n();
-    if (o.parts.find('S') != std::string::npos) b.part_s();
+    if (wants(o.parts, 'N')) b.part_n();
+    if (wants(o.parts, 'S')) b.part_s();
     b.write();
-  } catch (const std::exception& e) {
-    std::cerr << "scaling: " << e.what() << "\n";
-    return 1;
-  }
-  std::printf("\n%s\ntotal %.0f s wall; wrote %s/scaling.csv, solvers.csv, scaling.md\n", b.markdown().c_str(), since(t0),
-              o.out.c_str());
-  return 0;
+    std::printf("\n%s\ntotal %.0f s wall; wrote %s/scaling.csv, solvers.csv, scaling.md\n", b.markdown().c_str(),
+                seconds_since(t0), o.out.c_str());
+    return 0;
+  });
 }

@@ -17,7 +17,7 @@
 //  against the reference's m0_rx (sampled every 0.005) interpolated linearly in t; max and rms.
 //  Variations are one at a time around the default (Nx, Nb, h/dx, h*/h, dt) plus a few combined.
 //
-//   speed_accuracy [--parts PLWAB] [--out DIR] [--cases DIR] [--quick] [--reuse | --report-only]
+//   speed_accuracy [--parts PLWAB] [--out DIR] [--cases DIR] [--quick] [--reuse | --report-only]  (--help)
 //
 // Cost is the process CPU time of the run (set-up + loop + output; getrusage), which on this
 // shared 2-core machine is steadier than wall time; both are written. Runs go to
@@ -28,31 +28,20 @@
 // (a run without one is listed as not run).
 // Writes DIR/speed_accuracy.csv (one row per run) and DIR/speed_accuracy.md (tables, the Pareto
 // fronts, "choosing a resolution"), each atomically after every run. Plots: scripts/plot_bench.py.
-// The process re-executes itself once with OMP_NUM_THREADS=1 (and the BLAS equivalents).
-#include <sys/resource.h>
-#include <unistd.h>
-
+// Single-threaded.
 #include <algorithm>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <iomanip>
-#include <iostream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/common.hpp"
-#include "io/atomic_file.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 
@@ -60,25 +49,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-using sphib::bench::cpu_seconds;
-using sphib::bench::csv_num;
-using sphib::bench::fix;
-using sphib::bench::num;
-using sphib::bench::sci;
-using sphib::bench::since;
-
-
-std::string pct(double v, int prec = 2) { return std::isfinite(v) ? fix(100.0 * v, prec) + "%" : "–"; }
-std::string csv_text(std::string s) {
-  for (char& c : s)
-    if (c == ',' || c == '\n' || c == '"') c = ';';
-  return s;
-}
-std::string md_text(std::string s) {
-  for (size_t p = 0; (p = s.find('|', p)) != std::string::npos; p += 2) s.replace(p, 1, "\\|");
-  return s;
-}
+using namespace sphib::bench;
+using sphib::seconds_since;
 
 // ---- one run ----------------------------------------------------------------------------------
 
@@ -226,7 +198,7 @@ class Bench {
         if (r.status.size() > 160) r.status = r.status.substr(0, 160);
       }
       r.cpu = cpu_seconds() - c0;
-      r.wall = since(t0);
+      r.wall = seconds_since(t0);
       if (fs::exists(dir)) {
         sphib::write_file_atomic((dir / "overrides.txt").string(), joined);
         nlohmann::json t{{"cpu_seconds", r.cpu}, {"wall_seconds", r.wall}};
@@ -261,49 +233,33 @@ class Bench {
     write();
   }
 
-  // ---- P: start-up Poiseuille ----
+  // ---- P, L: start-up Poiseuille over Nx x h/dx x dt, EPSPH (P) and LPSPH (L) in one study ----
   void part_p() {
     std::printf("P: start-up Poiseuille (cases/poiseuille.toml), rms error at t = 0.0125\n");
-    const std::vector<int> nxs = o_.quick ? std::vector<int>{16, 32} : std::vector<int>{16, 24, 32, 48, 64};
-    const std::vector<double> hs = o_.quick ? std::vector<double>{1.525, 3} : std::vector<double>{1.2, 1.525, 2.2, 3};
-    const std::vector<double> dts = o_.quick ? std::vector<double>{1.25e-5, 1.25e-4}
-                                             : std::vector<double>{1.25e-6, 6.25e-6, 3.125e-5, 1.5625e-4, 1.25e-3};
-    for (double dt : dts)
-      for (double h : hs)
-        for (int nx : nxs) {
-          Run r;
-          r.study = "poiseuille";
-          r.group = "grid";
-          r.scene = "poiseuille.toml";
-          r.label = "Nx " + std::to_string(nx) + " h/dx " + num(h) + " dt " + num(dt);
-          r.tag = "P_nx" + std::to_string(nx) + "_h" + num(h) + "_dt" + num(dt);
-          r.sets = {"grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx), "kernel.h_over_dx=" + num(h),
-                    "time.dt=" + num(dt), "output.interval=0"};
-          const nlohmann::json j = execute(r);
-          if (!j.is_null() && r.ok()) r.rms = j.value("rms_error", NAN);
-          drop_h5(r);
-          add(r);
-        }
+    if (o_.quick) return poiseuille_grid("P", "eulerian", {16, 32}, {1.525, 3}, {1.25e-5, 1.25e-4});
+    poiseuille_grid("P", "eulerian", {16, 24, 32, 48, 64}, {1.2, 1.525, 2.2, 3},
+                    {1.25e-6, 6.25e-6, 3.125e-5, 1.5625e-4, 1.25e-3});
   }
-
-  // ---- L: start-up Poiseuille with LPSPH (moving particles), in P's study ----
   void part_l() {
     std::printf("L: start-up Poiseuille with LPSPH (method = lagrangian), rms error at t = 0.0125\n");
-    const std::vector<int> nxs = o_.quick ? std::vector<int>{16} : std::vector<int>{16, 24, 32, 48};
-    const std::vector<double> hs = o_.quick ? std::vector<double>{1.525} : std::vector<double>{1.525, 2.2};
-    const std::vector<double> dts = o_.quick ? std::vector<double>{1.5625e-4}
-                                             : std::vector<double>{3.125e-5, 1.5625e-4, 1.25e-3};
+    if (o_.quick) return poiseuille_grid("L", "lagrangian", {16}, {1.525}, {1.5625e-4});
+    poiseuille_grid("L", "lagrangian", {16, 24, 32, 48}, {1.525, 2.2}, {3.125e-5, 1.5625e-4, 1.25e-3});
+  }
+  void poiseuille_grid(const std::string& part, const std::string& method, const std::vector<int>& nxs,
+                       const std::vector<double>& hs, const std::vector<double>& dts) {
+    const bool lagrangian = method == "lagrangian";
     for (double dt : dts)
       for (double h : hs)
         for (int nx : nxs) {
           Run r;
           r.study = "poiseuille";
-          r.group = "lagrangian";
+          r.group = lagrangian ? "lagrangian" : "grid";
           r.scene = "poiseuille.toml";
-          r.label = "LPSPH Nx " + std::to_string(nx) + " h/dx " + num(h) + " dt " + num(dt);
-          r.tag = "L_nx" + std::to_string(nx) + "_h" + num(h) + "_dt" + num(dt);
-          r.sets = {"method=lagrangian", "grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx),
-                    "kernel.h_over_dx=" + num(h), "time.dt=" + num(dt), "output.interval=0"};
+          r.label = std::string(lagrangian ? "LPSPH " : "") + "Nx " + std::to_string(nx) + " h/dx " + num(h) + " dt " + num(dt);
+          r.tag = part + "_nx" + std::to_string(nx) + "_h" + num(h) + "_dt" + num(dt);
+          r.sets = {"grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx), "kernel.h_over_dx=" + num(h),
+                    "time.dt=" + num(dt), "output.interval=0"};
+          if (lagrangian) r.sets.insert(r.sets.begin(), "method=lagrangian");
           const nlohmann::json j = execute(r);
           if (!j.is_null() && r.ok()) r.rms = j.value("rms_error", NAN);
           drop_h5(r);
@@ -346,6 +302,7 @@ class Bench {
     std::vector<std::string> sets;
   };
 
+  // The membrane study A or B: a reference run, then every variation against it.
   void membrane(const std::string& name) {
     const bool A = name == "A";
     std::printf("%s: oscillating membrane, %s, to t = 2\n", name.c_str(),
@@ -353,8 +310,70 @@ class Bench {
                   : "Fig. 19 settings (T0 = 1, mu = 0.05, Nb = 360, dt = 0.1 dx, h* = 0.0425)");
     const std::vector<std::string> physics =
         A ? std::vector<std::string>{} : std::vector<std::string>{"membrane.T0=1", "fluid.mu=0.05"};
-    const double L = 3.0;  // domain width
+    const Series reference = membrane_reference(name, physics);
+    const std::map<std::string, std::string> def = membrane_defaults(name == "A");
+    int k = 0;
+    for (const Variation& v : membrane_variations(name == "A")) {
+      Run r;
+      r.study = "membrane_" + name;
+      r.group = v.group;
+      r.label = v.label;
+      r.scene = "membrane_oscillation.toml";
+      std::map<std::string, std::string> kv = def;
+      for (const auto& s : v.sets) kv[s.substr(0, s.find('='))] = s.substr(s.find('=') + 1);
+      const double dt = std::strtod(kv["time.dt"].c_str(), nullptr);
+      r.sets = physics;
+      for (const auto& [key, val] : kv) r.sets.push_back(key + "=" + val);
+      r.sets.push_back("time.end=2");
+      r.sets.push_back("output.interval=0");
+      r.sets.push_back("output.diagnostics_every=" + std::to_string(std::max(1L, std::lround(0.01 / dt))));
+      std::ostringstream tag;
+      tag << name << "_" << std::setw(2) << std::setfill('0') << k++;
+      r.tag = tag.str();
+      const nlohmann::json j = execute(r);
+      if (!j.is_null() && r.ok()) {
+        if (j.contains("area_relative_error_at")) {
+          r.area1 = j["area_relative_error_at"].value("1", NAN);
+          r.area2 = j["area_relative_error_at"].value("2", NAN);
+        }
+        r.rx_final = j.value("rx", NAN);
+        if (!reference.t.empty()) compare_rx(r, reference);
+      }
+      drop_h5(r);
+      add(r);
+    }
+  }
+
+  // rx(t) of run r against the reference's, interpolated linearly in t: max and rms deviation.
+  void compare_rx(Run& r, const Series& reference) const {
+    const Series s = read_rx(o_.out / "runs" / r.tag / "diagnostics.csv");
+    double mx = 0, sq = 0;
+    int n = 0;
+    for (size_t i = 0; i < s.t.size(); ++i) {
+      if (s.t[i] > reference.t.back() + 1e-9) break;
+      if (!(s.rx[i] > 0)) {  // a half-chord glitch of the diagnostics, not the membrane
+        ++r.rx_glitches;
+        continue;
+      }
+      const double d = s.rx[i] - reference.at(s.t[i]);
+      mx = std::max(mx, std::fabs(d));
+      sq += d * d;
+      ++n;
+    }
+    if (n > 0) {
+      r.rx_max = mx;
+      r.rx_rms = std::sqrt(sq / n);
+    }
+  }
+
+  static constexpr double kL = 3.0;  // the domain's width
+  static constexpr int kNx0 = 64;    // the default resolution
+  static double default_dt(bool A) { return A ? 1e-4 : 0.1 * kL / kNx0; }
+
+  // The fine reference run of the same physics; its rx(t) without glitch rows (see read_rx).
+  Series membrane_reference(const std::string& name, const std::vector<std::string>& physics) {
     // the reference: the exact override list the run directory records
+    const bool A = name == "A";
     std::vector<std::string> ref = physics;
     if (!A) ref.push_back("membrane.h_star=0.0425");
     if (o_.quick)  // a cheap stand-in, for smoke tests only
@@ -390,19 +409,26 @@ class Bench {
       rr.rx_final = jr.value("rx", NAN);
     }
     add(rr);
-    if (reference.t.empty()) {
-      std::printf("  no reference: rx errors are not computed\n");
-    }
+    if (reference.t.empty()) std::printf("  no reference: rx errors are not computed\n");
+    return reference;
+  }
 
-    // Defaults (sets applied after `physics`); each variation overrides some of them.
-    const int nx0 = 64;
-    const double dt0 = A ? 1e-4 : 0.1 * L / nx0;
+  // The default values (applied after the physics); each variation overrides some of them.
+  static std::map<std::string, std::string> membrane_defaults(bool A) {
+    const double dt0 = default_dt(A);
     const int nb0 = A ? 128 : 360;
     std::map<std::string, std::string> def{{"grid.nx", "64"}, {"grid.ny", "64"}, {"membrane.nb", std::to_string(nb0)},
                                            {"kernel.h_over_dx", "1.2"}, {"time.dt", num(dt0)}};
     if (A) def["membrane.h_star_over_h"] = "1.4";
     else def["membrane.h_star"] = "0.0425";
 
+    return def;
+  }
+
+  // One at a time around the default, plus combinations.
+  std::vector<Variation> membrane_variations(bool A) const {
+    const double L = kL, dt0 = default_dt(A);
+    const int nx0 = kNx0;
     std::vector<Variation> vs;
     vs.push_back({"base", "default", {}});
     auto nx_sets = [](int n) { return std::vector<std::string>{"grid.nx=" + std::to_string(n), "grid.ny=" + std::to_string(n)}; };
@@ -460,56 +486,7 @@ class Bench {
       vs.push_back({"combined", "Nx 96 dt 0.025 dx h*/h 1.4", cat(nx_sets(96), {"time.dt=" + num(0.025 * L / 96), "membrane.h_star=" + num(1.4 * 1.2 * L / 96)})});
       vs.push_back({"combined", "Nx 64 h/dx 1 dt 0.025 dx h*/h 1.7", {"kernel.h_over_dx=1", "time.dt=" + num(0.025 * L / 64), "membrane.h_star=" + num(1.4 * h0)}});
     }
-
-    int k = 0;
-    for (const Variation& v : vs) {
-      Run r;
-      r.study = "membrane_" + name;
-      r.group = v.group;
-      r.label = v.label;
-      r.scene = "membrane_oscillation.toml";
-      std::map<std::string, std::string> kv = def;
-      for (const auto& s : v.sets) kv[s.substr(0, s.find('='))] = s.substr(s.find('=') + 1);
-      const double dt = std::strtod(kv["time.dt"].c_str(), nullptr);
-      r.sets = physics;
-      for (const auto& [key, val] : kv) r.sets.push_back(key + "=" + val);
-      r.sets.push_back("time.end=2");
-      r.sets.push_back("output.interval=0");
-      r.sets.push_back("output.diagnostics_every=" + std::to_string(std::max(1L, std::lround(0.01 / dt))));
-      std::ostringstream tag;
-      tag << name << "_" << std::setw(2) << std::setfill('0') << k++;
-      r.tag = tag.str();
-      const nlohmann::json j = execute(r);
-      if (!j.is_null() && r.ok()) {
-        if (j.contains("area_relative_error_at")) {
-          r.area1 = j["area_relative_error_at"].value("1", NAN);
-          r.area2 = j["area_relative_error_at"].value("2", NAN);
-        }
-        r.rx_final = j.value("rx", NAN);
-        if (!reference.t.empty()) {
-          const Series s = read_rx(o_.out / "runs" / r.tag / "diagnostics.csv");
-          double mx = 0, sq = 0;
-          int n = 0;
-          for (size_t i = 0; i < s.t.size(); ++i) {
-            if (s.t[i] > reference.t.back() + 1e-9) break;
-            if (!(s.rx[i] > 0)) {  // a half-chord glitch of the diagnostics, not the membrane
-              ++r.rx_glitches;
-              continue;
-            }
-            const double d = s.rx[i] - reference.at(s.t[i]);
-            mx = std::max(mx, std::fabs(d));
-            sq += d * d;
-            ++n;
-          }
-          if (n > 0) {
-            r.rx_max = mx;
-            r.rx_rms = std::sqrt(sq / n);
-          }
-        }
-      }
-      drop_h5(r);
-      add(r);
-    }
+    return vs;
   }
 
   // ---- output ----
@@ -549,7 +526,7 @@ class Bench {
          "status,reused,cpu_s,wall_s,s_per_step,rms_error,area_err_t1,area_err_t2,rx_max_err,rx_rms_err,rx_final,"
          "pareto_rms,pareto_area,pareto_rx,rx_glitch_rows\n";
     std::map<const Run*, std::array<bool, 3>> flags;
-    for (const std::string& s : {"poiseuille", "vukcevic", "membrane_A", "membrane_B"}) {
+    for (const std::string s : {"poiseuille", "vukcevic", "membrane_A", "membrane_B"}) {
       const auto rs = study(s);
       const auto p0 = pareto(rs, rms_err), p1 = pareto(rs, area_err), p2 = pareto(rs, rx_err);
       for (size_t i = 0; i < rs.size(); ++i) flags[rs[i]] = {p0[i], p1[i], p2[i]};
@@ -575,120 +552,132 @@ class Bench {
          "times vary by tens of per cent; CPU time less; both are in the tables and the CSV). Reused runs keep "
          "the times measured when they ran. Pareto front (★): no other run of the study is both cheaper and more "
          "accurate (errors within 1% count as equal).\n\n";
-    // P
-    if (auto rs = study("poiseuille"); !rs.empty()) {
-      const auto pf = pareto(rs, rms_err);
-      const bool has_l = std::any_of(rs.begin(), rs.end(), [](const Run* r) { return r->group == "lagrangian"; });
-      m << "## P: start-up Poiseuille, rms error (Eq. 69) at t = 0.0125 against CPU time\n\n"
-           "`cases/poiseuille.toml` (Re = 0.0125, Stokes), full grid Nx x h/dx x dt with EPSPH"
-        << (has_l ? "; part L adds LPSPH (`method = lagrangian`) on a smaller grid, and the front is over both methods"
-                  : "")
-        << ".\n\n";
-      std::vector<size_t> idx(rs.size());
-      for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-      m << "### Pareto front\n\n| method | Nx | h/dx | dt | steps | rms error | CPU s | wall s |\n"
-           "|---|---:|---:|---:|---:|---:|---:|---:|\n";
-      std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return rs[a]->cpu < rs[b]->cpu; });
-      for (size_t i : idx)
-        if (pf[i])
-          m << "| " << (rs[i]->group == "lagrangian" ? "LPSPH" : "EPSPH") << " | " << rs[i]->nx << " | "
-            << num(rs[i]->hdx) << " | " << num(rs[i]->dt, 4) << " | " << rs[i]->steps << " | " << sci(rs[i]->rms)
-            << " | " << fix(rs[i]->cpu) << " | " << fix(rs[i]->wall) << " |\n";
-      m << "\n### All EPSPH runs: rms error (CPU s)\n\n";
-      std::vector<double> dts, hs;
-      std::vector<int> nxs;
-      for (const Run* r : rs) {
-        if (r->group != "grid") continue;
-        if (std::find(dts.begin(), dts.end(), r->dt) == dts.end()) dts.push_back(r->dt);
-        if (std::find(hs.begin(), hs.end(), r->hdx) == hs.end()) hs.push_back(r->hdx);
-        if (std::find(nxs.begin(), nxs.end(), r->nx) == nxs.end()) nxs.push_back(r->nx);
-      }
-      m << "| dt | h/dx |";
-      for (int n : nxs) m << " Nx = " << n << " |";
-      m << "\n|---:|---:|";
-      for (size_t k = 0; k < nxs.size(); ++k) m << "---:|";
-      m << "\n";
-      for (double dt : dts)
-        for (double h : hs) {
-          m << "| " << num(dt, 4) << " | " << num(h) << " |";
-          for (int n : nxs) {
-            std::string cell = " ";
-            for (size_t i = 0; i < rs.size(); ++i)
-              if (rs[i]->group == "grid" && rs[i]->dt == dt && rs[i]->hdx == h && rs[i]->nx == n)
-                cell = rs[i]->ok() ? sci(rs[i]->rms) + " (" + fix(rs[i]->cpu, rs[i]->cpu < 1 ? 2 : 1) + ")" +
-                                         (pf[i] ? " ★" : "")
-                                   : "failed";
-            m << ' ' << cell << " |";
-          }
-          m << "\n";
-        }
-      m << "\n";
-      if (has_l) {
-        m << "### LPSPH (part L) against EPSPH at the same Nx, h/dx and dt\n\n"
-             "| Nx | h/dx | dt | steps | LPSPH rms error | LPSPH CPU s | EPSPH rms error | EPSPH CPU s | "
-             "LPSPH / EPSPH CPU | Pareto | status |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
-        for (size_t i = 0; i < rs.size(); ++i) {
-          const Run& l = *rs[i];
-          if (l.group != "lagrangian") continue;
-          const Run* e = nullptr;
-          for (const Run* r : rs)
-            if (r->group == "grid" && r->nx == l.nx && r->hdx == l.hdx && r->dt == l.dt) e = r;
-          m << "| " << l.nx << " | " << num(l.hdx) << " | " << num(l.dt, 4) << " | " << l.steps << " | " << sci(l.rms)
-            << " | " << fix(l.cpu) << " | " << (e ? sci(e->rms) : "–") << " | " << (e ? fix(e->cpu) : "–") << " | "
-            << (e && e->cpu > 0 ? fix(l.cpu / e->cpu, 1) : "–") << " | " << (pf[i] ? "★" : "") << " | "
-            << md_text(l.ok() ? "" : l.status) << " |\n";
+    if (const auto rs = study("poiseuille"); !rs.empty()) m << poiseuille_md(rs);
+    if (const auto rs = study("vukcevic"); !rs.empty()) m << vukcevic_md(rs);
+    for (const std::string name : {"A", "B"})
+      if (const auto rs = study("membrane_" + name, true); !rs.empty()) m << membrane_md(name, rs);
+    return m.str();
+  }
+
+  // P (and L): the Pareto front, every EPSPH run, LPSPH beside EPSPH.
+  std::string poiseuille_md(const std::vector<const Run*>& rs) const {
+    std::ostringstream m;
+    const auto pf = pareto(rs, rms_err);
+    const bool has_l = std::any_of(rs.begin(), rs.end(), [](const Run* r) { return r->group == "lagrangian"; });
+    m << "## P: start-up Poiseuille, rms error (Eq. 69) at t = 0.0125 against CPU time\n\n"
+         "`cases/poiseuille.toml` (Re = 0.0125, Stokes), full grid Nx x h/dx x dt with EPSPH"
+      << (has_l ? "; part L adds LPSPH (`method = lagrangian`) on a smaller grid, and the front is over both methods"
+                : "")
+      << ".\n\n";
+    std::vector<size_t> idx(rs.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    m << "### Pareto front\n\n| method | Nx | h/dx | dt | steps | rms error | CPU s | wall s |\n"
+         "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return rs[a]->cpu < rs[b]->cpu; });
+    for (size_t i : idx)
+      if (pf[i])
+        m << "| " << (rs[i]->group == "lagrangian" ? "LPSPH" : "EPSPH") << " | " << rs[i]->nx << " | "
+          << num(rs[i]->hdx) << " | " << num(rs[i]->dt, 4) << " | " << rs[i]->steps << " | " << sci(rs[i]->rms)
+          << " | " << fix(rs[i]->cpu) << " | " << fix(rs[i]->wall) << " |\n";
+    m << "\n### All EPSPH runs: rms error (CPU s)\n\n";
+    std::vector<double> dts, hs;
+    std::vector<int> nxs;
+    for (const Run* r : rs) {
+      if (r->group != "grid") continue;
+      if (std::find(dts.begin(), dts.end(), r->dt) == dts.end()) dts.push_back(r->dt);
+      if (std::find(hs.begin(), hs.end(), r->hdx) == hs.end()) hs.push_back(r->hdx);
+      if (std::find(nxs.begin(), nxs.end(), r->nx) == nxs.end()) nxs.push_back(r->nx);
+    }
+    m << "| dt | h/dx |";
+    for (int n : nxs) m << " Nx = " << n << " |";
+    m << "\n|---:|---:|";
+    for (size_t k = 0; k < nxs.size(); ++k) m << "---:|";
+    m << "\n";
+    for (double dt : dts)
+      for (double h : hs) {
+        m << "| " << num(dt, 4) << " | " << num(h) << " |";
+        for (int n : nxs) {
+          std::string cell = " ";
+          for (size_t i = 0; i < rs.size(); ++i)
+            if (rs[i]->group == "grid" && rs[i]->dt == dt && rs[i]->hdx == h && rs[i]->nx == n)
+              cell = rs[i]->ok() ? sci(rs[i]->rms) + " (" + fix(rs[i]->cpu, rs[i]->cpu < 1 ? 2 : 1) + ")" +
+                                       (pf[i] ? " ★" : "")
+                                 : "failed";
+          m << ' ' << cell << " |";
         }
         m << "\n";
       }
-    }
-    // W
-    if (auto rs = study("vukcevic"); !rs.empty()) {
-      const auto pf = pareto(rs, rms_err);
-      m << "## W: Poiseuille of Vukcevic et al. (t = 1 s), WCSPH and EPSPH, rms error / u_max\n\n"
-           "`cases/wcsph_poiseuille.toml` (h = 2.2 dy); WCSPH at 0.9 and 0.3 of Coelho's viscous limit "
-           "0.125 h^2/nu, EPSPH (`method = eulerian`, same scene) at dt = 2e-2 and 2e-3 s.\n\n"
-           "| method | Nx x Ny | dt (s) | steps | rms error / U | CPU s | wall s | Pareto | status |\n"
-           "|---|---|---:|---:|---:|---:|---:|---|---|\n";
+    m << "\n";
+    if (has_l) {
+      m << "### LPSPH (part L) against EPSPH at the same Nx, h/dx and dt\n\n"
+           "| Nx | h/dx | dt | steps | LPSPH rms error | LPSPH CPU s | EPSPH rms error | EPSPH CPU s | "
+           "LPSPH / EPSPH CPU | Pareto | status |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
       for (size_t i = 0; i < rs.size(); ++i) {
-        const Run& r = *rs[i];
-        m << "| " << r.method << " | " << r.nx << " x " << r.ny << " | " << sci(r.dt) << " | " << r.steps << " | "
-          << sci(r.rms) << " | " << fix(r.cpu) << " | " << fix(r.wall) << " | " << (pf[i] ? "★" : "") << " | "
-          << md_text(r.ok() ? "" : r.status) << " |\n";
+        const Run& l = *rs[i];
+        if (l.group != "lagrangian") continue;
+        const Run* e = nullptr;
+        for (const Run* r : rs)
+          if (r->group == "grid" && r->nx == l.nx && r->hdx == l.hdx && r->dt == l.dt) e = r;
+        m << "| " << l.nx << " | " << num(l.hdx) << " | " << num(l.dt, 4) << " | " << l.steps << " | " << sci(l.rms)
+          << " | " << fix(l.cpu) << " | " << (e ? sci(e->rms) : "–") << " | " << (e ? fix(e->cpu) : "–") << " | "
+          << (e && e->cpu > 0 ? fix(l.cpu / e->cpu, 1) : "–") << " | " << (pf[i] ? "★" : "") << " | "
+          << md_text(l.ok() ? "" : l.status) << " |\n";
       }
       m << "\n";
     }
-    for (const std::string name : {"A", "B"}) {
-      auto rs = study("membrane_" + name, true);
-      if (rs.empty()) continue;
-      const auto nr = study("membrane_" + name);
-      const auto pa = pareto(nr, area_err), px = pareto(nr, rx_err);
-      std::map<const Run*, std::pair<bool, bool>> pf;
-      for (size_t i = 0; i < nr.size(); ++i) pf[nr[i]] = {pa[i], px[i]};
-      m << "## " << name << ": oscillating membrane, "
-        << (name == "A" ? "Section 5.2.2 (64 x 64, Nb = 128, h = 1.2 dx, h* = 1.4 h, dt = 1e-4, T0 = 10, mu = 0.1)"
-                        : "Fig. 19 settings (64 x 64, Nb = 360, h = 1.2 dx, h* = 0.0425, dt = 0.1 dx, T0 = 1, mu = 0.05)")
-        << ", t in [0, 2]\n\n"
-        << "Area error: relative error of the enclosed area at t = 2. rx error: max (and rms) over the run's "
-           "diagnostics times in [0, 2] of |rx(t) - rx_ref(t)|, rx_ref from the reference run (first row) "
-           "interpolated linearly. ★a / ★x: on the Pareto front of area / rx error against CPU time.\n\n"
-        << "| group | setting | Nx | Nb | markers/dx | h/dx | h*/h | dt | steps | CPU s | wall s | ms/step | area err t=1 | "
-           "area err t=2 | rx max err | rx rms err | Pareto | status |\n"
-        << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
-      for (const Run* r : rs) {
-        std::string p;
-        if (pf.count(r)) p = std::string(pf[r].first ? "★a " : "") + (pf[r].second ? "★x" : "");
-        m << "| " << r->group << " | " << r->label << " | " << r->nx << " | " << r->nb << " | "
-          << fix(r->markers_per_dx, 2) << " | " << num(r->hdx, 4) << " | " << fix(r->h_star / r->h, 3) << " | "
-          << num(r->dt, 4) << " | " << r->steps << " | " << fix(r->cpu, 1) << " | " << fix(r->wall, 1) << " | "
-          << fix(1e3 * r->per_step, 3) << " | " << pct(r->area1, 3) << " | " << pct(r->area2, 3) << " | "
-          << sci(r->rx_max) << " | " << sci(r->rx_rms) << " | " << p << " | "
-          << md_text(r->ok() ? std::string(r->reused ? "reused" : "") +
-                                   (r->rx_glitches ? " " + std::to_string(r->rx_glitches) + " rx glitch row(s) skipped" : "")
-                             : r->status)
-          << " |\n";
-      }
-      m << "\n" << reference_check(rs) << choosing(name) << "\n";
+    return m.str();
+  }
+
+  // W: WCSPH and EPSPH on Vukcevic's Poiseuille flow.
+  std::string vukcevic_md(const std::vector<const Run*>& rs) const {
+    std::ostringstream m;
+    const auto pf = pareto(rs, rms_err);
+    m << "## W: Poiseuille of Vukcevic et al. (t = 1 s), WCSPH and EPSPH, rms error / u_max\n\n"
+         "`cases/wcsph_poiseuille.toml` (h = 2.2 dy); WCSPH at 0.9 and 0.3 of Coelho's viscous limit "
+         "0.125 h^2/nu, EPSPH (`method = eulerian`, same scene) at dt = 2e-2 and 2e-3 s.\n\n"
+         "| method | Nx x Ny | dt (s) | steps | rms error / U | CPU s | wall s | Pareto | status |\n"
+         "|---|---|---:|---:|---:|---:|---:|---|---|\n";
+    for (size_t i = 0; i < rs.size(); ++i) {
+      const Run& r = *rs[i];
+      m << "| " << r.method << " | " << r.nx << " x " << r.ny << " | " << sci(r.dt) << " | " << r.steps << " | "
+        << sci(r.rms) << " | " << fix(r.cpu) << " | " << fix(r.wall) << " | " << (pf[i] ? "★" : "") << " | "
+        << md_text(r.ok() ? "" : r.status) << " |\n";
     }
+    m << "\n";
+    return m.str();
+  }
+
+  // A or B: every variation with its area and rx errors, the fronts, the choice.
+  std::string membrane_md(const std::string& name, const std::vector<const Run*>& rs) const {
+    std::ostringstream m;
+    const auto nr = study("membrane_" + name);
+    const auto pa = pareto(nr, area_err), px = pareto(nr, rx_err);
+    std::map<const Run*, std::pair<bool, bool>> pf;
+    for (size_t i = 0; i < nr.size(); ++i) pf[nr[i]] = {pa[i], px[i]};
+    m << "## " << name << ": oscillating membrane, "
+      << (name == "A" ? "Section 5.2.2 (64 x 64, Nb = 128, h = 1.2 dx, h* = 1.4 h, dt = 1e-4, T0 = 10, mu = 0.1)"
+                      : "Fig. 19 settings (64 x 64, Nb = 360, h = 1.2 dx, h* = 0.0425, dt = 0.1 dx, T0 = 1, mu = 0.05)")
+      << ", t in [0, 2]\n\n"
+      << "Area error: relative error of the enclosed area at t = 2. rx error: max (and rms) over the run's "
+         "diagnostics times in [0, 2] of |rx(t) - rx_ref(t)|, rx_ref from the reference run (first row) "
+         "interpolated linearly. ★a / ★x: on the Pareto front of area / rx error against CPU time.\n\n"
+      << "| group | setting | Nx | Nb | markers/dx | h/dx | h*/h | dt | steps | CPU s | wall s | ms/step | area err t=1 | "
+         "area err t=2 | rx max err | rx rms err | Pareto | status |\n"
+      << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n";
+    for (const Run* r : rs) {
+      std::string p;
+      if (pf.count(r)) p = std::string(pf[r].first ? "★a " : "") + (pf[r].second ? "★x" : "");
+      m << "| " << r->group << " | " << r->label << " | " << r->nx << " | " << r->nb << " | "
+        << fix(r->markers_per_dx, 2) << " | " << num(r->hdx, 4) << " | " << fix(r->h_star / r->h, 3) << " | "
+        << num(r->dt, 4) << " | " << r->steps << " | " << fix(r->cpu, 1) << " | " << fix(r->wall, 1) << " | "
+        << fix(1e3 * r->per_step, 3) << " | " << pct(r->area1, 3) << " | " << pct(r->area2, 3) << " | "
+        << sci(r->rx_max) << " | " << sci(r->rx_rms) << " | " << p << " | "
+        << md_text(r->ok() ? std::string(r->reused ? "reused" : "") +
+                                 (r->rx_glitches ? " " + std::to_string(r->rx_glitches) + " rx glitch row(s) skipped" : "")
+                           : r->status)
+        << " |\n";
+    }
+    m << "\n" << reference_check(rs) << choosing(name) << "\n";
     return m.str();
   }
 
@@ -729,12 +718,11 @@ class Bench {
     m << "### Choosing a resolution (" << name << "): the cheapest run found within an error budget\n\n"
       << "| budget | cheapest setting | Nx | Nb | h/dx | h*/h | dt | CPU s | area err t=2 | rx max err |\n"
       << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    auto row = [&](const std::string& what, double budget, const std::function<double(const Run&)>& err) {
+    // The cheapest finished run within the budget.
+    auto row = [&](const std::string& what, const std::function<bool(const Run&)>& within) {
       const Run* best = nullptr;
       for (const Run* r : rs)
-        if (r->ok() && std::isfinite(err(*r)) && err(*r) <= budget && std::isfinite(r->cpu) &&
-            (!best || r->cpu < best->cpu))
-          best = r;
+        if (r->ok() && within(*r) && std::isfinite(r->cpu) && (!best || r->cpu < best->cpu)) best = r;
       m << "| " << what << " | ";
       if (!best) {
         m << "none of these runs | | | | | | | | |\n";
@@ -744,25 +732,16 @@ class Bench {
         << fix(best->h_star / best->h, 2) << " | " << num(best->dt, 4) << " | " << fix(best->cpu, 1) << " | "
         << pct(best->area2, 2) << " | " << sci(best->rx_max) << " |\n";
     };
-    for (double b : {0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001}) row("area ≤ " + pct(b, 1), b, area_err);
-    for (double b : {0.05, 0.02, 0.01, 0.005, 0.002, 0.001}) row("rx ≤ " + num(b), b, rx_err);
+    for (double b : {0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001})
+      row("area ≤ " + pct(b, 1), [&](const Run& r) { return area_err(r) <= b; });
+    for (double b : {0.05, 0.02, 0.01, 0.005, 0.002, 0.001})
+      row("rx ≤ " + num(b), [&](const Run& r) { return rx_err(r) <= b; });
     // both budgets at once
     const std::vector<std::pair<double, double>> both{{0.05, 0.03}, {0.05, 0.02}, {0.02, 0.01}, {0.01, 0.01},
                                                       {0.01, 0.005}, {0.005, 0.005}, {0.005, 0.0025}, {0.002, 0.005}};
-    for (auto [ba, bx] : both) {
-      const Run* best = nullptr;
-      for (const Run* r : rs)
-        if (r->ok() && area_err(*r) <= ba && r->rx_max <= bx && std::isfinite(r->cpu) && (!best || r->cpu < best->cpu))
-          best = r;
-      m << "| area ≤ " << pct(ba, 1) << " and rx ≤ " << num(bx) << " | ";
-      if (!best) {
-        m << "none of these runs | | | | | | | | |\n";
-        continue;
-      }
-      m << best->label << " | " << best->nx << " | " << best->nb << " | " << num(best->hdx, 4) << " | "
-        << fix(best->h_star / best->h, 2) << " | " << num(best->dt, 4) << " | " << fix(best->cpu, 1) << " | "
-        << pct(best->area2, 2) << " | " << sci(best->rx_max) << " |\n";
-    }
+    for (auto [ba, bx] : both)
+      row("area ≤ " + pct(ba, 1) + " and rx ≤ " + num(bx),
+          [&, ba = ba, bx = bx](const Run& r) { return area_err(r) <= ba && r.rx_max <= bx; });
     return m.str();
   }
 
@@ -774,59 +753,29 @@ class Bench {
     if (o_.parts.find('A') != std::string::npos) membrane("A");
     if (o_.parts.find('B') != std::string::npos) membrane("B");
     write();
-    std::printf("\n%s\ntotal %.0f s wall; wrote %s and %s\n", markdown().c_str(), since(t0),
+    std::printf("\n%s\ntotal %.0f s wall; wrote %s and %s\n", markdown().c_str(), seconds_since(t0),
                 (o_.out / "speed_accuracy.csv").c_str(), (o_.out / "speed_accuracy.md").c_str());
   }
 
  private:
-  Options o_;
   std::vector<Run> runs_;
+  Options o_;
 };
-
-[[noreturn]] void usage(int code) {
-  (code ? std::cerr : std::cout)
-      << "usage: speed_accuracy [--parts PLWAB] [--out DIR] [--cases DIR] [--quick] [--reuse | --report-only]\n"
-         "  --parts   P start-up Poiseuille (EPSPH), L the same with LPSPH, W Vukcevic Poiseuille (WCSPH and\n"
-         "            EPSPH), A oscillating membrane (Section 5.2.2), B the same with the Fig. 19 settings\n"
-         "            (default PLWAB)\n"
-         "  --out     output directory (default bench_out/speed_accuracy)\n"
-         "  --cases   scene directory (default cases)\n"
-         "  --quick   a few runs per part (smoke test)\n"
-         "  --reuse   reuse every finished run directory with the same overrides (default: references only)\n"
-         "  --report-only  run nothing: rebuild the CSV and Markdown of the chosen parts from the run directories\n";
-  std::exit(code);
-}
-
-void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("speed_accuracy", argv); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"The speed-accuracy trade of EPSPH: error against CPU time with the Pareto fronts", "speed_accuracy"};
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(2);
-      return argv[++i];
-    };
-    if (a == "--help" || a == "-h") usage(0);
-    else if (a == "--parts") o.parts = value();
-    else if (a == "--out") o.out = value();
-    else if (a == "--cases") o.cases = value();
-    else if (a == "--quick") o.quick = true;
-    else if (a == "--reuse") o.reuse = true;
-    else if (a == "--report-only") o.report_only = true;
-    else {
-      std::cerr << "speed_accuracy: unknown option " << a << "\n";
-      usage(2);
-    }
-  }
-  ensure_single_thread(argv);
-  try {
+  add_scene_options(app, o, "PLWAB",
+                    "P start-up Poiseuille (EPSPH), L the same with LPSPH, W Vukcevic Poiseuille (WCSPH and EPSPH), "
+                    "A oscillating membrane (Section 5.2.2), B the same with the Fig. 19 settings");
+  auto* reuse = app.add_flag("--reuse", o.reuse, "reuse every finished run directory with the same overrides "
+                                                 "(default: the references only)");
+  app.add_flag("--report-only", o.report_only, "run nothing: rebuild the CSV and Markdown of the chosen parts from "
+                                               "the run directories")->excludes(reuse);
+  return run_main(app, argc, argv, [&] {
     Bench(o).run();
-  } catch (const std::exception& e) {
-    std::cerr << "speed_accuracy: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -35,7 +35,7 @@
 //     values, energy above the bound, a failing fixed point or a marker leaving the fluid count.
 //  S  as E with convection off.
 //
-//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--report-only]
+//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--report-only]      (--help)
 //
 // --report-only runs nothing: it reads DIR/stability_runs.csv and DIR/stability_dtmax.csv back and
 // rewrites them and DIR/stability_map.md (new columns, new text, same measurements).
@@ -43,31 +43,19 @@
 // Writes DIR/stability_runs.csv (every run: parameters, verdict, reason), DIR/stability_dtmax.csv
 // (one row per bisection), DIR/stability_map.md, each atomically after every run; plots:
 // scripts/plot_bench.py. Run directories are scratch (DIR/scratch, removed). Single-threaded.
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <iomanip>
-#include <iostream>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/common.hpp"
-#include "io/atomic_file.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "membrane/geometry.hpp"
@@ -76,18 +64,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-using sphib::bench::cpu_seconds;
-using sphib::bench::csv_num;
-using sphib::bench::fix;
-using sphib::bench::num;
-using sphib::bench::sci;
-using sphib::bench::since;
-std::string csv_text(std::string s) {
-  for (char& c : s)
-    if (c == ',' || c == '\n' || c == '"') c = ';';
-  return s;
-}
+using namespace sphib::bench;
+using sphib::seconds_since;
 
 constexpr double kL = 3.0;           // domain width
 constexpr double kR0 = 0.5;          // rest radius: L0 = 2 pi r0
@@ -581,7 +559,14 @@ class Bench {
          "Crank-Nicolson, and spreads the force with its own kernel of radius h* = " << fix(def.h_star() / def.dx(), 2)
       << " dx, which damps the shortest modes; limits above the classical ones are therefore expected, and the "
          "tables say by how much.\n\n";
-    // G
+    m << grid_md() << dtmax_md("T") << dtmax_md("E") << dtmax_md("S") << resolution_md();
+    return m.str();
+  }
+
+  // G: the verdicts, dt against one parameter at a time.
+  std::string grid_md() const {
+    std::ostringstream m;
+    const Params def;
     std::map<std::string, std::vector<const Verdict*>> g;
     std::vector<std::string> order;
     for (const Verdict& v : all_)
@@ -589,7 +574,8 @@ class Bench {
         if (!g.count(v.axis)) order.push_back(v.axis);
         g[v.axis].push_back(&v);
       }
-    if (!g.empty()) {
+    if (g.empty()) return "";
+    {
       m << "## G: classification, dt against one parameter at a time\n\n"
            "S = stable, U = unstable (reason: N non-finite, P particle CFL, M marker CFL, L marker left the "
            "fluid, F fixed point, E energy growth), R = refused. One parameter varies per table, the others at the "
@@ -636,12 +622,19 @@ class Bench {
         m << "\n";
       }
     }
-    for (const std::string part : {"T", "E", "S"}) {
+    return m.str();
+  }
+
+  // T, E, S: the largest stable dt over (T0, mu), its fit and the comparison with the estimates.
+  std::string dtmax_md(const std::string& part) const {
+    std::ostringstream m;
+    const Params def;
     std::vector<const DtMax*> t;
     for (const DtMax& d : dtmax_)
       if (d.part == part) t.push_back(&d);
     const Fit fd = fit_tmu(part, false), fh = fit_tmu(part, true);
-    if (!t.empty()) {
+    if (t.empty()) return "";
+    {
       m << "## " << part << ": largest stable dt over (T0, mu)"
         << (part == "T"   ? ", run_scene's verdict (convection on)"
             : part == "E" ? ", no dx-per-step guards (the bench's loop: blow-up = non-finite, energy > 10 E0, fixed "
@@ -721,13 +714,17 @@ class Bench {
       }
       m << "\n";
     }
-    }
+    return m.str();
+  }
 
-    // X
+  // X: the largest stable dt against the resolution parameters, and its exponents.
+  std::string resolution_md() const {
+    std::ostringstream m;
     std::vector<const DtMax*> x;
     for (const DtMax& d : dtmax_)
       if (d.part == "X") x.push_back(&d);
-    if (!x.empty()) {
+    if (x.empty()) return "";
+    {
       m << "## X: largest stable dt against resolution parameters (T0 = 1e3; inertial: mu = 1e-3, viscous: "
            "mu = 10; runner: run_scene's verdict, convection on; elastic: the bench's loop without dx-per-step "
            "guards, convection off)\n\n"
@@ -748,8 +745,8 @@ class Bench {
           // all points, and those with h* >= 0.8 h (a spreading kernel much narrower than the fluid's
           // destabilises on its own, see the table)
           for (const bool wide : {false, true}) {
-            double sx = 0, sy = 0, sxx = 0, sxy = 0;
-            int n = 0, all = 0;
+            std::vector<std::pair<double, double>> pts;
+            int all = 0;
             for (const DtMax* d : x) {
               if (d->axis != where + ":" + axis || !std::isfinite(d->estimate())) continue;
               ++all;
@@ -758,14 +755,13 @@ class Bench {
               if (axis == "h*/h") len = d->p.h_star();
               if (axis == "h/dx") len = d->p.h();
               if (axis == "markers/dx") len = 2 * M_PI * kR0 / d->p.nb;
-              const double lx = std::log(len), ly = std::log(d->estimate());
-              sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly; ++n;
+              pts.emplace_back(len, d->estimate());
             }
+            const int n = static_cast<int>(pts.size());
             if (wide && n == all) continue;  // nothing left out
             if (n >= 2)
-              m << "- " << where << ", dt_max ~ " << what << "^a: a = "
-                << fix((n * sxy - sx * sy) / (n * sxx - sx * sx), 2) << " (" << n << " points"
-                << (wide ? ", h* >= 0.8 h only" : "") << ")\n";
+              m << "- " << where << ", dt_max ~ " << what << "^a: a = " << fix(power_law_exponent(pts), 2) << " ("
+                << n << " points" << (wide ? ", h* >= 0.8 h only" : "") << ")\n";
           }
         }
       m << "\n";
@@ -884,7 +880,7 @@ class Bench {
     if (o_.parts.find('S') != std::string::npos) part_t("S");
     if (o_.parts.find('X') != std::string::npos) part_x();
     write();
-    std::printf("\n%s\n%zu runs, total %.0f s wall\n", markdown().c_str(), memo_.size(), since(t0));
+    std::printf("\n%s\n%zu runs, total %.0f s wall\n", markdown().c_str(), memo_.size(), seconds_since(t0));
   }
 
  private:
@@ -894,48 +890,18 @@ class Bench {
   std::vector<DtMax> dtmax_;
 };
 
-[[noreturn]] void usage(int code) {
-  (code ? std::cerr : std::cout)
-      << "usage: stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--report-only]\n"
-         "  --parts  G classification grid (dt x one parameter), T largest stable dt over (T0, mu),\n"
-         "           E as T without the runner's dx-per-step guards (the bench's loop), S as E with\n"
-         "           convection off, X largest stable dt against Nx, markers/dx, h/dx, h*/h (default GTESX)\n"
-         "  --out    output directory (default bench_out/stability_map)\n"
-         "  --cases  scene directory (default cases)\n"
-         "  --quick  a few runs per part (smoke test)\n"
-         "  --report-only  run nothing: read DIR's two CSV files back, rewrite them and the Markdown\n";
-  std::exit(code);
-}
-
-void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("stability_map", argv); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage(2);
-      return argv[++i];
-    };
-    if (a == "--help" || a == "-h") usage(0);
-    else if (a == "--parts") o.parts = value();
-    else if (a == "--out") o.out = value();
-    else if (a == "--cases") o.cases = value();
-    else if (a == "--quick") o.quick = true;
-    else if (a == "--report-only") o.report_only = true;
-    else {
-      std::cerr << "stability_map: unknown option " << a << "\n";
-      usage(2);
-    }
-  }
-  ensure_single_thread(argv);
-  try {
+  CLI::App app{"Where the EPSPH immersed-boundary step is stable", "stability_map"};
+  add_scene_options(app, o, "GTESX",
+                    "G classification grid (dt x one parameter), T largest stable dt over (T0, mu), E as T without the "
+                    "runner's dx-per-step guards (the bench's loop), S as E with convection off, X largest stable dt "
+                    "against Nx, markers/dx, h/dx, h*/h");
+  app.add_flag("--report-only", o.report_only, "run nothing: read DIR's two CSV files back, rewrite them and the Markdown");
+  return run_main(app, argc, argv, [&] {
     Bench(o).run_all();
-  } catch (const std::exception& e) {
-    std::cerr << "stability_map: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -11,36 +11,25 @@
 //  C  error against wall time, EPSPH and WCSPH, on Poiseuille, Couette, the constructed solution
 //     and the lid-driven cavity at Re = 100 (Ghia et al.), every run through the scene runner.
 //
-//   wcsph_comparison [--parts ABC] [--out DIR] [--cases DIR] [--quick]
+//   wcsph_comparison [--parts ABC] [--out DIR] [--cases DIR] [--quick]      (--help)
 //
 // Every run is a scene of cases/ loaded with load_scene(path, overrides) and run by run_scene
 // (io/run.hpp), the constructed solution with its force field and observers attached in C++ (a
 // scene file cannot express a force field). Writes DIR/wcsph_comparison.csv (one row per run),
 // DIR/wcsph_profiles.csv (part B) and DIR/wcsph_comparison.md (tables), and prints the tables.
-// Runs are single-threaded (the process re-executes itself with OMP_NUM_THREADS=1 and the BLAS
-// equivalents), and report wall and CPU seconds: on a shared machine CPU time is the fairer clock.
-#include <unistd.h>
-
-#include <cerrno>
-#include <chrono>
+// Runs are single-threaded and report wall and CPU seconds: on a shared machine CPU time is the
+// fairer clock.
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <functional>
-#include <iomanip>
-#include <iostream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench/common.hpp"
 #include "fluid/exact.hpp"
 #include "fluid/wcsph.hpp"
-#include "io/atomic_file.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 
@@ -145,14 +134,8 @@ struct Run {
   std::string note;
 };
 
-std::string num(double v, int prec = 3) {
-  if (std::isnan(v)) return "-";
-  std::ostringstream s;
-  s << std::setprecision(prec) << v;
-  return s.str();
-}
-
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+std::string num(double v, int prec = 3) { return std::isnan(v) ? "-" : bench::num(v, prec); }
+using bench::cpu_seconds;
 
 class Bench {
  public:
@@ -321,7 +304,7 @@ class Bench {
         r.hdx = p.h_over_dx;
         r.dt = p.dt;
         r.note = ch.label + ", c = " + num(ch.c);
-        const auto t0 = std::chrono::steady_clock::now();
+        const auto t0 = bench::Clock::now();
         const double c0 = cpu_seconds();
         try {
           WcsphFluid g(p, wo);
@@ -336,7 +319,7 @@ class Bench {
         } catch (const std::exception& e) {
           r.note += std::string(": ") + e.what();
         }
-        r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        r.wall = seconds_since(t0);
         r.cpu = cpu_seconds() - c0;
         add(r);
       }
@@ -486,37 +469,21 @@ class Bench {
   std::vector<RmsAt> rms_time_;
 };
 
-// Re-executes the program once with single-threaded OpenMP/BLAS (read at load time).
-void ensure_single_thread(char** argv) { sphib::bench::ensure_single_thread("wcsph_comparison", argv); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  ensure_single_thread(argv);
   Options o;
-  for (int k = 1; k < argc; ++k) {
-    const std::string a = argv[k];
-    if (a == "--parts" && k + 1 < argc) o.parts = argv[++k];
-    else if (a == "--out" && k + 1 < argc) o.out = argv[++k];
-    else if (a == "--cases" && k + 1 < argc) o.cases = argv[++k];
-    else if (a == "--quick") o.quick = true;
-    else {
-      std::fprintf(stderr, "usage: wcsph_comparison [--parts ABC] [--out DIR] [--cases DIR] [--quick]\n");
-      return 2;
-    }
-  }
-  try {
+  CLI::App app{"Weakly compressible SPH against EPSPH (Vukcevic et al.; Coelho et al.)", "wcsph_comparison"};
+  bench::add_scene_options(app, o, "ABC",
+                           "A constructed Stokes flow, B Vukcevic Poiseuille/Couette, C error against time");
+  return bench::run_main(app, argc, argv, [&] {
     Bench b(o);
-    const auto t0 = std::chrono::steady_clock::now();
-    if (o.parts.find('A') != std::string::npos) b.part_a();
-    if (o.parts.find('B') != std::string::npos) b.part_b();
-    if (o.parts.find('C') != std::string::npos) b.part_c();
+    const auto t0 = bench::Clock::now();
+    if (bench::wants(o.parts, 'A')) b.part_a();
+    if (bench::wants(o.parts, 'B')) b.part_b();
+    if (bench::wants(o.parts, 'C')) b.part_c();
     b.write();
-    std::printf("\n%s\nwritten to %s (%.0f s)\n", b.markdown().c_str(), o.out.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "wcsph_comparison: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    std::printf("\n%s\nwritten to %s (%.0f s)\n", b.markdown().c_str(), o.out.c_str(), seconds_since(t0));
+    return 0;
+  });
 }

@@ -20,7 +20,8 @@
 #include <fstream>
 
 #include "io/run.hpp"
-#include "membrane/geometry.hpp"
+#include "membrane/polygon.hpp"
+#include "membrane/shapes.hpp"
 
 using namespace sphib;
 
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
     const double dx = L / nx, h_star = 1.4 * f.h_over_dx * dx, T0 = mu * G * r0 / Ca;
     f.dt = cfl * dx / U;  // below the elastic limit max(sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`
     const int nb = static_cast<int>(std::lround(2 * M_PI * r0 / (0.5 * dx)));  // two markers per dx
-    s.sim.membranes.push_back({circle(nb, r0, 0.0, 0.0, /*radius=*/r0, T0), h_star});
+    s.sim.membranes.push_back({make_membrane(circle(nb, 0.0, 0.0, /*radius=*/r0), r0, T0), h_star});
     s.t_end = t_end / G, s.max_steps = steps;
 
     std::vector<std::array<double, 4>> hist;  // t, D, theta, omega at every diagnostics row

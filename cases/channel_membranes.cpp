@@ -17,7 +17,8 @@
 #include <sstream>
 
 #include "io/run.hpp"
-#include "membrane/geometry.hpp"
+#include "membrane/polygon.hpp"
+#include "membrane/shapes.hpp"
 
 using namespace sphib;
 
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
   s.sim.initial_velocity = [=](double, double y) { return Eigen::Vector2d(u_poiseuille(y), 0.0); };
   const int nb = static_cast<int>(std::lround(2 * M_PI * a / (0.5 * dx)));  // two markers per dx
   for (const Eigen::Vector2d& c : {Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(0.5, 0.2)})
-    s.sim.membranes.push_back({circle(nb, a, c.x(), c.y(), a, T0), /*h_star=*/1.4 * h});
+    s.sim.membranes.push_back({make_membrane(circle(nb, c.x(), c.y(), a), a, T0), /*h_star=*/1.4 * h});
   s.t_end = 4.0 * H / U;
   s.output_interval = 0.5;
 

@@ -6,7 +6,8 @@
 #include <iostream>
 
 #include "io/run.hpp"
-#include "membrane/geometry.hpp"
+#include "membrane/polygon.hpp"
+#include "membrane/shapes.hpp"
 
 int main(int argc, char** argv) {
   using namespace sphib;
@@ -28,10 +29,10 @@ int main(int argc, char** argv) {
   s.sim.body_force_field = [](double, double y, double t) { return V2(std::sin(M_PI * y) * std::cos(2 * t), 0); };
   s.sim.initial_velocity = [](double x, double y) { return V2(0, 0.2 * std::sin(M_PI * x) * std::cos(M_PI * y / 2)); };
   const double T0 = 2.0, h_star = 1.4 * 0.06;
-  s.sim.membranes.push_back({from_polar([](double th) { return 0.25 * (1 + 0.15 * std::cos(3 * th)); }, 64, 0.25, T0, -0.5, 0), h_star});
+  s.sim.membranes.push_back({make_membrane(from_polar([](double th) { return 0.25 * (1 + 0.15 * std::cos(3 * th)); }, 64, -0.5, 0), 0.25, T0), h_star});
   Mat2 bean(6, 2);
   bean << 0.25, -0.2, 0.75, -0.25, 0.8, 0.1, 0.6, 0.3, 0.45, 0.05, 0.3, 0.25;
-  s.sim.membranes.push_back({from_points(bean, 64, /*r0=*/0.35, T0), h_star});
+  s.sim.membranes.push_back({make_membrane(from_points(bean, 64), /*r0=*/0.35, T0), h_star});
   s.observers.push_back({"m1_deformation", [](const Simulation& sim) { return ellipse_fit(sim.membranes()[1].m.X).deformation(); }});
   s.t_end = 2.0, s.output_interval = 0.25;
   run_scene(s, run);

@@ -348,22 +348,24 @@ std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& 
   if (kind == SolverKind::Fft)
     throw std::invalid_argument("linear solver: system '" + system + "': the FFT solver needs the fixed lattice (EPSPH)");
   if (kind != SolverKind::Auto) return std::make_unique<CholmodSolver>(system, A, kind);
-  // Auto, deterministic: simplicial below kSupernodalLnz non-zeros in L, supernodal above.
-  // Measured here (one core, OpenBLAS, 1-column Poisson solves, us): nnz(L) = 3.8e5: 195 vs 194;
-  // 5.9e5 (2 columns): simplicial 476, supernodal 604; 1.0e6: 527 vs 333; 2.1e6: 2420 vs 1282;
-  // 5.6e6: 8909 vs 4292; 1.6e7: 24852 vs 13599.
-  constexpr double kSupernodalLnz = 8e5;
+  // Auto, deterministic: simplicial up to 8e5 non-zeros in L, supernodal above (measured on this
+  // machine: README, "Solvers, chosen automatically").
+  return cholmod_by_factor_size(system, A, 8e5, "auto");
+}
+
+std::unique_ptr<LinearSolver> cholmod_by_factor_size(const std::string& system, const SpMat& A, double supernodal_lnz,
+                                                     const std::string& rule) {
   auto simplicial = std::make_unique<CholmodSolver>(system, A, SolverKind::CholmodSimplicial);
   std::ostringstream note;
-  if (simplicial->info().nnz_factor <= kSupernodalLnz) {
-    note << " (auto: nnz(L) <= " << kSupernodalLnz << ")";
+  if (simplicial->info().nnz_factor <= supernodal_lnz) {
+    note << " (" << rule << ": nnz(L) <= " << supernodal_lnz << ")";
     simplicial->annotate(note.str(), 0.0);
     return simplicial;
   }
   const double t = simplicial->info().factor_seconds + simplicial->info().analyse_seconds;
   simplicial.reset();
   auto super = std::make_unique<CholmodSolver>(system, A, SolverKind::CholmodSupernodal);
-  note << " (auto: nnz(L) > " << kSupernodalLnz << ")";
+  note << " (" << rule << ": nnz(L) > " << supernodal_lnz << ")";
   super->annotate(note.str(), t);
   return super;
 }

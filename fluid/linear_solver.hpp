@@ -50,12 +50,17 @@ class LinearSolver {
 };
 
 // Auto: a symmetric A gets CHOLMOD (simplicial for a small factor, supernodal for a large one:
-// a deterministic rule measured on this machine, see linear_solver.cpp), any other UMFPACK.
+// cholmod_by_factor_size with 8e5, a rule measured on this machine), any other UMFPACK.
 // Pcg (Jacobi-preconditioned conjugate gradients, warm-started) is chosen only explicitly.
 // Failures (not positive definite, singular, CG not converging) throw std::runtime_error
 // naming the system and its size.
 std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& A,
                                         SolverKind kind = SolverKind::Auto);
+
+// CHOLMOD, simplicial when its factor has at most `supernodal_lnz` non-zeros, else supernodal (a
+// simplicial factorisation, then discarded, tells nnz(L)); `rule` names the choice in the log line.
+std::unique_ptr<LinearSolver> cholmod_by_factor_size(const std::string& system, const SpMat& A, double supernodal_lnz,
+                                                     const std::string& rule);
 
 bool is_symmetric(const SpMat& A, double rel_tol = 1e-12);
 

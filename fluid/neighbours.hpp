@@ -69,8 +69,6 @@ class CellGrid {
       }
   }
 
-  double cell_size(int axis) const { return h_[axis]; }
-
  private:
   int cell_of(double c, int axis) const {
     int k = static_cast<int>(std::floor((c - lo_[axis]) / h_[axis]));

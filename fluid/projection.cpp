@@ -557,4 +557,18 @@ double Fluid::setup_seconds(const std::string& what) const {
   return 0.0;
 }
 
+std::optional<FluidSolver::Footprint> Fluid::footprint() const {
+  auto nnz = [](const SpMat& A) { return static_cast<long>(A.nonZeros()); };
+  Footprint f;
+  f.operator_nonzeros = nnz(op_.lap_u.A) + nnz(op_.lap_u.B) + nnz(op_.grad_ux.A) + nnz(op_.grad_ux.B) +
+                        nnz(op_.grad_uy.A) + nnz(op_.grad_uy.B) + nnz(op_.lap_phi) + nnz(op_.grad_phix) +
+                        nnz(op_.grad_phiy);
+  for (const auto& si : solver_info()) {
+    f.factor_nonzeros += si.nnz_factor ? si.nnz_factor : si.nnz_used;  // an iterative solver keeps A itself
+    if (si.system == "Poisson") f.factor_nonzeros += si.nnz_A;         // kept for the residual check
+  }
+  f.pairs = static_cast<long>(pairs_.size());
+  return f;
+}
+
 }  // namespace sphib

@@ -69,10 +69,11 @@ class Fluid final : public FluidSolver {
   std::vector<std::pair<std::string, double>> figures() const override;
   Profile& profile() const override { return prof_; }
   double setup_seconds(const std::string& what) const override;  // "neighbours", "assembly", "factorisation"
+  std::optional<Footprint> footprint() const override;
   NamedArrays state() const override;
   // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and Poisson solves
   // and the fused sparse products, on the current fields), each timed alone, best of `reps`.
-  double floor_seconds(int reps = 20) const;
+  double floor_seconds(int reps = 20) const override;
   void restore(const NamedArrays& state) override;
 
  private:

@@ -6,6 +6,7 @@
 // A FluidSolver advances the velocity of N particles by one time step under an external force
 // per unit volume, and shows their positions, volumes, velocity, pressure and its kernel.
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -108,6 +109,16 @@ class FluidSolver {
   virtual std::vector<std::pair<std::string, double>> figures() const = 0;
   virtual Profile& profile() const = 0;
   virtual double setup_seconds(const std::string& what) const = 0;
+  // What the method keeps for the whole run (`sphib check`'s memory estimate): the non-zeros of
+  // its operator matrices and of its factors (with the matrices it keeps), its neighbour pairs.
+  // None for a method that rebuilds them every step.
+  struct Footprint {
+    long operator_nonzeros = 0, factor_nonzeros = 0, pairs = 0;
+  };
+  virtual std::optional<Footprint> footprint() const { return std::nullopt; }
+  // The floor of a step: the bare kernels it cannot avoid, each timed alone on the current fields,
+  // best of `reps` (0: the method measures none).
+  virtual double floor_seconds(int /*reps*/ = 20) const { return 0.0; }
 
   // Everything that determines the following steps (for checkpoints), and its restoration into a
   // solver built from the same parameters. Methods without checkpoints throw std::runtime_error.

@@ -515,17 +515,14 @@ NamedArrays WcsphFluid::state() const {
 
 void WcsphFluid::restore(const NamedArrays& state) {
   ++revision_;
-  auto get = [&](const std::string& name, Eigen::Index rows, Eigen::Index cols) -> const Eigen::MatrixXd& {
-    return state_entry(state, name, rows, cols);
-  };
   const int N = size();
-  x_ = get("x_eval", N, 2);
+  x_ = state_entry(state, "x_eval", N, 2);
   find_neighbours();  // the neighbours and densities of the last evaluation, exactly
   summation_density();
-  x_ = get("x", N, 2);
-  u_ = get("u", N, 2);
-  u_hat_ = get("u_hat", N, 2);
-  const Eigen::MatrixXd& clock = get("clock", 1, 5);
+  x_ = state_entry(state, "x", N, 2);
+  u_ = state_entry(state, "u", N, 2);
+  u_hat_ = state_entry(state, "u_hat", N, 2);
+  const Eigen::MatrixXd& clock = state_entry(state, "clock", 1, 5);
   t_ = clock(0, 0);
   n_ = static_cast<long>(clock(0, 1));
   dvar_ = clock(0, 2);

@@ -46,13 +46,10 @@
 // WcsphOptions::max_density_variation (10%) the step throws std::runtime_error (a blow-up), and so
 // does a particle that crosses a wall.
 //
-// Which EOS (measured, see bench/wcsph_comparison.cpp): with the symmetric pressure term a uniform
-// pressure p0 does not cancel on a sheared or disordered particle set, so the Morris form, whose
-// background pressure is c^2 rho0, pushes sliding particle rows across each other with forces
-// ~ c^2 / h times the kernel's lattice error. That is harmless while c^2 is small against the
-// viscous and body forces (V's SI Poiseuille and Couette with c^2 = 5e-12), and destroys a shear
-// flow once c is chosen for incompressibility (dimensionless Couette at c = 10-50 U: rms error
-// 25-30%; the cavity's flow dies away). The Tait form has no background pressure: use it there.
+// Which EOS: with the symmetric pressure term a uniform pressure p0 does not cancel on a sheared or
+// disordered particle set, so the Morris form (background pressure c^2 rho0) pushes sliding rows
+// across each other once c is chosen for incompressibility; the Tait form has none. Measured:
+// README, "Weakly compressible SPH" (bench/wcsph_comparison).
 //
 // Neighbours: a cell list over fluid and wall particles (cells at least 2h wide), rebuilt every
 // step; each pair within 2h is found once (half stencil of cells) and every pair sum is
@@ -130,9 +127,7 @@ class WcsphFluid final : public FluidSolver {
   double mass() const { return m_; }
   double density_variation() const { return dvar_; }          // max_i |rho_i/rho0 - 1| of the last step
   double max_density_variation() const { return dvar_max_; }  // the same, maximum over the run
-  double dt_limit() const { return dt_limit_; }               // C Eq. (19) without the force term
   const Mat2& wall_x() const { return xw_; }                  // virtual particles, M x 2
-  const Mat2& wall_u() const { return uw_; }
   double lattice_kernel_sum() const { return S_ * lat_.dx * lat_.dy; }  // S dx dy (1 for an exact quadrature)
 
  private:

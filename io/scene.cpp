@@ -10,7 +10,7 @@
 
 #include <toml++/toml.h>
 
-#include "membrane/geometry.hpp"
+#include "membrane/shapes.hpp"
 
 namespace sphib {
 
@@ -357,18 +357,8 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
 
 const std::vector<std::string>& known_keys();
 
-Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
-            std::vector<Reader::Doc>* docs_out) {
-  if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
-  Reader r(root, name, overridden);
-  r.documenting = docs_out != nullptr;
-  Scene s;
-  s.path = name;
-  s.title = r.text("title", "", "a one-line description");
-  s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph"},
-                      "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
-                      "wcsph (weakly compressible SPH)");
-  // Domain and walls
+// The domain, its walls and their velocities.
+void read_domain(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
   const Eigen::Vector2d xr = r.pair("domain.x", {0.0, 1.0}, "x extent [x0, x1]");
   const Eigen::Vector2d yr = r.pair("domain.y", {0.0, 1.0}, "y extent [y0, y1]");
@@ -385,7 +375,11 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
     if (given && !f.domain.is_wall(static_cast<Side>(k)))
       r.fail(key, "a wall velocity is given on a periodic side");
   }
-  // Resolution and kernel
+}
+
+// Resolution, kernel, the fluid and its method's parameters.
+void read_fluid(Reader& r, Scene& s) {
+  FluidParams& f = s.sim.fluid;
   f.nx = static_cast<int>(r.integer("grid.nx", 0, 2, "particles along x (Eq. 68)", true));
   f.ny = static_cast<int>(r.integer("grid.ny", 0, 2, "particles along y (Eq. 68)", true));
   f.h_over_dx = r.positive("kernel.h_over_dx", 1.2, "smoothing length h = h_over_dx (dx + dy)/2; support 2h");
@@ -418,7 +412,11 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   f.wcsph.walls = r.choice("wcsph.walls", "virtual", {"virtual", "lennard_jones"},
                            "WCSPH walls: Morris virtual particles or the Lennard-Jones repulsion of Coelho et al.");
   f.wcsph.u_scale = r.positive("wcsph.u_scale", 1.0, "expected maximum speed (sets c when wcsph.c = 0)");
-  // Time
+}
+
+// The time step, the run's length and the linear solvers.
+void read_time_and_solvers(Reader& r, Scene& s) {
+  FluidParams& f = s.sim.fluid;
   f.dt = r.positive("time.dt", 0.0, "time step", true);
   s.t_end = r.positive("time.end", 0.0, "end time (upper bound when steady_eps is set)", true);
   s.max_steps = r.integer("time.max_steps", 0, 0, "stop after this many steps (0: no limit)");
@@ -445,7 +443,10 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                         : interp == "sph"           ? MarkerInterpolation::Sph
                                                     : MarkerInterpolation::Auto;
-  // Output and observation
+}
+
+// What is written and observed.
+void read_output(Reader& r, Scene& s) {
   s.output_interval = r.number("output.interval", 0.0, ">= 0", "time between HDF5 snapshots (0: first and last only)", false, 0.0);
   s.checkpoint_interval = r.number("output.checkpoint_interval", 0.0, ">= 0",
                                    "time between checkpoints, DIR/checkpoint.h5 (0: only at the end)", false, 0.0);
@@ -465,9 +466,12 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
                      {"none", "poiseuille", "couette", "cavity", "membrane_equilibrium", "membrane_oscillation"},
                      "which exact or reference solution to measure against");
   s.reference_dir = r.text("observe.reference_dir", "reference", "directory of the Ghia et al. tables, relative to the scene file");
-  // Membranes: [membrane] for one, [[membranes]] for several
+}
+
+// [membrane] for one, [[membranes]] for several (documenting: the keys of [membrane] are listed).
+void read_membranes(Reader& r, Scene& s, bool documenting) {
   if (r.has("membrane") && r.has("membranes")) r.fail("membranes", "give either [membrane] or [[membranes]], not both");
-  if (r.has("membrane") || docs_out) {
+  if (r.has("membrane") || documenting) {
     if (r.has("membrane") && !r.find("membrane")->is_table()) r.fail("membrane", "must be a table");
     MembraneScene m;
     read_membrane(r, "membrane.", m);
@@ -482,13 +486,11 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
       s.membranes.push_back(m);
     }
   }
-  if (docs_out) { *docs_out = r.docs; return s; }
-  r.reject_unknown();
-  s.resolved = r.resolved;
+}
 
-  if (s.max_steps == 0 && s.t_end / f.dt > 1e9) r.fail("time.end", "needs more than 1e9 steps of time.dt");
-
-  // Membranes, built in the domain's coordinates.
+// The membranes, built in the domain's coordinates.
+void build_membranes(Reader& r, Scene& s) {
+  const FluidParams& f = s.sim.fluid;
   const double dx = (f.domain.x1 - f.domain.x0) / f.nx, dy = (f.domain.y1 - f.domain.y0) / f.ny;
   const double h = f.h_over_dx * 0.5 * (dx + dy);
   for (size_t k = 0; k < s.membranes.size(); ++k) {
@@ -496,9 +498,10 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
     const std::string p = s.membranes.size() == 1 && r.has("membrane") ? "membrane." : "membranes[" + std::to_string(k) + "].";
     MembraneSetup setup;
     try {
-      if (m.shape == "circle") setup.membrane = circle(m.nb, m.r0, m.cx, m.cy, m.radius, m.T0);
-      else if (m.shape == "ellipse") setup.membrane = ellipse(m.nb, m.r0, m.cx, m.cy, m.rx, m.ry, m.T0);
-      else setup.membrane = from_points(m.points, m.nb, m.r0, m.T0);
+      const Mat2 X = m.shape == "circle"    ? circle(m.nb, m.cx, m.cy, m.radius)
+                     : m.shape == "ellipse" ? ellipse(m.nb, m.cx, m.cy, m.rx, m.ry)
+                                            : from_points(m.points, m.nb);
+      setup.membrane = make_membrane(X, m.r0, m.T0);
     } catch (const std::invalid_argument& e) {
       r.fail(p + "shape", e.what());
     }
@@ -506,6 +509,31 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
     setup.fixed = m.fixed;
     s.sim.membranes.push_back(setup);
   }
+}
+
+Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
+            std::vector<Reader::Doc>* docs_out) {
+  if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
+  Reader r(root, name, overridden);
+  r.documenting = docs_out != nullptr;
+  Scene s;
+  s.path = name;
+  s.title = r.text("title", "", "a one-line description");
+  s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph"},
+                      "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
+                      "wcsph (weakly compressible SPH)");
+  read_domain(r, s);
+  read_fluid(r, s);
+  read_time_and_solvers(r, s);
+  read_output(r, s);
+  read_membranes(r, s, docs_out != nullptr);
+  if (docs_out) { *docs_out = r.docs; return s; }
+  r.reject_unknown();
+  s.resolved = r.resolved;
+
+  if (s.max_steps == 0 && s.t_end / s.sim.fluid.dt > 1e9) r.fail("time.end", "needs more than 1e9 steps of time.dt");
+
+  build_membranes(r, s);
   return s;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "coupling/simulation.hpp"
+#include "observe/analysis.hpp"  // Observer
 
 namespace sphib {
 
@@ -26,13 +27,6 @@ struct MembraneScene {
   double h_star_over_h = 1.4;
   bool fixed = false;
   Mat2 points;  // shape = "points"
-};
-
-// A diagnostics column of the user's choice: evaluated with the other diagnostics, written to
-// diagnostics.csv and the HDF5 series, its last value into summary.json under `name`.
-struct Observer {
-  std::string name;
-  std::function<double(const Simulation&)> value;
 };
 
 // What to simulate and observe: read from a scene file (load_scene) or built in C++.

@@ -1,24 +1,11 @@
 // Hookean force density, Eqs. (47)-(50), from periodic cubic splines in the rest arclength s.
 //
-// Two ways to take f = d(T tau)/ds (Eq. 50), measured against the exact f (chain rule on the
-// analytic X(s)); max |f - f_exact| / max |f_exact|, r0 = 0.5, T0 = 3:
-//
-//          ellipse rx = 0.75, ry = 0.5 (non-uniform stretch)   circle re = 0.6
-//   nb     ProductSpline  order   Analytic  order              ProductSpline  Analytic
-//   32     3.07e-3        -       3.21e-3   -                  5.81e-5        3.18e-3
-//   64     1.61e-4        4.26    8.03e-4   2.00               3.62e-6        8.01e-4
-//   128    9.57e-6        4.07    2.01e-4   2.00               2.26e-7        2.01e-4
-//   256    5.91e-7        4.02    5.02e-5   2.00               1.41e-8        5.02e-5
-//
-// Paper case (Section 5.2.1, nb = 140): f.n = -1.2 to 1.9e-7 (ProductSpline), 2.0e-4
-// (Analytic). T of Eq. (47) is common to both: order 4, 1.5e-7 at nb = 128 on the ellipse.
-//
-// Default ProductSpline, because (i) the spline's first derivative at the knots is O(h^4)
-// but its second derivative M_k only O(h^2), so two d/ds beat one X_ss; (ii) knot
-// derivatives of a periodic spline telescope, so sum_k f_k ds = 0 to round-off on any shape
-// (momentum conserved; Analytic leaves |sum f ds| = 3.8e-3 on a blob at nb = 128); (iii) f
-// matches -dE/dX at order 4 (Analytic: 2). Its cost, 4 spline fits instead of 2, is
-// 4.1 us vs 2.3 us per call at nb = 128 (-O3), i.e. 0.4 s per 1e5 steps.
+// Two ways to take f = d(T tau)/ds (Eq. 50). ProductSpline, the default: the spline's first
+// derivative at the knots is O(h^4) but its second derivative M_k only O(h^2), so two d/ds beat one
+// X_ss; knot derivatives of a periodic spline telescope, so sum_k f_k ds = 0 to round-off on any
+// shape (momentum conserved); f matches -dE/dX at order 4; it costs 4 spline fits instead of 2.
+// Analytic: the chain rule on X_ss, order 2. Their measured errors and orders are in
+// tests/test_membrane.cpp (HookeanTest.*).
 // Caveat: d/ds of a uniform spline barely sees the sawtooth (-1)^k (its symbol
 // 3 sin(th)/(h (2 + cos th)) vanishes at th = pi), so a marker-scale zigzag meets ~90x less
 // restoring force than with Analytic, whose X_ss symbol there is -12/h^2.
@@ -27,8 +14,18 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace sphib {
+
+Membrane make_membrane(Mat2 X, double r0, double T0) {
+  if (X.rows() < 4)
+    throw std::invalid_argument("membrane: nb = " + std::to_string(X.rows()) + " markers, need nb >= 4");
+  if (!(r0 > 0.0) || !std::isfinite(r0))
+    throw std::invalid_argument("membrane: rest radius r0 = " + std::to_string(r0) + " must be positive and finite");
+  constexpr double kPi = 3.14159265358979323846;
+  return {std::move(X), 2.0 * kPi * r0, T0};
+}
 
 HookeanForce::HookeanForce(int nb, double L0, HookeanScheme scheme)
     : nb_(nb), L0_(L0), scheme_(scheme), spline_(nb, L0), X_s_(nb, 2), W_(nb, 2) {}

@@ -14,6 +14,11 @@ struct Membrane {
   double ds() const { return L0 / nb(); }
 };
 
+/// The membrane with markers X (uniform in rest arclength, e.g. from shapes.hpp) whose rest state
+/// is a circle of radius r0: L0 = 2 pi r0. Throws std::invalid_argument unless nb >= 4 and r0 is
+/// positive and finite.
+Membrane make_membrane(Mat2 X, double r0, double T0);
+
 /// How d(T tau)/ds of Eq. (50) is taken from the markers.
 enum class HookeanScheme {
   ProductSpline,  // spline of T tau, differentiated at the knots: O(h^4), sum_k f_k = 0 exactly

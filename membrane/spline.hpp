@@ -11,6 +11,15 @@ namespace sphib {
 using Vec = Eigen::VectorXd;
 using Mat2 = Eigen::Matrix<double, Eigen::Dynamic, 2>;
 
+// Gauss-Legendre 5-point rule on [-1, 1]: exact for polynomials of degree <= 9 (integrals over
+// spline segments).
+namespace gauss5 {
+inline constexpr double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                0.9061798459386640};
+inline constexpr double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                0.4786286704993665, 0.2369268850561891};
+}  // namespace gauss5
+
 /// Periodic cubic spline through n >= 4 values y_k at uniform knots s_k = k*h, h = L/n,
 /// period L. The knot second derivatives M solve the cyclic system
 ///   M_{k-1} + 4 M_k + M_{k+1} = 6 (y_{k+1} - 2 y_k + y_{k-1}) / h^2,
@@ -40,7 +49,6 @@ class PeriodicSpline {
   int n() const { return n_; }
   double period() const { return L_; }
   double h() const { return h_; }
-  const Vec& knot_values() const { return y_; }
 
  private:
   int wrap(int k) const { return ((k % n_) + n_) % n_; }

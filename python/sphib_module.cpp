@@ -26,6 +26,8 @@
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "membrane/geometry.hpp"
+#include "membrane/hookean.hpp"
+#include "membrane/shapes.hpp"
 #include "sphib_version.hpp"
 
 namespace py = pybind11;
@@ -359,24 +361,24 @@ PYBIND11_MODULE(sphib, m) {
       });
   m.def("circle", [](int nb, double r0, std::optional<double> radius, std::vector<double> centre, double T0) {
           const Eigen::Vector2d c = pair(centre, "centre");
-          return circle(nb, r0, c.x(), c.y(), radius.value_or(r0), T0);
+          return make_membrane(circle(nb, c.x(), c.y(), radius.value_or(r0)), r0, T0);
         }, py::arg("nb"), py::arg("r0"), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
         py::arg("T0") = 1.0, "A circle of the given radius (default r0: at rest) about centre.");
   m.def("ellipse", [](int nb, double r0, double rx, double ry, std::vector<double> centre, double T0) {
           const Eigen::Vector2d c = pair(centre, "centre");
-          return ellipse(nb, r0, c.x(), c.y(), rx, ry, T0);
+          return make_membrane(ellipse(nb, c.x(), c.y(), rx, ry), r0, T0);
         }, py::arg("nb"), py::arg("r0"), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
         py::arg("T0") = 1.0, "An axis-aligned ellipse with half-axes rx, ry about centre.");
-  m.def("from_points", [](const Mat2& points, int nb, double r0, double T0) { return from_points(points, nb, r0, T0); },
+  m.def("from_points", [](const Mat2& points, int nb, double r0, double T0) { return make_membrane(from_points(points, nb), r0, T0); },
         py::arg("points"), py::arg("nb"), py::arg("r0"), py::arg("T0") = 1.0,
         "A closed curve through points (m x 2, anticlockwise), resampled at nb markers uniform in arclength.");
   m.def("polar", [](const std::function<double(double)>& r, int nb, double r0, std::vector<double> centre, double T0) {
           const Eigen::Vector2d c = pair(centre, "centre");
-          return from_polar(r, nb, r0, T0, c.x(), c.y());
+          return make_membrane(from_polar(r, nb, c.x(), c.y()), r0, T0);
         }, py::arg("r"), py::arg("nb"), py::arg("r0"), py::arg("centre") = std::vector<double>{0, 0}, py::arg("T0") = 1.0,
         "A star-shaped curve of radius r(theta) about centre.");
   m.def("curve", [](const std::function<Eigen::Vector2d(double)>& C, int nb, double r0, double T0) {
-          return from_curve(C, nb, r0, T0);
+          return make_membrane(from_curve(C, nb), r0, T0);
         }, py::arg("C"), py::arg("nb"), py::arg("r0"), py::arg("T0") = 1.0,
         "A closed curve C(t) -> (x, y), t in [0, 1), anticlockwise, C(1) = C(0).");
   m.def("measure", [](const Mat2& X, double L0, double T0) {

@@ -351,14 +351,16 @@ def collapse(d, D, parts):
 # ---- scaling -----------------------------------------------------------------------------------
 
 
+def ok_rows_by_case(path):
+    """The rows of a scaling CSV without an error, and their cases in order of appearance."""
+    R = [r for r in read(path) if not r["error"]]
+    return R, list(dict.fromkeys(r["case"] for r in R))
+
+
 def scaling(d):
     p = os.path.join(d, "scaling.csv")
     if os.path.exists(p):
-        R = [r for r in read(p) if not r["error"]]
-        cases = []
-        for r in R:
-            if r["case"] not in cases:
-                cases.append(r["case"])
+        R, cases = ok_rows_by_case(p)
         fig, axs = plt.subplots(1, 3, figsize=(19, 5))
         colors = {"poiseuille": "tab:blue", "membrane": "tab:red"}
         for c in cases:
@@ -387,11 +389,7 @@ def scaling(d):
         save(fig, os.path.join(d, "scaling.png"))
     p = os.path.join(d, "solvers.csv")
     if os.path.exists(p):
-        R = [r for r in read(p) if not r["error"]]
-        cases = []
-        for r in R:
-            if r["case"] not in cases:
-                cases.append(r["case"])
+        R, cases = ok_rows_by_case(p)
         fig, axs = plt.subplots(len(cases), 2, figsize=(13, 4.5 * len(cases)), squeeze=False)
         colors = {"cholmod_supernodal": "tab:blue", "cholmod_simplicial": "tab:green", "pcg": "tab:red",
                   "eigen_ldlt": "tab:purple"}

@@ -19,6 +19,16 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+
+def finish(fig, ax, xlabel, ylabel, title, path, legend=8):
+    """Labels, title and legend of a one-panel figure, saved to path."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=legend)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
 def load(path):
     with open(path, newline="") as f:
         rows = [r for r in csv.DictReader(f) if r.get("status") == "ok"]
@@ -57,23 +67,15 @@ def main():
     nxs = sorted({int(r["nx"]) for r in rows})
     if len(nxs) > 1:
         slope_guide(ax, nxs, min(float(r["rms_error"]) for r in rows), -2, "slope -2")
-    ax.set_xlabel("Nx (= 1/dx)")
-    ax.set_ylabel("rms velocity error, Eq. (69)")
-    ax.set_title("EPSPH start-up Poiseuille (cf. Fig. 4), " + t_end, fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "poiseuille_fig4.png"), dpi=120)
+    finish(fig, ax, "Nx (= 1/dx)", "rms velocity error, Eq. (69)", "EPSPH start-up Poiseuille (cf. Fig. 4), " + t_end,
+           os.path.join(out, "poiseuille_fig4.png"))
 
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for nx in sorted(by_nx):
         d = sorted(by_nx[nx])
         ax.loglog([p[0] for p in d], [p[1] for p in d], "o-", label="dx = 1/%d" % nx)
-    ax.set_xlabel("h")
-    ax.set_ylabel("rms velocity error, Eq. (69)")
-    ax.set_title("EPSPH start-up Poiseuille (cf. Fig. 7), " + t_end, fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "poiseuille_fig7.png"), dpi=120)
+    finish(fig, ax, "h", "rms velocity error, Eq. (69)", "EPSPH start-up Poiseuille (cf. Fig. 7), " + t_end,
+           os.path.join(out, "poiseuille_fig7.png"))
 
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for k, hdx in enumerate(sorted(by_h)):
@@ -83,12 +85,9 @@ def main():
         pd = [p for p in d if not math.isnan(p[3])]
         if pd:
             ax.loglog([p[0] for p in pd], [p[3] for p in pd], "s--", color=c, alpha=0.5)
-    ax.set_xlabel("Nx (= 1/dx)")
-    ax.set_ylabel("total time incl. set-up [s]")
-    ax.set_title("solid: ours; dashed: paper Table 1 (x 1e5 s, scaled to our steps)", fontsize=9)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "poiseuille_time.png"), dpi=120)
+    finish(fig, ax, "Nx (= 1/dx)", "total time incl. set-up [s]",
+           "solid: ours; dashed: paper Table 1 (x 1e5 s, scaled to our steps)", os.path.join(out, "poiseuille_time.png"),
+           legend=7)
     print("wrote poiseuille_fig4.png, poiseuille_fig7.png, poiseuille_time.png in " + out)
 
 

@@ -15,6 +15,8 @@
 #include "app/expression.hpp"
 #include "io/run.hpp"
 #include "membrane/geometry.hpp"
+#include "membrane/polygon.hpp"
+#include "membrane/shapes.hpp"
 
 using namespace sphib;
 namespace fs = std::filesystem;
@@ -81,10 +83,10 @@ TEST(Api, SceneBuiltInCodeRunsWithObserverColumn) {
   };
   s.sim.initial_velocity = [](double x, double) { return Eigen::Vector2d(0.0, 0.1 * std::sin(kPi * x)); };
   const double h_star = 1.4 * 1.2 * 2.0 / 24;
-  s.sim.membranes.push_back({from_polar([](double th) { return 0.25 * (1 + 0.1 * std::cos(3 * th)); }, 48, 0.25, 1.0, -0.45, 0.0), h_star});
+  s.sim.membranes.push_back({make_membrane(from_polar([](double th) { return 0.25 * (1 + 0.1 * std::cos(3 * th)); }, 48, -0.45, 0.0), 0.25, 1.0), h_star});
   Mat2 pts(5, 2);
   pts << 0.2, -0.15, 0.8, -0.15, 0.85, 0.1, 0.5, 0.2, 0.2, 0.1;
-  s.sim.membranes.push_back({from_points(pts, 48, 0.22, 1.0), h_star});
+  s.sim.membranes.push_back({make_membrane(from_points(pts, 48), 0.22, 1.0), h_star});
   s.observers.push_back({"m1_D", [](const Simulation& sim) { return ellipse_fit(sim.membranes()[1].m.X).deformation(); }});
   s.t_end = 1.0;
   s.max_steps = 5;
@@ -145,12 +147,11 @@ TEST(Api, MeanAngularVelocityOfARigidRotation) {
 TEST(Api, FromCurveAndFromPolarSampleUniformlyInArclength) {
   // A circle as a parametric curve with a non-uniform parameter: markers still uniform in arclength.
   const double R = 0.6;
-  const Membrane m = from_curve(
-      [&](double t) {
-        const double th = 2 * kPi * (t + 0.1 * std::sin(2 * kPi * t));  // speed varies along t
-        return Eigen::Vector2d(1.0 + R * std::cos(th), R * std::sin(th));
-      },
-      64, 0.5, 3.0);
+  auto curve = [&](double t) {
+    const double th = 2 * kPi * (t + 0.1 * std::sin(2 * kPi * t));  // speed varies along t
+    return Eigen::Vector2d(1.0 + R * std::cos(th), R * std::sin(th));
+  };
+  const Membrane m = make_membrane(from_curve(curve, 64), 0.5, 3.0);
   ASSERT_EQ(m.nb(), 64);
   EXPECT_DOUBLE_EQ(m.T0, 3.0);
   EXPECT_NEAR(m.L0, 2 * kPi * 0.5, 1e-14);
@@ -165,14 +166,14 @@ TEST(Api, FromCurveAndFromPolarSampleUniformlyInArclength) {
   EXPECT_GT(signed_area(m.X), 0.0);
   // from_polar: a three-lobed shape; every marker on r(theta).
   auto r = [](double th) { return 0.3 * (1 + 0.2 * std::cos(3 * th)); };
-  const Membrane p = from_polar(r, 96, 0.3, 1.0, -0.5, 0.25);
+  const Membrane p = make_membrane(from_polar(r, 96, -0.5, 0.25), 0.3, 1.0);
   for (int k = 0; k < 96; ++k) {
     const double x = p.X(k, 0) + 0.5, y = p.X(k, 1) - 0.25;
     EXPECT_NEAR(std::hypot(x, y), r(std::atan2(y, x)), 1e-5);
   }
   // Refusals: open curve, clockwise curve.
-  EXPECT_THROW(from_curve([](double t) { return Eigen::Vector2d(t, t * t); }, 32, 0.5, 1.0), std::invalid_argument);
-  EXPECT_THROW(from_curve([](double t) { return Eigen::Vector2d(std::cos(-2 * kPi * t), std::sin(-2 * kPi * t)); }, 32, 0.5, 1.0),
+  EXPECT_THROW(from_curve([](double t) { return Eigen::Vector2d(t, t * t); }, 32), std::invalid_argument);
+  EXPECT_THROW(from_curve([](double t) { return Eigen::Vector2d(std::cos(-2 * kPi * t), std::sin(-2 * kPi * t)); }, 32),
                std::invalid_argument);
 }
 

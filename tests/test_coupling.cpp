@@ -16,6 +16,8 @@
 #include "fluid/lattice.hpp"
 #include "fluid/neighbours.hpp"
 #include "membrane/geometry.hpp"
+#include "membrane/polygon.hpp"
+#include "membrane/shapes.hpp"
 
 using namespace sphib;
 
@@ -266,7 +268,7 @@ SimulationParams periodic_ib(int n, double dt) {
 // circle sampled at s_k = k L0/nb is 1 - 5.2e-7 at nb = 64 (not 1), so T = -5.2e-6 T0 and the
 // membrane relaxes by ~1e-7. Rescaling L0 by that |X_s| makes T vanish to round-off.
 Membrane discrete_rest_circle(int nb, double r0, double cx, double cy, double T0) {
-  Membrane m = circle(nb, r0, cx, cy, r0, T0);
+  Membrane m = make_membrane(circle(nb, cx, cy, r0), r0, T0);
   HookeanForce H(nb, m.L0);
   Mat2 f;
   Vec T;
@@ -294,7 +296,7 @@ TEST(Coupling, MembraneTranslatesWithUniformFlow) {
     SimulationParams sp = periodic_ib(16, 0.01);
     sp.interpolation = r.interp;
     MembraneSetup ms;
-    ms.membrane = circle(64, 0.2, 0.75, 0.6, 0.2, 10.0);
+    ms.membrane = make_membrane(circle(64, 0.75, 0.6, 0.2), 0.2, 10.0);
     ms.h_star = 0.05;
     sp.membranes.push_back(ms);
     Simulation sim(sp);
@@ -335,7 +337,7 @@ TEST(Coupling, MembraneAtRestStaysAtRest) {
       SimulationParams sp = periodic_ib(16, 0.01);
       sp.fluid.projection = pr;
       MembraneSetup ms;
-      ms.membrane = discrete ? discrete_rest_circle(64, 0.2, 0.5, 0.5, 10.0) : circle(64, 0.2, 0.5, 0.5, 0.2, 10.0);
+      ms.membrane = discrete ? discrete_rest_circle(64, 0.2, 0.5, 0.5, 10.0) : make_membrane(circle(64, 0.5, 0.5, 0.2), 0.2, 10.0);
       ms.h_star = 0.05;
       sp.membranes.push_back(ms);
       Simulation sim(sp);
@@ -358,7 +360,7 @@ TEST(Coupling, FixedMembraneMarkersStayExactlyInPlace) {
   for (bool fixed : {true, false}) {
     SimulationParams sp = periodic_ib(16, 0.01);
     MembraneSetup ms;
-    ms.membrane = ellipse(64, 0.2, 0.5, 0.5, 0.28, 0.18, 10.0);
+    ms.membrane = make_membrane(ellipse(64, 0.5, 0.5, 0.28, 0.18), 0.2, 10.0);
     ms.h_star = 0.05;
     ms.fixed = fixed;
     sp.membranes.push_back(ms);
@@ -377,7 +379,7 @@ TEST(Coupling, MarkerUpdateFailureThrowsNamingTheStep) {
   for (bool fail : {true, false}) {
     SimulationParams sp = periodic_ib(16, 0.01);
     MembraneSetup ms;
-    ms.membrane = ellipse(64, 0.2, 0.5, 0.5, 0.28, 0.18, 10.0);
+    ms.membrane = make_membrane(ellipse(64, 0.5, 0.5, 0.28, 0.18), 0.2, 10.0);
     ms.h_star = 0.05;
     sp.membranes.push_back(ms);
     if (fail) {

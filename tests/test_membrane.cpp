@@ -9,6 +9,8 @@
 #include <string>
 
 #include "membrane/geometry.hpp"
+#include "membrane/polygon.hpp"
+#include "membrane/shapes.hpp"
 #include "membrane/hookean.hpp"
 #include "membrane/spline.hpp"
 
@@ -61,7 +63,7 @@ Mat2 exact_ellipse_force(int nb, double r0, double rx, double ry, double T0) {
 
 double ellipse_force_error(int nb, HookeanScheme scheme) {
   const double r0 = 0.5, T0 = 3.0;
-  const Membrane m = ellipse(nb, r0, 0.1, -0.2, 0.75, 0.5, T0);
+  const Membrane m = make_membrane(ellipse(nb, 0.1, -0.2, 0.75, 0.5), r0, T0);
   HookeanForce H(nb, m.L0, scheme);
   Mat2 f;
   Vec T;
@@ -156,7 +158,7 @@ TEST(HookeanTest, RestCircleHasNoTensionBeyondTheSplineSymbol) {
   const double r0 = 0.5, T0 = 3.0, th = 2 * kPi / nb;
   const double T_spline = T0 * (3 * std::sin(th) / (th * (2 + std::cos(th))) - 1.0);
   for (HookeanScheme scheme : {HookeanScheme::ProductSpline, HookeanScheme::Analytic}) {
-    const Membrane m = circle(nb, r0, 0.3, -0.2, r0, T0);
+    const Membrane m = make_membrane(circle(nb, 0.3, -0.2, r0), r0, T0);
     HookeanForce H(nb, m.L0, scheme);
     Mat2 f;
     Vec T;
@@ -174,7 +176,7 @@ TEST(HookeanTest, PaperEquilibriumCircleGivesMinusOnePerCurrentLength) {
   // Analytic 2.0e-4; tangential component below 1.1e-11 for both.
   const int nb = 140;
   const double r0 = 0.5, re = 0.6, T0 = 3.0;
-  const Membrane m = circle(nb, r0, 0.0, 0.0, re, T0);
+  const Membrane m = make_membrane(circle(nb, 0.0, 0.0, re), r0, T0);
   for (auto [scheme, tol] : {std::pair{HookeanScheme::ProductSpline, 2.5e-7},
                              std::pair{HookeanScheme::Analytic, 2.5e-4}}) {
     HookeanForce H(nb, m.L0, scheme);
@@ -264,7 +266,7 @@ TEST(HookeanTest, RejectsWrongMarkerCount) {
 // ------------------------------------------------------------------ geometry
 
 TEST(GeometryTest, ShapesAreAnticlockwiseAndLabelledByRestArclength) {
-  const Membrane m = circle(64, 0.5, 1.0, 2.0, 0.6, 3.0);
+  const Membrane m = make_membrane(circle(64, 1.0, 2.0, 0.6), 0.5, 3.0);
   EXPECT_EQ(m.nb(), 64);
   EXPECT_DOUBLE_EQ(m.L0, 2 * kPi * 0.5);
   EXPECT_DOUBLE_EQ(m.ds(), m.L0 / 64);
@@ -273,7 +275,8 @@ TEST(GeometryTest, ShapesAreAnticlockwiseAndLabelledByRestArclength) {
   EXPECT_NEAR(m.X(16, 1), 2.6, 1e-15);
   EXPECT_GT(signed_area(m.X), 0.0);
   EXPECT_TRUE(is_simple(m.X));
-  EXPECT_THROW(circle(3, 0.5, 0, 0, 0.5, 1.0), std::invalid_argument);
+  EXPECT_THROW(circle(3, 0, 0, 0.5), std::invalid_argument);
+  EXPECT_THROW(make_membrane(circle(64, 0, 0, 0.5), 0.0, 1.0), std::invalid_argument);  // r0 = 0
 }
 
 TEST(GeometryTest, CircleAreaLengthConvergeAtOrder4ShoelaceAtOrder2) {
@@ -283,7 +286,7 @@ TEST(GeometryTest, CircleAreaLengthConvergeAtOrder4ShoelaceAtOrder2) {
   double ea[3], ep[3], el[3];
   int i = 0;
   for (int nb : {32, 64, 128}) {
-    const Membrane m = circle(nb, 0.5, 0.3, -0.1, r, 3.0);
+    const Membrane m = make_membrane(circle(nb, 0.3, -0.1, r), 0.5, 3.0);
     MembraneDiagnostics D(nb, m.L0);
     const MembraneShape g = D.measure(m.X, m.T0);
     ea[i] = std::abs(g.area - kPi * r * r);
@@ -306,7 +309,7 @@ TEST(GeometryTest, EllipseHalfAxesRecovered) {
   // nb = 128, rx = 0.75, ry = 0.5. Markers on the axes: exact. Markers shifted by 0.37 of a
   // spacing (crossings inside segments): measured errors 9.9e-9 (rx), 6.6e-9 (ry).
   const int nb = 128;
-  const Membrane m = ellipse(nb, 0.5, 0.3, -0.1, 0.75, 0.5, 3.0);
+  const Membrane m = make_membrane(ellipse(nb, 0.3, -0.1, 0.75, 0.5), 0.5, 3.0);
   MembraneDiagnostics D(nb, m.L0);
   MembraneShape g = D.measure(m.X, m.T0);
   EXPECT_NEAR(g.rx, 0.75, 1e-6);
@@ -379,11 +382,11 @@ TEST(GeometryTest, StretchedCircleEnergy) {
   // E = T0/2 (re/r0 - 1)^2 L0 (uniform stretch). Measured error 1.8e-8 at nb = 128.
   const int nb = 128;
   const double r0 = 0.5, re = 0.6, T0 = 3.0;
-  const Membrane m = circle(nb, r0, 0.0, 0.0, re, T0);
+  const Membrane m = make_membrane(circle(nb, 0.0, 0.0, re), r0, T0);
   MembraneDiagnostics D(nb, m.L0);
   D.fit(m.X);
   EXPECT_NEAR(D.energy(T0), 0.5 * T0 * std::pow(re / r0 - 1.0, 2) * m.L0, 3e-8);
-  const Membrane rest = circle(nb, r0, 0.0, 0.0, r0, T0);
+  const Membrane rest = make_membrane(circle(nb, 0.0, 0.0, r0), r0, T0);
   D.fit(rest.X);
   EXPECT_LT(D.energy(T0), 1e-14);
 }
@@ -414,7 +417,7 @@ TEST(GeometryTest, FromPointsResamplesUniformlyInArclength) {
     P(k, 0) = 0.1 + 0.6 * std::cos(th);
     P(k, 1) = 0.6 * std::sin(th);
   }
-  const Membrane m = from_points(P, 128, 0.5, 3.0);
+  const Membrane m = make_membrane(from_points(P, 128), 0.5, 3.0);
   EXPECT_EQ(m.nb(), 128);
   EXPECT_DOUBLE_EQ(m.L0, kPi);
   EXPECT_DOUBLE_EQ(m.T0, 3.0);
@@ -432,25 +435,25 @@ TEST(GeometryTest, FromPointsResamplesUniformlyInArclength) {
   // A repeated closing point is accepted and changes nothing.
   Mat2 Pc(21, 2);
   Pc << P, P.row(0);
-  EXPECT_TRUE(from_points(Pc, 128, 0.5, 3.0).X.isApprox(m.X, 1e-14));
+  EXPECT_TRUE(from_points(Pc, 128).isApprox(m.X, 1e-14));
 }
 
 TEST(GeometryTest, FromPointsRejectsBadInput) {
   Mat2 P(20, 2);
   for (int k = 0; k < 20; ++k) P.row(k) << std::cos(2 * kPi * k / 20), std::sin(2 * kPi * k / 20);
   const Mat2 cw = P.colwise().reverse();
-  EXPECT_NE(thrown_message([&] { from_points(cw, 64, 0.5, 1.0); }).find("clockwise"),
+  EXPECT_NE(thrown_message([&] { from_points(cw, 64); }).find("clockwise"),
             std::string::npos);
   Mat2 bow(4, 2);
   bow << 0, 0, 1, 1, 1, 0, 0, 1;
-  EXPECT_NE(thrown_message([&] { from_points(bow, 64, 0.5, 1.0); }).find("self-intersects"),
+  EXPECT_NE(thrown_message([&] { from_points(bow, 64); }).find("self-intersects"),
             std::string::npos);
   Mat2 tri(3, 2);
   tri << 0, 0, 1, 0, 0, 1;
-  EXPECT_NE(thrown_message([&] { from_points(tri, 64, 0.5, 1.0); }).find("at least 4"),
+  EXPECT_NE(thrown_message([&] { from_points(tri, 64); }).find("at least 4"),
             std::string::npos);
   Mat2 bad = P;
   bad(5, 1) = std::nan("");
-  EXPECT_NE(thrown_message([&] { from_points(bad, 64, 0.5, 1.0); }).find("NaN"),
+  EXPECT_NE(thrown_message([&] { from_points(bad, 64); }).find("NaN"),
             std::string::npos);
 }

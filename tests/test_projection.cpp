@@ -14,6 +14,8 @@
 #include "fluid/gauge.hpp"
 #include "fluid/projection.hpp"
 #include "membrane/geometry.hpp"
+#include "membrane/hookean.hpp"
+#include "membrane/shapes.hpp"
 
 using namespace sphib;
 
@@ -324,7 +326,7 @@ TEST(StreamFunction, ManufacturedDivergenceFreeFlowKeepsTheArea) {
   u.col(1) = -(f.operators().grad_phix * psi);
   auto run = [&](bool curl, double dt) {
     const int nb = 512;
-    Membrane m = circle(nb, 0.2, 0.4, 0.45, 0.2, 1.0);
+    Membrane m = make_membrane(circle(nb, 0.4, 0.45, 0.2), 0.2, 1.0);
     MembraneDiagnostics D(nb, m.L0);
     const double a0 = D.measure(m.X, 1.0).area;
     MarkerVelocity vel = [&](const Mat2& X, Mat2& U) {
@@ -368,7 +370,7 @@ TEST(StreamFunction, FreeMembraneAtRestKeepsItsArea) {
     sp.fluid.projection = conservative ? Projection::Exact : Projection::Approximate;
     sp.interpolation = conservative ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
     MembraneSetup ms;
-    ms.membrane = circle(140, 0.5, 0.0, 0.0, 0.6, 3.0);
+    ms.membrane = make_membrane(circle(140, 0.0, 0.0, 0.6), 0.5, 3.0);
     ms.h_star = 1.4 * 1.2 * 3.0 / 40;
     sp.membranes.push_back(ms);
     Simulation sim(sp);

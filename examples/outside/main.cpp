@@ -3,7 +3,8 @@
 #include <cstdio>
 
 #include <sphib/coupling/simulation.hpp>
-#include <sphib/membrane/geometry.hpp>
+#include <sphib/membrane/polygon.hpp>
+#include <sphib/membrane/shapes.hpp>
 #include <sphib/sphib_version.hpp>
 
 int main() {
@@ -13,7 +14,7 @@ int main() {
   P.fluid.mu = 0.5;
   P.fluid.dt = 2e-3;
   const double r0 = 0.4;
-  P.membranes.push_back({sphib::circle(48, r0, 0.0, 0.0, 1.2 * r0, /*T0=*/1.0), /*h_star=*/0.14});
+  P.membranes.push_back({sphib::make_membrane(sphib::circle(48, 0.0, 0.0, 1.2 * r0), r0, /*T0=*/1.0), /*h_star=*/0.14});
   sphib::Simulation sim(P);
   const double A0 = sphib::signed_area(sim.membranes()[0].m.X);
   for (int n = 0; n < 10; ++n) sim.step();

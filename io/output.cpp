@@ -1,0 +1,83 @@
+#include "io/output.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/checkpoint.hpp"
+#include "sphib_version.hpp"
+
+namespace sphib {
+
+namespace {
+
+// The scene, the library version and the derived lengths, as the HDF5 file's root attributes.
+RunAttributes attributes(const Scene& scene, const Simulation& sim) {
+  const FluidSolver& fl = sim.fluid();
+  RunAttributes a;
+  a.text.emplace_back("sphib_version", SPHIB_VERSION);
+  a.text.emplace_back("scene", scene.path);
+  for (const auto& [k, v] : scene.resolved) a.text.emplace_back(k, v);
+  a.numbers.emplace_back("derived.h", fl.h());
+  a.numbers.emplace_back("derived.dx", fl.lattice().dx);
+  a.numbers.emplace_back("derived.dy", fl.lattice().dy);
+  if (!scene.membranes.empty()) {
+    a.numbers.emplace_back("derived.membrane_radius", scene.membranes[0].radius);
+    a.numbers.emplace_back("derived.membrane_r0", scene.membranes[0].r0);
+    a.numbers.emplace_back("derived.membrane_h_star", sim.membranes()[0].h_star);
+  }
+  return a;
+}
+
+long steps_per(double interval, double dt) { return interval > 0 ? std::max<long>(1, std::lround(interval / dt)) : 0; }
+
+}  // namespace
+
+RunOutput::RunOutput(const Scene& scene, const Simulation& sim, const std::vector<std::string>& columns,
+                     const std::string& dir)
+    : scene_(scene),
+      h5_(dir + "/output.h5", attributes(scene, sim)),
+      csv_(dir + "/diagnostics.csv", columns),
+      checkpoint_path_(dir + "/checkpoint.h5"),
+      snapshot_every_(steps_per(scene.output_interval, sim.fluid().params().dt)),
+      checkpoint_every_(steps_per(scene.checkpoint_interval, sim.fluid().params().dt)),
+      u_(sim.fluid().size()),
+      v_(sim.fluid().size()) {}
+
+bool RunOutput::due(long step) const {
+  return (snapshot_every_ && step % snapshot_every_ == 0) || (checkpoint_every_ && step % checkpoint_every_ == 0);
+}
+
+void RunOutput::write_due(const Simulation& sim) {
+  if (snapshot_every_ && sim.steps() % snapshot_every_ == 0) snapshot(sim);
+  if (checkpoint_every_ && sim.steps() % checkpoint_every_ == 0) write_checkpoint(checkpoint_path_, sim, scene_.resolved);
+}
+
+void RunOutput::snapshot(const Simulation& sim) {
+  const FluidSolver& fl = sim.fluid();
+  u_ = fl.u().col(0);
+  v_ = fl.u().col(1);
+  std::vector<std::pair<std::string, const Vec*>> fields;
+  for (const auto& f : scene_.fields) {
+    if (f == "u") fields.emplace_back("u", &u_);
+    if (f == "v") fields.emplace_back("v", &v_);
+    if (f == "p") fields.emplace_back("p", &fl.p());
+    if (f == "phi") fields.emplace_back("phi", &fl.phi());
+  }
+  std::vector<MembraneSnapshot> ms;
+  for (const auto& m : sim.membranes()) ms.push_back({&m.m.X, &m.f, &m.T});
+  h5_.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms,
+                     fl.particles_move() ? nullptr : &fl.lattice());  // a fixed lattice: a quadrilateral mesh
+}
+
+void RunOutput::finish(const Simulation& sim, const std::vector<std::string>& columns,
+                       const std::vector<std::vector<double>>& series, bool good) {
+  if (good) {
+    snapshot(sim);
+    if (sim.steps() > 0) write_checkpoint(checkpoint_path_, sim, scene_.resolved);
+  }
+  h5_.write_series("diagnostics", columns, series);
+  h5_.close();
+  csv_.close();
+}
+
+}  // namespace sphib

@@ -1,0 +1,117 @@
+#include "membrane/polygon.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sphib {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return cross(b - a, c - a);
+}
+// c lies in the bounding box of segment ab (used once a, b, c are known collinear).
+bool in_box(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return std::min(a.x(), b.x()) <= c.x() && c.x() <= std::max(a.x(), b.x()) &&
+         std::min(a.y(), b.y()) <= c.y() && c.y() <= std::max(a.y(), b.y());
+}
+// Closed segments p1p2 and p3p4 share at least one point.
+bool segments_meet(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, const Eigen::Vector2d& p3,
+                   const Eigen::Vector2d& p4) {
+  const double d1 = orient(p3, p4, p1), d2 = orient(p3, p4, p2);
+  const double d3 = orient(p1, p2, p3), d4 = orient(p1, p2, p4);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return true;
+  return (d1 == 0 && in_box(p3, p4, p1)) || (d2 == 0 && in_box(p3, p4, p2)) ||
+         (d3 == 0 && in_box(p1, p2, p3)) || (d4 == 0 && in_box(p1, p2, p4));
+}
+
+}  // namespace
+
+double signed_area(const Mat2& X) {
+  const int n = static_cast<int>(X.rows());
+  double a = 0.0;
+  for (int k = 0, j = n - 1; k < n; j = k++) a += X(j, 0) * X(k, 1) - X(k, 0) * X(j, 1);
+  return 0.5 * a;
+}
+
+Eigen::Vector2d polygon_centroid(const Mat2& X) {
+  const int n = static_cast<int>(X.rows());
+  double a = 0.0, mx = 0.0, my = 0.0;
+  for (int k = 0, j = n - 1; k < n; j = k++) {
+    const double c = X(j, 0) * X(k, 1) - X(k, 0) * X(j, 1);
+    a += c;
+    mx += (X(j, 0) + X(k, 0)) * c;
+    my += (X(j, 1) + X(k, 1)) * c;
+  }
+  return {mx / (3.0 * a), my / (3.0 * a)};
+}
+
+bool is_simple(const Mat2& X) {
+  const int n = static_cast<int>(X.rows());
+  if (n < 3) return false;
+  auto P = [&](int k) -> Eigen::Vector2d { return X.row(k % n).transpose(); };
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d a = P(i), b = P(i + 1), c = P(i + 2);
+    if (a == b) return false;                                   // degenerate edge
+    if (orient(a, b, c) == 0.0 && (a - b).dot(c - b) > 0.0) return false;  // folds back
+    const int jmax = (i == 0) ? n - 1 : n;                      // edge n-1 neighbours edge 0
+    for (int j = i + 2; j < jmax; ++j)
+      if (segments_meet(a, b, P(j), P(j + 1))) return false;
+  }
+  return true;
+}
+
+ShapeMoments ellipse_fit(const Mat2& X) {
+  // Green's theorem on each edge (x_j, y_j) -> (x_k, y_k), c = x_j y_k - x_k y_j, with the
+  // coordinates taken about the vertex mean o (less cancellation):
+  //   2A = sum c,  6A cx = sum c (x_j + x_k),
+  //   12 int x^2 dA = sum c (x_j^2 + x_j x_k + x_k^2),
+  //   24 int xy dA = sum c (2 x_j y_j + x_j y_k + x_k y_j + 2 x_k y_k).
+  const int n = static_cast<int>(X.rows());
+  ShapeMoments s;
+  if (n < 3) return s;
+  const Eigen::Vector2d o = X.colwise().mean().transpose();
+  double a = 0, mx = 0, my = 0, ixx = 0, iyy = 0, ixy = 0;
+  for (int k = 0, j = n - 1; k < n; j = k++) {
+    const double xj = X(j, 0) - o.x(), yj = X(j, 1) - o.y(), xk = X(k, 0) - o.x(), yk = X(k, 1) - o.y();
+    const double c = xj * yk - xk * yj;
+    a += c;
+    mx += c * (xj + xk);
+    my += c * (yj + yk);
+    ixx += c * (xj * xj + xj * xk + xk * xk);
+    iyy += c * (yj * yj + yj * yk + yk * yk);
+    ixy += c * (2.0 * xj * yj + xj * yk + xk * yj + 2.0 * xk * yk);
+  }
+  s.area = 0.5 * a;
+  const double cx = mx / (3.0 * a), cy = my / (3.0 * a);  // about o
+  s.centroid = o + Eigen::Vector2d(cx, cy);
+  // Parallel axes: central moments = moments about o - A (c - o)(c - o)^T.
+  s.Jxx = ixx / 12.0 - s.area * cx * cx;
+  s.Jyy = iyy / 12.0 - s.area * cy * cy;
+  s.Jxy = ixy / 24.0 - s.area * cx * cy;
+  // Eigenvalues of J; an ellipse of half-axes (L, B) has lambda = A L^2/4, A B^2/4.
+  const double mean = 0.5 * (s.Jxx + s.Jyy), dev = std::hypot(0.5 * (s.Jxx - s.Jyy), s.Jxy);
+  s.L = 2.0 * std::sqrt(std::max(mean + dev, 0.0) / s.area);
+  s.B = 2.0 * std::sqrt(std::max(mean - dev, 0.0) / s.area);
+  s.theta = 0.5 * std::atan2(2.0 * s.Jxy, s.Jxx - s.Jyy);
+  if (s.theta <= -0.5 * kPi) s.theta += kPi;  // atan2(-0, x < 0): keep (-pi/2, pi/2]
+  return s;
+}
+
+double mean_angular_velocity(const Mat2& X, const Mat2& U, const Eigen::Vector2d& c) {
+  const int n = static_cast<int>(X.rows());
+  double w = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double rx = X(k, 0) - c.x(), ry = X(k, 1) - c.y();
+    w += (rx * U(k, 1) - ry * U(k, 0)) / (rx * rx + ry * ry);  // (X - c) x U / |X - c|^2
+  }
+  return n ? w / n : 0.0;
+}
+
+}  // namespace sphib

@@ -1,0 +1,83 @@
+#include "observe/guards.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace sphib {
+
+namespace {
+
+[[noreturn]] void stop(const Simulation& sim, const std::string& what) {
+  std::ostringstream m;
+  m << what << " at step " << sim.steps() << " (t = " << sim.time() << ")";
+  throw std::runtime_error(m.str());
+}
+
+[[noreturn]] void blow_up(const Simulation& sim, const std::ostringstream& what) {
+  std::ostringstream m;
+  m << "blow-up at step " << sim.steps() << " (t = " << sim.time() << "): " << what.str();
+  throw std::runtime_error(m.str());
+}
+
+bool unforced(const SimulationParams& p) {
+  if (p.membranes.empty() || p.body_force_field || p.body_force.norm() != 0.0) return false;
+  for (int k = 0; k < 4; ++k)
+    if (p.fluid.domain.is_wall(static_cast<Side>(k)) && p.fluid.domain.wall_velocity[k].norm() != 0.0) return false;
+  return true;
+}
+
+}  // namespace
+
+Guards::Guards(const SimulationParams& params, const Simulation& sim)
+    : h_min_(std::min(sim.fluid().lattice().dx, sim.fluid().lattice().dy)) {
+  for (const auto& ms : sim.membranes()) D_.emplace_back(ms.m.nb(), ms.m.L0);
+  if (unforced(params)) {
+    const double E0 = total_energy(sim);
+    energy_bound_ = E0 > 0 ? 10.0 * E0 : 0.0;
+  }
+}
+
+double Guards::total_energy(const Simulation& sim) {
+  double E = sim.fluid().kinetic_energy();
+  for (size_t k = 0; k < D_.size(); ++k) {
+    D_[k].fit(sim.membranes()[k].m.X);
+    E += D_[k].energy(sim.membranes()[k].m.T0);
+  }
+  return E;
+}
+
+void Guards::check(const Simulation& sim) {
+  const FluidSolver& fl = sim.fluid();
+  const FluidParams& fp = fl.params();
+  const double ke = fl.kinetic_energy();
+  if (!std::isfinite(ke)) stop(sim, "the velocity field became non-finite");
+  // No particle may move by more than a lattice spacing in one step (u_max dt < dx). The explicit
+  // convection (AB2) and the marker update are unstable long before that.
+  const double cfl = std::sqrt(2.0 * ke / (fp.rho * fl.volumes().minCoeff())) * fp.dt / h_min_;
+  if (cfl > 1.0) {
+    const double umax = fl.u().rowwise().norm().maxCoeff();
+    if (umax * fp.dt > h_min_) {
+      std::ostringstream m;
+      m << "max |u| = " << umax << " moves a particle by " << umax * fp.dt / h_min_
+        << " lattice spacings in one step (limit 1)";
+      blow_up(sim, m);
+    }
+  }
+  for (size_t k = 0; k < sim.membranes().size(); ++k)
+    if (!sim.membranes()[k].m.X.allFinite()) stop(sim, "membrane " + std::to_string(k) + " markers became non-finite");
+  // Unforced membranes can only lose energy (viscous dissipation): a total energy past ten times
+  // its initial value is a blow-up of the explicit elastic force, caught before fields overflow.
+  if (energy_bound_ > 0) {
+    const double E = total_energy(sim);
+    if (!(E <= energy_bound_)) {
+      std::ostringstream m;
+      m << "kinetic + elastic energy " << E << " exceeds ten times its initial value (" << energy_bound_ / 10.0
+        << ") in an unforced flow";
+      blow_up(sim, m);
+    }
+  }
+}
+
+}  // namespace sphib

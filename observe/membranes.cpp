@@ -1,0 +1,72 @@
+// The membranes' shapes along the run (Section 5.2: half-axes, centroid, enclosed area, elastic
+// energy, length, fixed-point iterations of Eq. 59) and membrane 0's area error at fixed times.
+#include <map>
+
+#include "membrane/geometry.hpp"
+#include "observe/analysis.hpp"
+
+namespace sphib {
+
+namespace {
+
+class MembraneShapes final : public Analysis {
+ public:
+  explicit MembraneShapes(const Simulation& sim) {
+    for (const auto& ms : sim.membranes()) {
+      D_.emplace_back(ms.m.nb(), ms.m.L0);
+      area0_.push_back(D_.back().measure(ms.m.X, ms.m.T0).area);
+    }
+  }
+
+  std::vector<std::string> columns() const override {
+    std::vector<std::string> c;
+    for (size_t k = 0; k < D_.size(); ++k)
+      for (const char* n : {"rx", "ry", "cx", "cy", "area", "area_rel_error", "elastic_energy", "length", "iterations"})
+        c.push_back("m" + std::to_string(k) + "_" + n);
+    return c;
+  }
+  // The relative area error of membrane 0 when t first reaches 1, 2, 5 and 10.
+  void after_step(const Simulation& sim) override {
+    if (D_.empty()) return;
+    const double dt = sim.fluid().params().dt;
+    for (int T : {1, 2, 5, 10})
+      if (!area_at_.count(T) && sim.time() >= T - 0.5 * dt) {
+        const Membrane& m = sim.membranes()[0].m;
+        area_at_[T] = D_[0].measure(m.X, m.T0).area / area0_[0] - 1.0;
+      }
+  }
+  void sample(const Simulation& sim, std::vector<double>& row) override {
+    for (size_t k = 0; k < D_.size(); ++k) {
+      const MembraneState& m = sim.membranes()[k];
+      const MembraneShape s = D_[k].measure(m.m.X, m.m.T0);
+      for (double v : {s.rx, s.ry, s.cx, s.cy, s.area, s.area / area0_[k] - 1.0, s.energy, s.length,
+                       static_cast<double>(m.last.iterations)})
+        row.push_back(v);
+    }
+  }
+  void summarize(const Simulation& sim, const Series&, nlohmann::json& j) const override {
+    if (D_.empty()) return;
+    const MembraneState& m0 = sim.membranes()[0];
+    const MembraneShape s = D_[0].measure(m0.m.X, m0.m.T0);
+    j["area"] = s.area;
+    j["area_exact"] = area0_[0];
+    j["area_relative_error"] = s.area / area0_[0] - 1.0;
+    j["rx"] = s.rx;
+    j["ry"] = s.ry;
+    j["elastic_energy"] = s.energy;
+    for (const auto& [T, e] : area_at_) j["area_relative_error_at"][std::to_string(T)] = e;
+    j["marker_iterations_last"] = m0.last.iterations;
+    if (m0.updates > 0) j["marker_iterations_mean"] = static_cast<double>(m0.iterations) / m0.updates;
+  }
+
+ private:
+  mutable std::vector<MembraneDiagnostics> D_;  // workspace of the measurements
+  std::vector<double> area0_;
+  std::map<int, double> area_at_;
+};
+
+}  // namespace
+
+std::unique_ptr<Analysis> membrane_shapes(const Simulation& sim) { return std::make_unique<MembraneShapes>(sim); }
+
+}  // namespace sphib
