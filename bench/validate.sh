@@ -7,7 +7,7 @@
 #   equilibrium    stretched membrane, fixed and free, to steady state (Section 5.2.1, Fig. 8)
 #   fig10          equilibrium convergence: Nx = 40..160, mu = 0.25, 1, fixed and free (Fig. 10)
 #   fig10_fixed    the same, fixed membrane only (minutes; the free runs take hours at Nx = 160)
-#   fig10_free     the same, free membrane only (hours)
+#   fig10_free     the same, free membrane only (hours; FIG10_NX=40,60,80 for a subset)
 #   oscillation    oscillating membrane, mu = 1, 0.1, 0.05, 0.025, t in [0, 10] (Figs. 11, 15-17)
 #   fig19          area error at t = 1, 2 against Nx = 40..120 (Fig. 19)
 #   table3         self-convergence at t = 0.0625, Nx = 32, 64, 128 against Nx = 256 (Table 3)
@@ -62,7 +62,7 @@ for s in "${sections[@]}"; do
         --set membrane.fixed=true --report pressure_mad_error,velocity_mad_error,pressure_jump,time ;;
     fig10_free)
       $SWEEP --scene cases/membrane_equilibrium.toml --out $OUT/fig10_free \
-        --vary grid.nx=40,60,80,100,120,140,160 --vary fluid.mu=0.25,1 \
+        --vary grid.nx=${FIG10_NX:-40,60,80,100,120,140,160} --vary fluid.mu=0.25,1 \
         --derive grid.ny={grid.nx} --derive time.dt=0.1*3/{grid.nx} \
         --set kernel.h_over_dx=2.25 --set membrane.h_star_over_h=0.5 --set membrane.nb=360 --set output.interval=0 \
         --set membrane.fixed=false \

@@ -6,11 +6,15 @@
 
 namespace sphib {
 
-MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, double dt,
+MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, const Mat2* U_prev, double dt,
                                    const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U) {
   X_n = X;
-  U_new(X_n, U);  // U^{n+1}(X^n), Eq. (62)
-  X = X_n + dt * U;                                 // Eq. (58)
+  if (prm.extrapolate && U_prev) {
+    X = X_n + dt * (1.5 * U_n - 0.5 * *U_prev);  // Adams-Bashforth: O(dt^3) from the root of Eq. (59)
+  } else {
+    U_new(X_n, U);     // U^{n+1}(X^n), Eq. (62)
+    X = X_n + dt * U;  // Eq. (58)
+  }
   MarkerUpdateResult res;
   auto check_moves = [&]() {
     if (prm.max_move <= 0) return;

@@ -91,7 +91,15 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
     throw std::invalid_argument("membrane " + std::to_string(k) + ": markers do not match the scene");
   mem_[k].m.X = X;
   mem_[k].U_revision = -1;
+  mem_[k].U_n_known = mem_[k].U_prev_known = false;  // a jump: no history for the predictor
   mem_[k].hooke.compute(mem_[k].m.X, mem_[k].m.T0, mem_[k].f, mem_[k].T);
+}
+
+void Simulation::set_marker_history(size_t k, const Mat2& U_n) {
+  if (k >= mem_.size() || U_n.rows() != mem_[k].m.X.rows())
+    throw std::invalid_argument("membrane " + std::to_string(k) + ": marker velocities do not match the scene");
+  mem_[k].U_n = U_n;
+  mem_[k].U_n_known = true;
 }
 
 void Simulation::update_membrane_forces() {
@@ -138,6 +146,11 @@ void Simulation::marker_velocities_now() {
   ScopedTimer t(prof_, k_interp_);
   for (auto& s : mem_) {
     if (s.fixed) continue;
+    if (s.U_n_known) {  // last step's U^n becomes U^{n-1}
+      s.U_prev = s.U_n;
+      s.U_prev_known = true;
+    }
+    s.U_n_known = true;
     if (s.U_revision == fluid_->revision()) s.U_n = s.U;  // the last marker iterate: u^n at X^n, bit for bit
     else marker_velocity(s.m.X, s.U_n);
   }
@@ -151,7 +164,7 @@ void Simulation::move_markers() {
     if (s.fixed) continue;
     s.U_revision = -1;
     try {
-      s.last = advance_markers(U_new, s.U_n, fluid_->params().dt, prm_.markers, fluid_->steps(), s.m.X, s.X_n, s.U);
+      s.last = advance_markers(U_new, s.U_n, s.U_prev_known ? &s.U_prev : nullptr, fluid_->params().dt, prm_.markers, fluid_->steps(), s.m.X, s.X_n, s.U);
     } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
       throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
     }

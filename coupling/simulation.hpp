@@ -43,6 +43,8 @@ struct MembraneState {
   CubicSplineKernel W_star;
   HookeanForce hooke;
   Mat2 f, U_n, U, X_n;  // force density, u^n(X^n), u^{n+1}(X^{n+1}), workspace
+  Mat2 U_prev;          // u^{n-1}(X^{n-1}): the marker predictor's extrapolation
+  bool U_n_known = false, U_prev_known = false;
   long U_revision = -1;  // U = u(X) of the fluid at this revision, at the current markers (-1: not known)
   Vec T;                // tension at the markers
   MarkerUpdateResult last;
@@ -60,6 +62,9 @@ class Simulation {
   const std::vector<MembraneState>& membranes() const { return mem_; }
   const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
   void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)
+  // Restart: U^n(X^n) of the step that made the checkpoint's markers, the next step's U^{n-1}
+  // (the marker predictor's history; without it the first step uses Eq. 58).
+  void set_marker_history(size_t k, const Mat2& U_n);
   // f and T of every membrane at its current markers (Eqs. 47-50), as membranes()[k].f and .T show
   // them at all times: the constructor, set_markers and the end of step() call it, and step()
   // spreads the f it left (f^n at X^n).

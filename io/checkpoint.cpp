@@ -85,6 +85,13 @@ void write_checkpoint(const std::string& path, const Simulation& sim,
     H mg{H5Gcreate2(f.id, "membranes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
     for (size_t k = 0; k < sim.membranes().size(); ++k)
       write_matrix(mg.id, std::to_string(k), sim.membranes()[k].m.X, path);
+    bool history = !sim.membranes().empty();
+    for (const auto& m : sim.membranes()) history &= m.fixed || m.U_n_known;
+    if (history) {  // U^n(X^n) of the last step: the marker predictor's U^{n-1} after the restart
+      H vg{H5Gcreate2(f.id, "marker_velocities", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+      for (size_t k = 0; k < sim.membranes().size(); ++k)
+        if (!sim.membranes()[k].fixed) write_matrix(vg.id, std::to_string(k), sim.membranes()[k].U_n, path);
+    }
     if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush (disk full?)");
   }
   commit_part(part, path);
@@ -131,6 +138,13 @@ Checkpoint read_checkpoint(const std::string& path) {
     H5Gget_info(mg.id, &gi);
     for (hsize_t k = 0; k < gi.nlinks; ++k) c.markers.push_back(read_matrix(mg.id, std::to_string(k), path));
   }
+  if (H5Lexists(f.id, "marker_velocities", H5P_DEFAULT) > 0) {
+    H vg{H5Gopen2(f.id, "marker_velocities", H5P_DEFAULT), H5Gclose};
+    c.marker_velocities.resize(c.markers.size());
+    for (size_t k = 0; k < c.markers.size(); ++k)
+      if (H5Lexists(vg.id, std::to_string(k).c_str(), H5P_DEFAULT) > 0)
+        c.marker_velocities[k] = read_matrix(vg.id, std::to_string(k), path);
+  }
   return c;
 }
 
@@ -148,6 +162,8 @@ void restore_checkpoint(const Checkpoint& c, const std::string& path,
   if (c.markers.size() != sim.membranes().size()) fail(path, "it has a different number of membranes");
   sim.fluid().restore(c.fluid);
   for (size_t k = 0; k < c.markers.size(); ++k) sim.set_markers(k, c.markers[k]);
+  for (size_t k = 0; k < c.marker_velocities.size(); ++k)
+    if (c.marker_velocities[k].rows() > 0) sim.set_marker_history(k, c.marker_velocities[k]);
 }
 
 }  // namespace sphib

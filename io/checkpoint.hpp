@@ -16,6 +16,7 @@ struct Checkpoint {
   std::vector<std::pair<std::string, std::string>> scene;   // resolved scene key = value
   NamedArrays fluid;                                        // FluidSolver::state()
   std::vector<Mat2> markers;                                // X of each membrane
+  std::vector<Mat2> marker_velocities;  // U^n(X^n) of each free membrane (the predictor's history), or empty
 };
 
 // Writes the simulation's state and the scene's resolved keys. Throws std::runtime_error naming

@@ -434,6 +434,11 @@ void read_time_and_solvers(Reader& r, Scene& s) {
                                           "Poisson solver (auto: FFT in x + banded Cholesky in y when the domain is periodic in x and walled in y (eulerian), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
+  s.sim.markers.extrapolate =
+      r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
+               "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "
+               "O(dt^3) from the root) or euler (the paper's Eq. 58, X^n + dt U^{n+1}(X^n)); the same root within "
+               "solver.marker_eps") == "extrapolated";
   const std::string interp = r.choice(
       "coupling.interpolation", "auto", {"auto", "divergence_free", "sph"},
       "marker velocity: divergence_free (curl of the interpolated stream function: membranes keep their area), "

@@ -337,7 +337,7 @@ TEST(StreamFunction, ManufacturedDivergenceFreeFlowKeepsTheArea) {
     MarkerUpdateParams mp;
     for (int s = 0; s < static_cast<int>(std::lround(0.25 / dt)); ++s) {
       vel(m.X, Un);
-      advance_markers(vel, Un, dt, mp, s, m.X, Xn, U);
+      advance_markers(vel, Un, nullptr, dt, mp, s, m.X, Xn, U);
     }
     return std::fabs(D.measure(m.X, 1.0).area / a0 - 1.0);
   };
