@@ -24,9 +24,11 @@ cd "$(dirname "$0")/.."
 SPHIB=build/sphib
 SWEEP="/usr/bin/python3 scripts/sweep.py"
 OUT=bench_out
+PAIR_SETS=()
 if [ "${PAIR:-}" = paper ]; then
   OUT=bench_out/paper
-  SWEEP="$SWEEP --set fluid.projection=approximate --set coupling.interpolation=sph"
+  PAIR_SETS=(--set fluid.projection=approximate --set coupling.interpolation=sph)
+  SWEEP="$SWEEP ${PAIR_SETS[*]}"
 fi
 sections=("$@")
 [ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19 table3)
@@ -77,7 +79,7 @@ for s in "${sections[@]}"; do
         --set time.end=2 --set output.interval=0 \
         --report area_relative_error_at.1,area_relative_error_at.2 ;;
     table3)
-      /usr/bin/python3 scripts/self_convergence.py --out $OUT/table3 ;;
+      /usr/bin/python3 scripts/self_convergence.py --out $OUT/table3 "${PAIR_SETS[@]}" ;;
     sweep)
       build/poiseuille_sweep --out $OUT/poiseuille_sweep ;;
     equilibrium_t10)
