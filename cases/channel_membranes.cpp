@@ -36,6 +36,10 @@ int main(int argc, char** argv) {
   app.add_option("--ca", Ca, "capillary number mu (U/H) a / T0");
   app.add_option("--nx", nx, "particles along x (ny = nx/4)");
   app.add_option("--cfl", cfl, "time step dt = cfl dx / U");
+  double per_dx = 2.0;
+  app.add_option("--markers-per-dx", per_dx, "markers per lattice spacing along the membranes");
+  bool paper = false;
+  app.add_flag("--paper-pair", paper, "the paper's approximate projection and SPH interpolation (Eq. 63)");
   CLI11_PARSE(app, argc, argv);
 
   const double H = 1.0, L = 4.0, U = 1.0, rho = 1.0, mu = 1.0, a = 0.15;
@@ -45,10 +49,14 @@ int main(int argc, char** argv) {
   f.nx = nx, f.ny = nx / 4, f.rho = rho, f.mu = mu;
   const double dx = L / nx, h = f.h_over_dx * dx;
   f.dt = cfl * dx / U;
+  if (paper) {
+    f.projection = Projection::Approximate;
+    s.sim.interpolation = MarkerInterpolation::Sph;
+  }
   s.sim.body_force = {F, 0.0};
   auto u_poiseuille = [=](double y) { return U * (1.0 - 4.0 * y * y / (H * H)); };
   s.sim.initial_velocity = [=](double, double y) { return Eigen::Vector2d(u_poiseuille(y), 0.0); };
-  const int nb = static_cast<int>(std::lround(2 * M_PI * a / (0.5 * dx)));  // two markers per dx
+  const int nb = static_cast<int>(std::lround(2 * M_PI * a * per_dx / dx));
   for (const Eigen::Vector2d& c : {Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(0.5, 0.2)})
     s.sim.membranes.push_back({make_membrane(circle(nb, c.x(), c.y(), a), a, T0), /*h_star=*/1.4 * h});
   s.t_end = 4.0 * H / U;
