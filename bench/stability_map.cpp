@@ -23,7 +23,7 @@
 //     membrane force,
 //       viscous   dt ~ C_v mu dx / T0,   inertial   dt ~ C_i sqrt(rho dx^3 / T0),
 //     as dt_max = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0), least squares in log dt over the
-//     bracketed pairs; compared with `sphib check`'s max(sqrt(rho h*^3/T0), 10 mu h*/T0) and with
+//     bracketed pairs; compared with `sphib check`'s max(0.3 sqrt(rho h*^3/T0), 10 mu h*/T0) and with
 //     the classical estimates for an explicit (forward Euler) force (see classical() below);
 //  X  the largest stable dt against Nx (24..64, Nb = 2 Nx), markers per grid spacing, h/dx and
 //     h*/h at an inertial point (T0 = 1e3, mu = 1e-3) and a viscous point (T0 = 1e3, mu = 10):
@@ -104,10 +104,10 @@ struct Params {
   double h() const { return hdx * dx(); }
   double h_star() const { return h_star_abs > 0 ? h_star_abs : hsh * h(); }
   double markers_per_dx() const { return dx() / (2 * M_PI * kR0 / nb); }
-  // `sphib check`'s estimate (app/check.cpp)
+  // `sphib check`'s estimate (app/check.cpp) for the default (conservative) pair
   double check_estimate() const {
     const double hs = h_star();
-    return std::max(std::sqrt(rho * hs * hs * hs / T0), 10.0 * mu * hs / T0);
+    return std::max(0.3 * std::sqrt(rho * hs * hs * hs / T0), 10.0 * mu * hs / T0);
   }
   // the classical explicit estimate (see kClassicalCi, kClassicalCv)
   double classical() const {
@@ -642,7 +642,7 @@ class Bench {
                           : ", no dx-per-step guards, convection off (Stokes: only the elastic limit is left)")
         << "\n\n"
            "Bracket [largest stable, smallest unstable) from a bisection to a factor 1.1; `check` = "
-           "max(sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`; fit = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0) "
+           "max(0.3 sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`; fit = max(C_i sqrt(rho dx^3/T0), C_v mu dx/T0) "
            "with the constants below; regime = the larger term of the fit, or, where the limit lies more than a "
            "factor 1.3 below that of another part for the same pair, `runner's guard` (T below E: run_scene's "
            "dx-per-step check stops runs that stay bounded without it) or `convection` (below S: the explicit "
@@ -679,7 +679,7 @@ class Bench {
             << fix(std::exp(fa.rms_log), 2) << ")";
         m << ";\n"
           << "- the same with h* = " << num(def.h_star(), 4) << " as the length (check's form): C_i = " << fix(fh.Ci, 3)
-          << ", C_v = " << fix(fh.Cv, 3) << " (check uses 1 and 10);\n"
+          << ", C_v = " << fix(fh.Cv, 3) << " (check uses 0.3 and 10);\n"
           << "- crossover at mu / sqrt(rho T0 dx) = C_i/C_v = " << fix(fd.Ci / fd.Cv, 3)
           << ", i.e. viscosity mu* = (C_i/C_v) sqrt(rho dx T0): viscous above, inertial below: ";
         for (double T0 : {1.0, 10.0, 100.0, 1e3, 1e4})
