@@ -1,5 +1,5 @@
 // Benchmark (not a test): LPSPH (moving particles, fluid/lagrangian.hpp) against EPSPH (fixed
-// particles, fluid/projection.hpp), issue 5, after Sections 3.1, 5.1 and 5.2 of Noutcheuwa & Owens
+// particles, fluid/eulerian.hpp), issue 5, after Sections 3.1, 5.1 and 5.2 of Noutcheuwa & Owens
 // (2012). Three parts, each printed, with a CSV and a section of DIR/lpsph_comparison.md:
 //
 // poiseuille  Start-up planar Poiseuille (Section 5.1, Tables 1-2): Re = 0.0125 (rho = 1,

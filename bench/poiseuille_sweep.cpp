@@ -1,5 +1,5 @@
 // Benchmark (not a test): the start-up planar Poiseuille sweep behind Figs. 4 and 7 and Table 1 of
-// Noutcheuwa & Owens (2012), Section 5.1, with the EPSPH solver of fluid/projection.hpp.
+// Noutcheuwa & Owens (2012), Section 5.1, with the EPSPH solver of fluid/eulerian.hpp.
 //
 // The problem is bench/poiseuille.hpp's (Stokes by default; --convection switches the AB2
 // convection term of Eq. 39 back on), over Nx = Ny in {16, 24, 32, 48, 64} x h/dx in
@@ -27,7 +27,7 @@
 
 #include "bench/common.hpp"
 #include "bench/poiseuille.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/eulerian.hpp"
 
 namespace {
 
@@ -96,7 +96,7 @@ Result run_one(int nx, double hdx, const Options& o) {
   prm.poisson_solver = prm.cn_solver == sphib::SolverKind::Pcg ? sphib::SolverKind::Auto : prm.cn_solver;
   try {
     auto t0 = Clock::now();
-    sphib::Fluid fluid(prm);
+    sphib::EulerianFluid fluid(prm);
     r.t_ctor = seconds_since(t0);
     r.n = fluid.size();
     r.h = fluid.h();

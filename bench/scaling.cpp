@@ -48,7 +48,7 @@
 
 #include "bench/common.hpp"
 #include "coupling/simulation.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/eulerian.hpp"
 #include "io/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -134,7 +134,7 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     sphib::Simulation sim(s.sim);
     j["setup_s"] = seconds_since(t0);
     j["rss_after_setup_kb"] = status_kb("VmRSS");
-    const auto* f = dynamic_cast<const sphib::Fluid*>(&sim.fluid());
+    const auto* f = dynamic_cast<const sphib::EulerianFluid*>(&sim.fluid());
     if (!f) throw std::runtime_error("not an EPSPH fluid");
     j["n"] = f->size();
     j["images"] = f->images().size();

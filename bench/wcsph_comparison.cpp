@@ -1,5 +1,5 @@
 // Benchmark (not a test): weakly compressible SPH (fluid/wcsph.hpp) against EPSPH
-// (fluid/projection.hpp) on the problems of Vukcevic, Werner & Degiuli (2012) ["V"] and
+// (fluid/eulerian.hpp) on the problems of Vukcevic, Werner & Degiuli (2012) ["V"] and
 // Coelho, Oliveira, Brasil & Maruzewski ["C"] (issue 8):
 //
 //  A  the constructed Stokes solution of C Section 4 (Eqs. 23-24) in the unit square, both methods:

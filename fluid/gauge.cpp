@@ -105,14 +105,14 @@ void VelocityModes::add_components(const Mat2& from, Mat2& to) const {
   }
 }
 
-SpMat Gauge::pinned(const SpMat& A) const {
+SpMat Gauge::pinned(const SpMat& A, bool prune) const {
   SpMat P = A;
   std::vector<char> pin(P.rows(), 0);
   for (int p : pins_) pin[p] = 1;
   for (int i = 0; i < P.outerSize(); ++i)
     for (SpMat::InnerIterator it(P, i); it; ++it)
       if (pin[i] || pin[it.col()]) it.valueRef() = (i == it.col()) ? 1.0 : 0.0;
-  P.prune(0.0);
+  if (prune) P.prune(0.0);
   return P;
 }
 

@@ -38,8 +38,9 @@ class Gauge {
   // f minus its components along the null vectors (exact: they are orthogonal).
   void project(Vec& f) const;
   // Rows and columns of the pins replaced by the identity (a symmetric, definite matrix for a direct
-  // factorisation); A must hold its diagonal in its pattern.
-  SpMat pinned(const SpMat& A) const;
+  // factorisation); A must hold its diagonal in its pattern. prune = false keeps A's pattern (the
+  // zeros stay), so that a matrix pinned again every step keeps its symbolic analysis.
+  SpMat pinned(const SpMat& A, bool prune = true) const;
   void pin_rhs(Vec& b) const;  // b = 0 at the pins
 
  private:

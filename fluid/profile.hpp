@@ -1,5 +1,6 @@
 #pragma once
 // Accumulated wall time of the named phases of a time step (a few tens of ns per measurement).
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <utility>
@@ -34,6 +35,18 @@ class Profile {
 // Seconds from t0 to now (set-up timings of the solvers and runs).
 inline double seconds_since(Profile::Clock::time_point t0) {
   return std::chrono::duration<double>(Profile::Clock::now() - t0).count();
+}
+
+// The shortest of `reps` timings of kernel() (the floor of a step: fluid/solver.hpp).
+template <class F>
+double best_of(int reps, F&& kernel) {
+  double t = 1e300;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = Profile::Clock::now();
+    kernel();
+    t = std::min(t, seconds_since(t0));
+  }
+  return t;
 }
 
 // Times a block into one phase: { ScopedTimer t(profile, k); ... }

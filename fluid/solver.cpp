@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "fluid/lagrangian.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/eulerian.hpp"
 #include "fluid/wcsph.hpp"
 
 namespace sphib {
@@ -45,7 +45,7 @@ void FluidSolver::restore(const NamedArrays&) {
 }
 
 std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params) {
-  if (params.method == "eulerian") return std::make_unique<Fluid>(params);
+  if (params.method == "eulerian") return std::make_unique<EulerianFluid>(params);
   if (params.method == "lagrangian") return std::make_unique<LagrangianFluid>(params);
   if (params.method == "wcsph") return std::make_unique<WcsphFluid>(params);
   throw std::invalid_argument("method: \"" + params.method +

@@ -1,7 +1,8 @@
 #pragma once
 // The contract every fluid method meets, so that the coupling, the runner and the cases work
-// with any of them: EPSPH (fixed particles, projection.hpp), LPSPH (moving particles,
-// lagrangian.hpp) and weakly compressible SPH (wcsph.hpp).
+// with any of them: EPSPH (fixed particles, eulerian.hpp), LPSPH (moving particles,
+// lagrangian.hpp), both on the projection core (projection_core.hpp), and weakly compressible SPH
+// (wcsph.hpp).
 //
 // A FluidSolver advances the velocity of N particles by one time step under an external force
 // per unit volume, and shows their positions, volumes, velocity, pressure and its kernel.

@@ -17,7 +17,7 @@
 #include "fluid/kernel.hpp"
 #include "fluid/linear_solver.hpp"
 #include "fluid/products.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/eulerian.hpp"
 
 using namespace sphib;
 
@@ -83,7 +83,7 @@ FluidParams make_params(int n, double h_over_dx, bool periodic_x, bool periodic_
 }
 
 // Particles farther than 2h from every wall (all of them along periodic axes).
-bool interior(const Fluid& f, int i) {
+bool interior(const EulerianFluid& f, int i) {
   const Domain& d = f.lattice().domain;
   const double x = f.lattice().x(i, 0), y = f.lattice().x(i, 1), r = 2.0 * f.h();
   const bool in_x = d.periodic_x || (x - d.x0 > r && d.x1 - x > r);
@@ -93,7 +93,7 @@ bool interior(const Fluid& f, int i) {
 
 double max_abs(const Mat2& a) { return a.cwiseAbs().maxCoeff(); }
 
-double rms_error(const Fluid& f, double (*exact_u)(double y, double t, const double* prm), const double* prm) {
+double rms_error(const EulerianFluid& f, double (*exact_u)(double y, double t, const double* prm), const double* prm) {
   const Mat2& x = f.lattice().x;
   double e2 = 0;
   for (int i = 0; i < f.size(); ++i) {
@@ -221,7 +221,7 @@ TEST(Kernel, NonNegativeWithCompactSupport) {
 TEST(Operators, LaplacianOfQuadraticsInInterior) {
   struct Row { double h_over_dx, err; };
   for (const Row& r : {Row{1.2, 1.841e-2}, Row{3.0, 2.941e-4}}) {
-    const Fluid f(make_params(16, r.h_over_dx, false, false));
+    const EulerianFluid f(make_params(16, r.h_over_dx, false, false));
     const Operators& op = f.operators();
     const Vec x = f.lattice().x.col(0), y = f.lattice().x.col(1);
     const Vec x2 = x.array().square(), y2 = y.array().square();
@@ -249,7 +249,7 @@ TEST(Operators, StencilProductsEqualRowByRowProducts) {
   struct Case { int n; double h_over_dx; bool px, py; int min_stencil_rows; };
   for (const Case& c : {Case{64, 1.2, true, false, 3600}, Case{32, 2.25, false, false, 1}, Case{24, 1.2, true, true, 1},
                         Case{16, 3.0, false, false, 0}}) {
-    const Fluid f(make_params(c.n, c.h_over_dx, c.px, c.py));
+    const EulerianFluid f(make_params(c.n, c.h_over_dx, c.px, c.py));
     const Operators& op = f.operators();
     const RowStencil vs = find_row_stencil({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A});
     const RowStencil ps = find_row_stencil({&op.grad_phix, &op.grad_phiy});
@@ -288,7 +288,7 @@ TEST(Operators, StencilProductsEqualRowByRowProducts) {
 TEST(Operators, GradientOfLinearFieldInInterior) {
   struct Row { double h_over_dx, err; };
   for (const Row& r : {Row{1.2, 2.762e-2}, Row{3.0, 4.412e-4}}) {
-    const Fluid f(make_params(16, r.h_over_dx, false, false));
+    const EulerianFluid f(make_params(16, r.h_over_dx, false, false));
     const Operators& op = f.operators();
     const Vec lin = 2.0 * f.lattice().x.col(0) + 3.0 * f.lattice().x.col(1);
     const Vec g[4] = {op.grad_phix * lin, op.grad_phiy * lin, op.grad_ux.A * lin, op.grad_uy.A * lin};
@@ -310,7 +310,7 @@ TEST(Operators, GradientOfLinearFieldInInterior) {
 TEST(Operators, ScalarLaplacianWithWallsHasZeroRowSumsAndIsSymmetric) {
   for (bool periodic_x : {false, true})
     for (double hr : {1.2, 1.525, 3.0}) {
-      const Fluid f(make_params(16, hr, periodic_x, false));
+      const EulerianFluid f(make_params(16, hr, periodic_x, false));
       const SpMat& L = f.operators().lap_phi;
       const double scale = L.diagonal().cwiseAbs().maxCoeff();
       EXPECT_LT((L * Vec::Ones(f.size())).cwiseAbs().maxCoeff(), 1e-14 * scale) << hr;
@@ -328,7 +328,7 @@ TEST(Operators, ScalarLaplacianWithWallsHasZeroRowSumsAndIsSymmetric) {
 TEST(Operators, VelocityLaplacianIsSymmetricNegativeDefinite) {
   for (bool periodic_x : {false, true})
     for (double hr : {1.2, 3.0}) {
-      const Fluid f(make_params(16, hr, periodic_x, false));
+      const EulerianFluid f(make_params(16, hr, periodic_x, false));
       const SpMat& A = f.operators().lap_u.A;
       const SpMat At = A.transpose();
       EXPECT_LE((A - At).norm(), 1e-14 * A.norm());
@@ -351,7 +351,7 @@ TEST(Operators, VelocityLaplacianIsSymmetricNegativeDefinite) {
 TEST(Operators, ImagesCompleteEveryNeighbourhood) {
   for (bool periodic_x : {false, true})
     for (double hr : {1.2, 1.525, 2.2, 3.0}) {
-      const Fluid f(make_params(16, hr, periodic_x, false));
+      const EulerianFluid f(make_params(16, hr, periodic_x, false));
       const PairList& P = f.pairs();
       const double dx = f.lattice().dx, dy = f.lattice().dy;
       const auto st = stencil(hr);
@@ -374,7 +374,7 @@ TEST(Operators, ImagesCompleteEveryNeighbourhood) {
 // (images of images) are point reflections through the corner (sign +1), and equal the mirror of
 // each single image across the other wall.
 TEST(Operators, CornerImagesArePointReflections) {
-  const Fluid f(make_params(16, 1.525, false, false));
+  const EulerianFluid f(make_params(16, 1.525, false, false));
   const Images& im = f.images();
   const Domain& d = f.lattice().domain;
   const Mat2& x = f.lattice().x;
@@ -422,7 +422,7 @@ TEST(Operators, BoxNarrowerThanFourHIsRefused) {
   // One image layer per wall is complete only if no particle is within 2h of two opposite walls:
   // a walled extent below 4h is refused with a message naming the limit.
   try {
-    const Fluid f(make_params(6, 2.2, false, false));
+    const EulerianFluid f(make_params(6, 2.2, false, false));
     FAIL() << "a 6 x 6 box with h/dx = 2.2 (extent < 4h) was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("4h"), std::string::npos) << e.what();
@@ -571,7 +571,7 @@ TEST(Solver, FftSolverMatchesCholmodOnChannels) {
   for (const Case& c : {Case{16, 16, 1.2}, Case{24, 20, 2.25}}) {
     FluidParams p = make_params(c.nx, c.h_over_dx, true, false);
     p.ny = c.ny;
-    const Fluid f(p);
+    const EulerianFluid f(p);
     const SpMat A = -f.operators().lap_phi;
     std::string why;
     auto fft = make_fft_solver("Poisson", A, f.lattice(), true, &why);
@@ -609,7 +609,7 @@ TEST(Solver, FftSolverSolvesCrankNicolsonLikeCholmod) {
   for (const Case& c : {Case{16, 16, 0.5}, Case{24, 20, 5.0}}) {
     FluidParams p = make_params(c.nx, 1.2, true, false);
     p.ny = c.ny;
-    const Fluid f(p);
+    const EulerianFluid f(p);
     SpMat I(f.size(), f.size());
     I.setIdentity();
     const SpMat A = I - (c.a * f.lattice().dx * f.lattice().dx) * f.operators().lap_u.A;
@@ -629,12 +629,12 @@ TEST(Solver, FftSolverSolvesCrankNicolsonLikeCholmod) {
 // translate along x (one coefficient moved); and the scene key asks for it in vain.
 TEST(Solver, FftSolverRefusesOtherStructures) {
   {
-    const Fluid box(make_params(16, 1.2, false, false));
+    const EulerianFluid box(make_params(16, 1.2, false, false));
     std::string why;
     EXPECT_FALSE(make_fft_solver("Poisson", -box.operators().lap_phi, box.lattice(), true, &why));
     EXPECT_NE(why.find("periodic in x"), std::string::npos) << why;
   }
-  const Fluid ch(make_params(16, 1.2, true, false));
+  const EulerianFluid ch(make_params(16, 1.2, true, false));
   SpMat A = -ch.operators().lap_phi;
   A.coeffRef(40, 40) *= 1.0 + 1e-6;
   std::string why;
@@ -643,7 +643,7 @@ TEST(Solver, FftSolverRefusesOtherStructures) {
   FluidParams p = make_params(16, 1.2, false, false);
   p.poisson_solver = SolverKind::Fft;
   try {
-    Fluid f(p);
+    EulerianFluid f(p);
     ADD_FAILURE() << "solver.poisson = fft accepted on a closed box";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("solver.poisson"), std::string::npos) << e.what();
@@ -667,7 +667,7 @@ TEST(Fluid, ProjectionOfRandomFieldReducesDivergence) {
     p.projection = Projection::Approximate;
     p.mu = 1e-3;
     p.convection = false;
-    Fluid f(p);
+    EulerianFluid f(p);
     const int N = f.size();
     std::mt19937 gen(42);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
@@ -697,7 +697,7 @@ TEST(Fluid, ProjectionDivergenceDecreasesUnderRefinement) {
     p.projection = Projection::Approximate;
     p.mu = 1e-3;
     p.convection = false;
-    Fluid f(p);
+    EulerianFluid f(p);
     const int N = f.size();
     const Mat2& x = f.lattice().x;
     Mat2 u0(N, 2);
@@ -725,7 +725,7 @@ double couette(double y, double t, const double* nu) { return exact::couette_u(y
 
 // Start-up Poiseuille flow, dimensionless (Section 4.1): channel [0,1]^2 periodic in x, walls at
 // y = 0, 1; rho = 1, mu = 1/Re, F = (8/Re, 0) so that u_max = F H^2 / (8 mu) = 1.
-Fluid run_poiseuille(int n, double h_over_dx, double dt, int steps, bool convection,
+EulerianFluid run_poiseuille(int n, double h_over_dx, double dt, int steps, bool convection,
                      SolverKind cn = SolverKind::Auto) {
   FluidParams p = make_params(n, h_over_dx, true, false);
   p.cn_solver = cn;
@@ -733,7 +733,7 @@ Fluid run_poiseuille(int n, double h_over_dx, double dt, int steps, bool convect
   p.mu = 1.0 / kRe;
   p.dt = dt;
   p.convection = convection;
-  Fluid f(p);
+  EulerianFluid f(p);
   Mat2 F(f.size(), 2);
   F.col(0).setConstant(8.0 / kRe);
   F.col(1).setZero();
@@ -756,7 +756,7 @@ TEST(Fluid, PoiseuilleConvergesSecondOrderAtLargeSmoothingLength) {
   const int ns[3] = {16, 24, 32};
   double e[3];
   for (int c = 0; c < 3; ++c) {
-    const Fluid f = run_poiseuille(ns[c], 3.0, 1.25e-4, 100, false);
+    const EulerianFluid f = run_poiseuille(ns[c], 3.0, 1.25e-4, 100, false);
     ASSERT_NEAR(f.time(), 0.0125, 1e-12);
     e[c] = rms_error(f, poiseuille, nullptr);
   }
@@ -774,8 +774,8 @@ TEST(Fluid, PoiseuilleConvergesSecondOrderAtLargeSmoothingLength) {
 // The Crank-Nicolson solver is pinned: Auto may time its way to Jacobi-PCG in one run and to
 // CHOLMOD in the other, which differ at the PCG tolerance (1e-14 x condition number).
 TEST(Fluid, PoiseuilleConvectionOnEqualsOff) {
-  const Fluid on = run_poiseuille(16, 3.0, 1.25e-4, 100, true, SolverKind::CholmodSupernodal);
-  const Fluid off = run_poiseuille(16, 3.0, 1.25e-4, 100, false, SolverKind::CholmodSupernodal);
+  const EulerianFluid on = run_poiseuille(16, 3.0, 1.25e-4, 100, true, SolverKind::CholmodSupernodal);
+  const EulerianFluid off = run_poiseuille(16, 3.0, 1.25e-4, 100, false, SolverKind::CholmodSupernodal);
   EXPECT_GT(max_abs(off.u()), 0.9);
   EXPECT_LT(max_abs(on.u() - off.u()), 1e-10);
   EXPECT_LT(on.u().col(1).cwiseAbs().maxCoeff(), 1e-10);
@@ -790,7 +790,7 @@ TEST(Fluid, CouetteMatchesSeries) {
   FluidParams p = make_params(16, 1.2, true, false);
   p.domain.wall_velocity[Top] = Eigen::Vector2d(1.0, 0.0);
   p.dt = 1e-3;
-  Fluid f(p);
+  EulerianFluid f(p);
   const double nu = f.nu();
   const Mat2 F = Mat2::Zero(f.size(), 2);
   for (int s = 0; s < 100; ++s) f.step(F);
@@ -807,7 +807,7 @@ TEST(Fluid, RestStaysExactlyAtRest) {
   for (bool periodic_x : {true, false}) {
     FluidParams p = make_params(16, 1.2, periodic_x, false);
     p.convection = true;
-    Fluid f(p);
+    EulerianFluid f(p);
     const Mat2 F = Mat2::Zero(f.size(), 2);
     for (int s = 0; s < 5; ++s) f.step(F);
     EXPECT_EQ(max_abs(f.u()), 0.0);
@@ -825,7 +825,7 @@ TEST(Fluid, UniformFlowIsPreservedInPeriodicBox) {
   p.mu = 0.1;
   p.dt = 0.01;
   p.convection = true;
-  Fluid f(p);
+  EulerianFluid f(p);
   Mat2 u0(f.size(), 2);
   u0.col(0).setConstant(1.0);
   u0.col(1).setConstant(0.5);

@@ -18,7 +18,7 @@
 
 #include "fluid/exact.hpp"
 #include "fluid/lagrangian.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/eulerian.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 
@@ -232,7 +232,7 @@ TEST(LagrangianSolver, RefactorizeKeepsTheAnalysisForTheSamePattern) {
 // systems. (At nx = 64 the same flow shifts rows by up to 0.8 dx, so pairs can cross 2h.)
 TEST(LagrangianFluid, PoiseuilleErrorComparableToEpsph) {
   const FluidParams p = poiseuille(16, 1.525, 1.25e-5);
-  Fluid e(p);
+  EulerianFluid e(p);
   LagrangianFluid l(p);
   run(e, 1000);
   run(l, 1000);

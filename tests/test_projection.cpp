@@ -12,7 +12,7 @@
 #include "coupling/marker_update.hpp"
 #include "coupling/simulation.hpp"
 #include "fluid/gauge.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/eulerian.hpp"
 #include "membrane/geometry.hpp"
 #include "membrane/hookean.hpp"
 #include "membrane/shapes.hpp"
@@ -75,7 +75,7 @@ CellGrid lattice_grid(const Lattice& L) {
 // for the others. Tolerances 1e-12 and 0.05.
 TEST(Gauge, NamedModesAreExactlyTheGradientsNullModes) {
   for (const DomainCase& c : kDomains) {
-    const Fluid f(params(16, c.px, c.py));
+    const EulerianFluid f(params(16, c.px, c.py));
     const Lattice& L = f.lattice();
     const Operators& op = f.operators();
     for (NullSpace ns : {NullSpace::GradientEvenImages, NullSpace::GradientOddImages}) {
@@ -111,7 +111,7 @@ TEST(ExactProjection, RandomFieldBecomesDivergenceFreeOnEveryDomain) {
     for (SolverKind k : {SolverKind::Auto, SolverKind::CholmodSimplicial}) {
       FluidParams p = params(16, c.px, c.py);
       p.poisson_solver = k;
-      Fluid f(p);
+      EulerianFluid f(p);
       f.set_velocity(random_field(f.size(), 7));
       const double d0 = f.max_abs_divergence();
       f.step(Mat2::Zero(f.size(), 2));
@@ -128,7 +128,7 @@ TEST(ExactProjection, FftAndCholmodAgreeOnTheChannel) {
   for (int s = 0; s < 2; ++s) {
     FluidParams p = params(16, true, false);
     p.poisson_solver = s ? SolverKind::CholmodSimplicial : SolverKind::Fft;
-    Fluid f(p);
+    EulerianFluid f(p);
     f.set_velocity(random_field(f.size(), 3));
     f.step(Mat2::Zero(f.size(), 2));
     u[s] = f.u();
@@ -141,7 +141,7 @@ TEST(ExactProjection, FftAndCholmodAgreeOnTheChannel) {
 // them (relative 1e-12: round-off). The pressure's smoothness near a membrane is checked in
 // test_membrane_cases.cpp.
 TEST(ExactProjection, CheckerboardPhiProducesNoVelocity) {
-  Fluid f(params(16, true, true));
+  EulerianFluid f(params(16, true, true));
   const Lattice& L = f.lattice();
   Vec phi = Vec::Zero(L.size());
   for (int sy = 0; sy < 2; ++sy)
@@ -166,7 +166,7 @@ TEST(ExactProjection, CheckerboardPhiProducesNoVelocity) {
 // 1.6e-16 of max |u*|. Tolerances 1e-11.
 TEST(ExactProjection, IsOrthogonalToDivergenceFreeFields) {
   for (const DomainCase& c : kDomains) {
-    Fluid f(params(24, c.px, c.py));
+    EulerianFluid f(params(24, c.px, c.py));
     Mat2 u0 = random_field(f.size(), 11);
     u0.col(0).array() += 0.7;  // a mean flow
     f.set_velocity(u0);
@@ -213,7 +213,7 @@ TEST(StreamFunction, MarkersStreamFunctionApproximatesTheVelocity) {
     for (int k = 0; k < 2; ++k) {
       FluidParams pp = params(32 << k, c.px, c.py);
       pp.h_over_dx = r.h;
-      Fluid f(pp);
+      EulerianFluid f(pp);
       const Lattice& L = f.lattice();
       Mat2 u(L.size(), 2);
       for (int i = 0; i < L.size(); ++i) {
@@ -252,7 +252,7 @@ TEST(StreamFunction, MarkersStreamFunctionApproximatesTheVelocity) {
 // from 2.5e-4 h; Eq. (63) > 0.05. At lattice points U = (G psi)/(sum_j V W_ij): measured
 // agreement 5.3e-15, tolerance 1e-12.
 TEST(StreamFunction, InterpolatedCurlIsDivergenceFree) {
-  const Fluid f(params(32, true, true));
+  const EulerianFluid f(params(32, true, true));
   const Lattice& L = f.lattice();
   const CubicSplineKernel& W = f.kernel();
   const CellGrid grid = lattice_grid(L);
@@ -312,7 +312,7 @@ TEST(StreamFunction, InterpolatedCurlIsDivergenceFree) {
 // Tolerances: curl below 1.5x measured at the smallest dt and falling > 2x per halving; Eq. (63)
 // above 3e-5 with halvings changing it by < 5%.
 TEST(StreamFunction, ManufacturedDivergenceFreeFlowKeepsTheArea) {
-  const Fluid f(params(32, true, true));
+  const EulerianFluid f(params(32, true, true));
   const Lattice& L = f.lattice();
   const CubicSplineKernel& W = f.kernel();
   const CellGrid grid = lattice_grid(L);

@@ -1,0 +1,207 @@
+#include "fluid/eulerian.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "fluid/solver_policy.hpp"
+
+namespace sphib {
+
+EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params) {
+  if (prm_.projection == Projection::Auto) prm_.projection = Projection::Exact;
+  const int N = lat_.size();
+
+  // Neighbours: images and the pair list, once.
+  auto t0 = Profile::Clock::now();
+  im_ = make_images(lat_, W_.support());
+  pairs_ = find_pairs(lat_, im_.x, W_.support());
+  add_setup("neighbours", seconds_since(t0));
+
+  // Operators, once (Eqs. 27-34), and the rows of their patterns that are lattice translates. The
+  // convection gradient is the divergence's, so Stokes flow assembles nothing more.
+  t0 = Profile::Clock::now();
+  op_ = build_operators(pairs_, lat_, im_, W_);
+  vel_st_lattice_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
+  phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
+  operators_changed(&vel_st_lattice_, &phi_st_lattice_);
+  conv_wall_x_ = conv_wall_y_ = Mat2::Zero(N, 2);  // the wall values' terms, once
+  add_image_terms(op_.grad_ux.B, gx_b_rows_, c_wall_, conv_wall_x_);
+  add_image_terms(op_.grad_uy.B, gy_b_rows_, c_wall_, conv_wall_y_);
+  du_dx_ = du_dy_ = conv_old_ = Mat2::Zero(N, 2);
+  add_setup("assembly", seconds_since(t0));
+
+  // Factorisations, once (fluid/solver_policy.hpp). The approximate projection's Poisson operator is
+  // the Morris Laplacian (Eqs. 31-32, the constants its null space); the exact projection solves the
+  // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
+  // is asked for (phi()).
+  t0 = Profile::Clock::now();
+  cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
+  gauge_ = Gauge(lat_, NullSpace::Constants);
+  if (exact()) streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, true);
+  else make_phi_solver();
+  add_setup("factorisation", seconds_since(t0));
+  k_psi_ = prof_.phase("stream function");
+  k_conv_ = prof_.phase("convection (Eqs. 39-41)");
+  convective_ = prm_.convection;
+}
+
+void EulerianFluid::make_phi_solver() const {
+  auto s = singular_solver(exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson",
+                           -op_.lap_phi, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+  poisson_ = std::move(s.solver);
+  poisson_unpinned_ = s.unpinned;
+}
+
+void EulerianFluid::convection() {
+  if (!prm_.convection) return;
+  ScopedTimer tm(prof_, k_conv_);
+  const int N = size();
+  // Eqs. (40)-(41): (u.grad)u_i = u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values);
+  // Eq. (39): AB2, 3/2 N^n - 1/2 N^{n-1} (first step: Euler, N^{-1} = N^0); conv_old_ keeps N^n.
+  gradient2(op_.grad_ux.A, op_.grad_uy.A, u_, du_dx_, du_dy_, vel_st_);  // one pass for the four derivatives
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < N; ++i) {
+      const double n = (du_dx_(i, c) + conv_wall_x_(i, c)) * u_(i, 0) + (du_dy_(i, c) + conv_wall_y_(i, c)) * u_(i, 1);
+      conv_(i, c) = 1.5 * n - 0.5 * (first_ ? n : conv_old_(i, c));
+      conv_old_(i, c) = n;
+    }
+}
+
+void EulerianFluid::project() {
+  if (!exact()) return project_approximate();
+  {
+    ScopedTimer tm(prof_, k_div_);
+    streams_->rhs(u_star_, revision_);
+  }
+  {
+    ScopedTimer tm(prof_, k_solve_poisson_);
+    streams_->solve();
+  }
+  ScopedTimer tm(prof_, k_project_);
+  streams_->velocity(u_star_, prm_.dt / prm_.rho, u_, grad_phi_);
+  phi_step_ = -1;
+}
+
+const Vec& EulerianFluid::phi() const {
+  if (exact() && phi_step_ != n_) {
+    // The projection's own phi (G^T G phi = -(rho/dt) D u*) is determined up to the components G
+    // hardly sees, which G^T G's tiny eigenvalues near its null modes amplify: measured, a fixed
+    // membrane at h = 2.25 dx gives a pressure jump of 9.7 instead of 1. Its velocity is immune (it
+    // sees only G phi), but phi and p are taken as the smooth phi~ with the same D G phi:
+    //   -lap phi~ = G^T (G phi) = -D (G phi),   lap the Morris Laplacian of Eq. (31),
+    // i.e. the approximate projection's phi for the same u* (jump 1.0000 at 70 x 70, Section 5.2.1).
+    if (!poisson_) make_phi_solver();
+    Vec& b = b_phi_;  // the step's workspace, free between steps
+    streams_->divergence(grad_phi_, b);  // D G phi = -G^T G phi, G phi = rho/dt (u* - u^{n+1})
+    b *= -1.0;
+    gauge_.project(b);
+    if (!poisson_unpinned_) gauge_.pin_rhs(b);
+    poisson_->solve(b.data(), phi_.data(), 1);
+    phi_.array() -= phi_.mean();
+    phi_step_ = n_;
+  }
+  return phi_;
+}
+
+double EulerianFluid::max_abs_divergence() const {
+  if (!exact()) return ProjectionFluid::max_abs_divergence();
+  Vec d(size());
+  streams_->divergence(u_, d);  // the divergence the projection makes zero
+  return d.cwiseAbs().maxCoeff();
+}
+
+StreamFunction EulerianFluid::stream_function() const {
+  ScopedTimer tm(prof_, k_psi_);
+  if (!streams_)
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, false);
+  return streams_->markers(u_, revision_);
+}
+
+double EulerianFluid::poisson_residual() const {
+  // ||A x - b|| / ||b|| with the unpinned operator and the right-hand side of the last step:
+  // the stream function's normal equations (exact projection) or Eq. (32)
+  if (exact()) return streams_->normal_equations_residual(u_star_);
+  Vec b = (-prm_.rho / prm_.dt) * div_;
+  gauge_.project(b);
+  Vec r = -(op_.lap_phi * phi_);
+  r -= b;
+  const double nb = b.norm();
+  return nb > 0 ? r.norm() / nb : r.norm();
+}
+
+std::vector<SolverInfo> EulerianFluid::solver_info() const {
+  std::vector<SolverInfo> v{cn_->info()};
+  if (streams_ && exact()) v.push_back(streams_->psi_solver().info());
+  if (poisson_) v.push_back(poisson_->info());
+  if (streams_ && !exact() && streams_->has_psi_solver()) v.push_back(streams_->psi_solver().info());
+  return v;
+}
+
+std::vector<std::string> EulerianFluid::describe() const {
+  std::ostringstream m;
+  m << "EPSPH: " << lat_.nx << " x " << lat_.ny << " = " << size() << " fixed particles, " << im_.size()
+    << " images, h = " << W_.h << " (" << prm_.h_over_dx << " (dx+dy)/2), "
+    << static_cast<double>(pairs_.size()) / size() << " neighbours per particle, convection "
+    << (prm_.convection ? "on" : "off (Stokes)") << ", "
+    << (exact() ? "exact projection (Poisson operator D G)" : "approximate projection (Poisson operator: Morris Laplacian)")
+    << "; products: " << vel_st_lattice_.stencil_rows() << " velocity and " << phi_st_lattice_.stencil_rows()
+    << " phi rows of " << size() << " applied as a lattice stencil";
+  if (exact()) m << " (D = -G^T: " << streams_->divergence_stencil_rows() << " rows)";
+  std::vector<std::string> lines{m.str()};
+  for (const auto& si : solver_info()) lines.push_back(si.describe());
+  return lines;
+}
+
+std::vector<std::pair<std::string, double>> EulerianFluid::figures() const {
+  std::vector<std::pair<std::string, double>> f{{"images", im_.size()},
+                                                {"neighbours_per_particle", static_cast<double>(pairs_.size()) / size()}};
+  if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
+  return f;
+}
+
+double EulerianFluid::floor_seconds(int reps) const {
+  Mat2 a = u_, b = u_, c = u_, x = u_star_;
+  Vec d(size()), f = phi_;
+  auto best = [reps](auto&& kernel) { return best_of(reps, kernel); };
+  double total = 0;
+  if (prm_.convection) total += best([&] { gradient2(op_.grad_ux.A, op_.grad_uy.A, u_, a, b, vel_st_); });
+  total += best([&] { apply2(op_.lap_u.A, u_, c, vel_st_); });
+  total += best([&] {
+    x = u_star_;  // the same warm start a step gives an iterative solver
+    cn_->solve(rhs_.data(), x.data(), 2);
+  });
+  if (exact()) return total + streams_->floor_seconds(u_star_, a, reps);
+  total += best([&] { divergence(op_.grad_ux.A, op_.grad_uy.A, u_star_, d, vel_st_); });
+  total += best([&] { poisson_->solve(b_phi_.data(), f.data(), 1); });
+  total += best([&] { gradient(op_.grad_phix, op_.grad_phiy, phi_, a, phi_st_); });
+  return total;
+}
+
+// EPSPH adds to the core's state the convection N^n kept for AB2 (Eq. 39) and, with the exact
+// projection, C^T u* and its flux (the markers' stream function of u^{n+1}).
+void EulerianFluid::extra_state(NamedArrays& st) const {
+  st.emplace_back("conv_old", conv_old_);
+  if (exact()) streams_->save(st);
+}
+
+void EulerianFluid::restore_extra(const NamedArrays& st) {
+  conv_old_ = state_entry(st, "conv_old", size(), 2);
+  phi_step_ = n_;
+  if (exact()) streams_->load(st, revision_);
+}
+
+std::optional<FluidSolver::Footprint> EulerianFluid::footprint() const {
+  auto nnz = [](const SpMat& A) { return static_cast<long>(A.nonZeros()); };
+  Footprint f;
+  f.operator_nonzeros = nnz(op_.lap_u.A) + nnz(op_.lap_u.B) + nnz(op_.grad_ux.A) + nnz(op_.grad_ux.B) +
+                        nnz(op_.grad_uy.A) + nnz(op_.grad_uy.B) + nnz(op_.lap_phi) + nnz(op_.grad_phix) +
+                        nnz(op_.grad_phiy);
+  for (const auto& si : solver_info()) {
+    f.factor_nonzeros += si.nnz_factor ? si.nnz_factor : si.nnz_used;  // an iterative solver keeps A itself
+    if (si.system == "Poisson") f.factor_nonzeros += si.nnz_A;         // kept for the residual check
+  }
+  f.pairs = static_cast<long>(pairs_.size());
+  return f;
+}
+
+}  // namespace sphib

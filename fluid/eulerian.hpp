@@ -1,0 +1,62 @@
+#pragma once
+// The Eulerian projection SPH fluid (EPSPH): the projection core (projection_core.hpp) on particles
+// fixed on the lattice of Eq. (68). Everything that does not change in time (lattice, images, pairs,
+// operator matrices, their lattice stencils, the Crank-Nicolson and Poisson factorisations) is built
+// once in the constructor; a step is products and solves only, with no allocation. What EPSPH adds
+// to the core: the convection term (Eqs. 39-41, AB2), the exact projection and the markers' stream
+// function (exact_projection.hpp), and the floor of a step.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "fluid/exact_projection.hpp"
+#include "fluid/projection_core.hpp"
+
+namespace sphib {
+
+class EulerianFluid final : public ProjectionFluid {
+ public:
+  explicit EulerianFluid(const FluidParams& params);
+
+  bool particles_move() const override { return false; }
+  const Mat2& x() const override { return lat_.x; }
+
+  // phi^n: the approximate projection's, or (exact projection) recovered when first asked for after
+  // a step as the smooth phi~ with the same D G phi (see phi() in eulerian.cpp).
+  const Vec& phi() const override;
+  // max_i |(D u^n)_i| with the divergence the projection makes zero: D = -G^T (exact projection;
+  // differs from Eq. (30) with no-slip images only in the rows within 2h of a wall), or Eq. (30)
+  // with the no-slip images of u^n (approximate projection).
+  double max_abs_divergence() const override;
+  double poisson_residual() const;  // ||A x - b|| / ||b|| of the last step's projection solve
+  // The markers' stream function psi_m of u^n (exact_projection.hpp), computed on the first call
+  // after a step.
+  StreamFunction stream_function() const override;
+  bool has_stream_function() const override { return true; }
+
+  std::vector<SolverInfo> solver_info() const override;
+  double cn_mean_iterations() const { return cn_->mean_iterations(); }
+  std::vector<std::string> describe() const override;
+  std::vector<std::pair<std::string, double>> figures() const override;
+  std::optional<Footprint> footprint() const override;
+  // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and projection solves
+  // and the fused sparse products, on the current fields), each timed alone, best of `reps`.
+  double floor_seconds(int reps = 20) const override;
+
+ private:
+  void convection() override;
+  void project() override;
+  void extra_state(NamedArrays& st) const override;
+  void restore_extra(const NamedArrays& st) override;
+  bool exact() const { return prm_.projection == Projection::Exact; }
+  void make_phi_solver() const;  // exact projection: the Morris Laplacian's, for phi~ (on demand)
+
+  RowStencil vel_st_lattice_, phi_st_lattice_;  // the lattice rows of the velocity and phi patterns
+  Mat2 conv_wall_x_, conv_wall_y_;  // B c^n of grad_ux, grad_uy: the wall values' convection terms
+  Mat2 du_dx_, du_dy_, conv_old_;   // derivatives of u^n, N^n kept for AB2 (Eq. 39)
+  mutable std::unique_ptr<ExactProjection> streams_;  // made when first needed (approximate projection)
+  mutable long phi_step_ = 0;  // exact projection: the step phi_ belongs to
+  int k_psi_, k_conv_;
+};
+
+}  // namespace sphib

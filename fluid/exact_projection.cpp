@@ -1,0 +1,199 @@
+#include "fluid/exact_projection.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "fluid/profile.hpp"
+#include "fluid/solver_policy.hpp"
+
+namespace sphib {
+
+namespace {
+std::string wall_name(Side w) {
+  return w == Left ? "left" : w == Right ? "right" : w == Bottom ? "bottom" : "top";
+}
+}  // namespace
+
+ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const PairList& pairs, const Operators& op,
+                                 const CubicSplineKernel& W, const RowStencil* vel_st, SolverKind kind,
+                                 bool projection)
+    : lat_(lat), im_(im), pairs_(pairs), op_(op), W_(W), vel_st_(vel_st), kind_(kind), projection_(projection) {
+  if (projection_) {
+    for (int k = 0; k < 4; ++k) {
+      const Side w = static_cast<Side>(k);
+      const int normal = (w == Left || w == Right) ? 0 : 1;
+      if (lat_.domain.is_wall(w) && lat_.domain.wall_velocity[k][normal] != 0.0)
+        throw std::invalid_argument("walls." + wall_name(w) +
+                                    ": a wall velocity with a normal component lets fluid through the wall; "
+                                    "the exact projection (fluid.projection = \"exact\") needs impermeable walls");
+    }
+    div_x_ = -SpMat(op_.grad_phix.transpose());
+    div_y_ = -SpMat(op_.grad_phiy.transpose());
+    div_st_ = find_row_stencil({&div_x_, &div_y_});
+    vmodes_ = VelocityModes(lat_);
+    make_psi_solver();
+  }
+  const int N = lat_.size();
+  psi_m_ = cu_ = b_m_ = Vec::Zero(N);
+  grad_psi_ = Mat2::Zero(N, 2);
+}
+
+void ExactProjection::make_psi_solver() {
+  // psi's images are odd (psi = psi_w on the wall): the velocity rule's operators, whose B takes
+  // the offsets 2 psi_w. Normal equations of min |(Gy psi + By c, -(Gx psi + Bx c)) - u|^2:
+  //   (Gy^T Gy + Gx^T Gx) psi = Gy^T u - Gx^T v - Q (Gy^T By + Gx^T Bx) c1,
+  // c1 the offsets of unit flux Q (2 on the images of the top wall, or of the right wall).
+  const SpMat& Gx = op_.grad_ux.A;
+  const SpMat& Gy = op_.grad_uy.A;
+  psi_ty_ = Gy.transpose();
+  psi_tx_ = -SpMat(Gx.transpose());
+  psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
+  const Domain& d = lat_.domain;
+  psi_gauge_ = Gauge(lat_, NullSpace::GradientOddImages);
+  const SpMat A = psi_ty_ * Gy + SpMat(Gx.transpose()) * Gx;
+  SystemSolver s = singular_solver(projection_ ? "Poisson (exact projection: the stream function, G^T G, odd images)"
+                                               : "stream function (G^T G, odd images)",
+                                   A, psi_gauge_, kind_, &lat_, Refactor::Once);
+  psi_solver_ = std::move(s.solver);
+  psi_unpinned_ = s.unpinned;
+  const int N = lat_.size(), M = im_.size();
+  psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
+  psi_r1_ = Mat2::Zero(N, 2);
+  if (d.periodic_x != d.periodic_y) {
+    const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
+    Vec c1 = Vec::Zero(M);
+    for (int m = 0; m < M; ++m)
+      if (im_.wall[m] == far) c1[m] = 2.0;
+    psi_by1_ = op_.grad_uy.B * c1;
+    psi_bx1_ = op_.grad_ux.B * c1;
+    psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
+    // The flux Q by least squares too: with C psi + Q b1 the velocity of (psi, Q) (b1 = (By c1,
+    // -Bx c1)), the best Q for u is <u, r1> / <r1, r1> with r1 = (I - P_C) b1 = C psi1 + b1,
+    // psi1 = -(C^T C)^{-1} C^T b1 (P_C the orthogonal projection onto the curls). (The flux from the
+    // mean velocity would be off by the lattice's second kernel moment: G of a linear function is
+    // not exactly its slope.)
+    Vec b = -psi_flux_, psi1 = Vec::Zero(N);
+    psi_gauge_.project(b);
+    if (!psi_unpinned_) psi_gauge_.pin_rhs(b);
+    psi_solver_->solve(b.data(), psi1.data(), 1);
+    psi_gauge_.project(psi1);
+    psi_r1_.col(0) = Gy * psi1 + psi_by1_;
+    psi_r1_.col(1) = -(Gx * psi1 + psi_bx1_);
+    psi_r1_ /= psi_r1_.squaredNorm();
+    mpsi_flux_ = op_.lap_u.B * c1;  // lap of psi_m's wall values per unit flux
+  } else {
+    mpsi_flux_ = Vec::Zero(N);
+  }
+  // The markers' psi_m: -lap psi_m = C^T u, lap with odd images (lap_u.A, Eq. 31): definite with a
+  // wall, the constants its null space on a doubly periodic box.
+  mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
+  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", -op_.lap_u.A,
+                                   mpsi_gauge_, kind_, &lat_, Refactor::Once);
+  mpsi_solver_ = std::move(m.solver);
+  mpsi_unpinned_ = m.unpinned;
+  // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
+  // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle. The curl of psi_m
+  // reproduces u at long waves as G G^T / lap ~ m: psi_m is divided by m, so that it does exactly
+  // (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at every resolution).
+  const int i = lat_.nx / 2 + lat_.nx * (lat_.ny / 2);
+  double mx = 0;
+  for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k)
+    mx -= lat_.volume * W_.F(pairs_.r[k]) * pairs_.rx[k] * pairs_.rx[k];
+  mpsi_scale_ = 1.0 / mx;
+}
+
+void ExactProjection::curl_transpose(const Mat2& u) {
+  sphib::divergence(psi_ty_, psi_tx_, u, cu_, &psi_st_);  // Gy^T u - Gx^T v (= C^T u)
+  // psi on the far wall: the flux (int u dy along a channel in x, -int v dx in y), the least-squares
+  // value (make_psi_solver)
+  const Domain& d = lat_.domain;
+  Q_ = d.periodic_x != d.periodic_y ? u.cwiseProduct(psi_r1_).sum() : 0.0;
+}
+
+void ExactProjection::psi_rhs() {
+  b_psi_ = cu_;
+  if (Q_ != 0.0) b_psi_.noalias() -= Q_ * psi_flux_;
+  psi_gauge_.project(b_psi_);  // G^T of a uniform flow is 0 on a periodic box: its mean is the stream function's U
+}
+
+void ExactProjection::rhs(const Mat2& u_star, long revision) {
+  curl_transpose(u_star);
+  psi_rhs();  // the normal equations' right-hand side C^T u* - Q ..., in b_psi_
+  if (!psi_unpinned_) psi_gauge_.pin_rhs(b_psi_);
+  cu_revision_ = revision;  // C^T u* = C^T u^{n+1}: the markers' right-hand side of this state
+}
+
+void ExactProjection::solve() {
+  psi_solver_->solve(b_psi_.data(), psi_.data(), 1);
+  psi_gauge_.project(psi_);
+}
+
+void ExactProjection::velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, Mat2& grad_phi) {
+  // u^{n+1} = (Gy psi + Q By c1, -(Gx psi + Q Bx c1)) + u*'s alternating modes (and mean)
+  gradient(op_.grad_ux.A, op_.grad_uy.A, psi_, grad_psi_, vel_st_);
+  const int N = lat_.size();
+  for (int i = 0; i < N; ++i) {
+    u(i, 0) = grad_psi_(i, 1) + Q_ * psi_by1_[i];
+    u(i, 1) = -(grad_psi_(i, 0) + Q_ * psi_bx1_[i]);
+  }
+  vmodes_.add_components(u_star, u);
+  // Eq. (34): G phi^{n+1} = rho/dt (u* - u^{n+1}); phi itself on demand (EulerianFluid::phi)
+  grad_phi = (1.0 / dt_over_rho) * (u_star - u);
+}
+
+void ExactProjection::divergence(const Mat2& f, Vec& d) const { sphib::divergence(div_x_, div_y_, f, d, &div_st_); }
+
+StreamFunction ExactProjection::markers(const Mat2& u, long revision) {
+  if (psi_revision_ != revision) {
+    if (!psi_solver_) make_psi_solver();
+    if (cu_revision_ != revision) curl_transpose(u);  // the exact projection's step made it already
+    // -lap psi_m = C^T u with psi_m's wall values (0 and Q): -(A psi_m + Q B c1) = C^T u
+    b_m_ = cu_;
+    if (Q_ != 0.0) b_m_.noalias() += Q_ * mpsi_flux_;
+    mpsi_gauge_.project(b_m_);
+    if (!mpsi_unpinned_) mpsi_gauge_.pin_rhs(b_m_);
+    b_m_ *= mpsi_scale_;  // psi_m / m (make_psi_solver)
+    mpsi_solver_->solve(b_m_.data(), psi_m_.data(), 1);
+    mpsi_gauge_.project(psi_m_);
+    mean_.setZero();
+    if (lat_.domain.periodic_x && lat_.domain.periodic_y) mean_ << u.col(0).mean(), u.col(1).mean();
+    psi_revision_ = revision;
+  }
+  return {&psi_m_, mean_};
+}
+
+double ExactProjection::normal_equations_residual(const Mat2& u_star) {
+  // ||A x - b|| / ||b|| with the unpinned operator and the right-hand side of the last step
+  curl_transpose(u_star);
+  psi_rhs();
+  Vec r = psi_ty_ * (op_.grad_uy.A * psi_);  // Gy^T Gy psi + Gx^T Gx psi
+  r.noalias() -= psi_tx_ * (op_.grad_ux.A * psi_);
+  r -= b_psi_;
+  const double nb = b_psi_.norm();
+  return nb > 0 ? r.norm() / nb : r.norm();
+}
+
+double ExactProjection::floor_seconds(const Mat2& u_star, Mat2& work, int reps) const {
+  Vec d(lat_.size()), f = psi_, b = b_psi_;
+  auto best = [reps](auto&& kernel) { return best_of(reps, kernel); };
+  double total = best([&] { sphib::divergence(psi_ty_, psi_tx_, u_star, d, &psi_st_); });  // C^T u*
+  total += best([&] { psi_solver_->solve(b.data(), f.data(), 1); });                         // psi
+  total += best([&] { gradient(op_.grad_ux.A, op_.grad_uy.A, psi_, work, vel_st_); });        // its curl
+  return total;
+}
+
+void ExactProjection::save(NamedArrays& st) const {
+  Eigen::MatrixXd q(1, 1);
+  q(0, 0) = Q_;
+  st.emplace_back("curl_transpose_u_star", cu_);
+  st.emplace_back("flux", q);
+}
+
+void ExactProjection::load(const NamedArrays& st, long revision) {
+  cu_ = state_entry(st, "curl_transpose_u_star", lat_.size(), 1);
+  Q_ = state_entry(st, "flux", 1, 1)(0, 0);
+  cu_revision_ = revision;
+}
+
+}  // namespace sphib

@@ -1,0 +1,140 @@
+#pragma once
+// The projection core: ONE PMIII step of Kim & Moin (Eqs. 5-11 discretised as Eqs. 28-42), shared
+// by every projection method. A method derives from ProjectionFluid, provides the step's geometry
+// (particles, images, pairs, operators, the two solvers) and adds only what differs:
+//   EPSPH (eulerian.hpp):   fixed lattice, everything built once; convection (Eqs. 39-41); the
+//                           exact projection (exact_projection.hpp) besides the paper's;
+//   LPSPH (lagrangian.hpp): moving particles, geometry rebuilt at x* every step, Eq. (37);
+//   ISPH:                   moving particles with Dirichlet rows p = 0 at a free surface.
+//
+// One step (step(), in order):
+//   begin_step()                      the method's geometry for this step (LPSPH: rebuild at x*)
+//   images: c* by Eq. (42)            image offsets of u*: 2 (u_b + dt/rho [grad phi^n]_tau)
+//   convection()                      EPSPH: N^{n+1/2} by AB2 (Eq. 39); others carry it by motion
+//   viscous predictor, Eq. (28):      (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*)
+//                                                      - dt N^{n+1/2} + dt F^n / rho,  a = nu dt / 2
+//   project()                         approximate by default (Eqs. 30-34); EPSPH: exact if chosen
+//   t += dt; n += 1; end_step()       the method's motion (Eq. 37) and reinitialisation
+//
+// The approximate projection: -lap phi = -(rho/dt) div u* (Eqs. 30-32) with the gauge of the
+// singular operator (fluid/gauge.hpp: right-hand side onto the range, pinned for a factorisation,
+// phi shifted to zero mean) or, for a method with Dirichlet rows, b = 0 on those rows and no gauge;
+// u^{n+1} = u* - dt/rho grad phi (Eq. 34). The pressure (Eq. 35) is recovered only when asked for.
+//
+// The products go through fluid/products.hpp (one pass per sparsity pattern; on a lattice the rows
+// that are translates of one row as a stencil): every operator of a step must share one pattern
+// per image rule, as build_operators and LPSPH's assembly make them.
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fluid/boundary.hpp"
+#include "fluid/gauge.hpp"
+#include "fluid/kernel.hpp"
+#include "fluid/lattice.hpp"
+#include "fluid/linear_solver.hpp"
+#include "fluid/neighbours.hpp"
+#include "fluid/operators.hpp"
+#include "fluid/products.hpp"
+#include "fluid/profile.hpp"
+#include "fluid/solver.hpp"
+
+namespace sphib {
+
+class ProjectionFluid : public FluidSolver {
+ public:
+  void step(const Mat2& F) final;
+  void set_velocity(const Mat2& u0) override;  // u^0 (also u^{-1} for AB2 and the warm start of u*)
+
+  const FluidParams& params() const final { return prm_; }
+  const Lattice& lattice() const final { return lat_; }
+  const CubicSplineKernel& kernel() const final { return W_; }
+  const Vec& volumes() const final { return V_; }
+  const Mat2& u() const final { return u_; }    // u^n
+  const Vec& phi() const override { return phi_; }  // phi^n
+  // p^{n-1/2} by Eq. (35) from phi() with the Laplacian of the step that made it, zero mean where
+  // phi has a gauge; recovered when first asked for after a change of the state (revision()).
+  const Vec& p() const final;
+  const Mat2& grad_phi() const { return grad_phi_; }
+  double time() const final { return t_; }
+  long steps() const final { return n_; }
+  double kinetic_energy() const final;      // sum_i rho V |u_i|^2 / 2
+  // max_i |(div u^n)_i| by Eq. (30) with the wall images of u^n (EPSPH's exact projection: its D)
+  double max_abs_divergence() const override;
+
+  const Images& images() const { return im_; }        // of the last step's positions
+  const PairList& pairs() const { return pairs_; }
+  const Operators& operators() const { return op_; }
+  virtual std::vector<SolverInfo> solver_info() const;
+  Profile& profile() const final { return prof_; }
+  double setup_seconds(const std::string& what) const final;  // "neighbours", "assembly", "factorisation"
+
+  // The state after step n: u^n, phi^n, grad phi^n (Eq. 42 needs it), the last two u* (the warm
+  // start of an iterative solver), t_n, n, and what the method adds (extra_state).
+  NamedArrays state() const final;
+  void restore(const NamedArrays& state) final;
+
+ protected:
+  explicit ProjectionFluid(const FluidParams& params);
+
+  // --- what a method provides -------------------------------------------------------------------
+  virtual void begin_step() {}  // the step's geometry (may throw a breakdown before anything changes)
+  virtual void convection() {}  // fills conv_ (N^{n+1/2}); the rhs subtracts it when convective_
+  virtual void project() { project_approximate(); }
+  virtual void end_step() {}    // after t and n have advanced
+  virtual void extra_state(NamedArrays&) const {}
+  virtual void restore_extra(const NamedArrays&) {}
+  virtual void after_restore() {}  // the geometry of the restored state
+
+  // --- the parts of the step ------------------------------------------------------------------
+  // After the method (re)built im_, pairs_ and op_: the rows of the image operators, the wall part
+  // of Eq. (42) (c^n = 2 u_b) and its Laplacian term, and the products' stencils (optional).
+  void operators_changed(const RowStencil* vel_st = nullptr, const RowStencil* phi_st = nullptr);
+  void image_offsets();        // Eq. (42): c* of u*
+  void viscous_predictor(const Mat2& F);  // Eq. (28) and the Crank-Nicolson solve
+  void project_approximate();  // Eqs. (30)-(34)
+  // Eq. (30) with images whose offsets are c: d = D u + B c
+  void divergence_with_images(const Mat2& u, const Mat2& c, Vec& d) const;
+  void add_setup(const std::string& what, double seconds) { setup_.emplace_back(what, seconds); }
+  double a_cn() const { return 0.5 * nu() * prm_.dt; }  // Crank-Nicolson factor nu dt / 2 (Eq. 28)
+  SpMat crank_nicolson_matrix() const;  // I - a lap (Eq. 28), the pattern of lap_u.A
+
+  FluidParams prm_;
+  Lattice lat_;
+  CubicSplineKernel W_;
+  Vec V_;
+  // the step's geometry (the method builds it; operators_changed() derives the rest)
+  Images im_;
+  PairList pairs_;
+  Operators op_;
+  const RowStencil* vel_st_ = nullptr;  // stencils of the velocity / phi patterns (EPSPH)
+  const RowStencil* phi_st_ = nullptr;
+  std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
+  Mat2 c_wall_, c_star_, lap_wall_;  // c^n = 2 u_b, c*, and B c^n of the Laplacian (constant per geometry)
+  // the solvers of the step: Crank-Nicolson, and the approximate projection's Poisson with its gauge
+  // (EPSPH's exact projection makes the Poisson solver only when phi is first asked for: mutable)
+  std::unique_ptr<LinearSolver> cn_;
+  mutable std::unique_ptr<LinearSolver> poisson_;
+  Gauge gauge_;
+  mutable bool poisson_unpinned_ = false;  // the Poisson solver takes the singular operator (FFT): no pin
+  std::vector<int> dirichlet_rows_;      // Poisson rows replaced by phi_i = 0 (a free surface)
+  // state and workspace
+  Mat2 u_, u_star_, u_star_old_, rhs_, conv_, grad_phi_;
+  Vec div_;
+  mutable Vec phi_, b_phi_;
+  double t_ = 0;
+  long n_ = 0;
+  bool first_ = true;  // no N^{n-1} yet (AB2 starts with Euler)
+  bool convective_ = false;  // the method discretises convection (EPSPH); moving particles carry it
+
+  mutable Profile prof_;  // timing only: also updated by the lazily recovered pressure
+  int k_images_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_;
+
+ private:
+  std::vector<std::pair<std::string, double>> setup_;
+  mutable Vec p_;
+  mutable long p_revision_ = -1;  // the state p_ belongs to
+};
+
+}  // namespace sphib

@@ -1,0 +1,47 @@
+#pragma once
+// Which solver each linear system of a projection method gets: ONE policy for EPSPH, LPSPH and
+// ISPH (solver.crank_nicolson / solver.poisson = "auto"; another value forces that solver).
+//
+//   Crank-Nicolson (Eq. 28): on a fixed lattice the FFT lattice solver where the matrix has its
+//     structure (fluid/fft_poisson.hpp); else warm-started Jacobi-PCG when the Gershgorin bound
+//     b = 2 a max|lap_ii| <= 0.5 (the eigenvalues of I - a lap lie in [1, 1 + b]: condition number
+//     <= 1.5, 4-6 iterations to round-off, each a pass over A, cheaper than two triangular solves;
+//     measured iterations per step: b = 0.015: 4.0 (oscillating membrane), 0.15: 5.4; 0.78: 8.2
+//     (equilibrium membrane), 0.93: 14 (Poiseuille)); else CHOLMOD.
+//   Poisson (Eq. 32) and the stream functions: the FFT lattice solver on the singular operator
+//     itself (its own gauge: no pin in the right-hand side) where it applies; else CHOLMOD on the
+//     operator pinned by its gauge (fluid/gauge.hpp).
+//   CHOLMOD: simplicial or supernodal by the size of the factor, at 8e5 non-zeros in L for a
+//     matrix factorised once (the solves dominate) and 1.5e5 for one factorised every step (the
+//     numeric factorisation dominates). Measured here (one core), ms simplicial / supernodal per
+//     factorisation: nnz(L) = 1.2e4: 0.45/0.93; 9.4e4: 4.4/8.5; 1.5e5: 10.3/9.9; 2.9e5: 24.3/19.5;
+//     5.9e5: 56.5/35.1; per solve: README, "Solvers, chosen automatically".
+#include <memory>
+#include <string>
+
+#include "fluid/gauge.hpp"
+#include "fluid/lattice.hpp"
+#include "fluid/linear_solver.hpp"
+
+namespace sphib {
+
+// A matrix factorised once for the whole run (EPSPH), or again every step (moving particles:
+// LinearSolver::refactorize, the symbolic analysis kept while the pattern stays).
+enum class Refactor { Once, EveryStep };
+
+struct SystemSolver {
+  std::unique_ptr<LinearSolver> solver;
+  bool unpinned = false;  // it takes the singular operator itself: no pin in the right-hand side
+};
+
+// The Crank-Nicolson matrix A = I - a lap. `fixed`: the lattice when the particles never move (the
+// FFT solver needs it), else nullptr. The solver's log line says what was chosen and why.
+std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
+                                                    const Lattice* fixed, Refactor refactor);
+
+// A symmetric positive semi-definite operator A whose null space is that of gauge g. With
+// Refactor::EveryStep the pinned matrix keeps A's pattern (refactorize with g.pinned(A, false)).
+SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
+                             const Lattice* fixed, Refactor refactor);
+
+}  // namespace sphib
