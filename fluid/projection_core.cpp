@@ -177,7 +177,6 @@ void ProjectionFluid::restore(const NamedArrays& state) {
   n_ = static_cast<long>(clock(0, 1));
   first_ = clock(0, 2) != 0.0;
   restore_extra(state);
-  after_restore();
 }
 
 }  // namespace sphib

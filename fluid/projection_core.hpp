@@ -84,8 +84,7 @@ class ProjectionFluid : public FluidSolver {
   virtual void project() { project_approximate(); }
   virtual void end_step() {}    // after t and n have advanced
   virtual void extra_state(NamedArrays&) const {}
-  virtual void restore_extra(const NamedArrays&) {}
-  virtual void after_restore() {}  // the geometry of the restored state
+  virtual void restore_extra(const NamedArrays&) {}  // (after the core's part: t_ and n_ are set)
 
   // --- the parts of the step ------------------------------------------------------------------
   // After the method (re)built im_, pairs_ and op_: the rows of the image operators, the wall part
