@@ -90,7 +90,7 @@ Fluid::Fluid(const FluidParams& params)
   std::string cn_fft_why;
   if (cn_kind == SolverKind::Auto || cn_kind == SolverKind::Fft) {
     cn_ = make_fft_solver("Crank-Nicolson", A_cn, lat_, false, &cn_fft_why);
-    if (cn_ && cn_kind == SolverKind::Auto) cn_->annotate(" (auto: periodic in x, walled in y)", 0.0);
+    if (cn_ && cn_kind == SolverKind::Auto) cn_->annotate(" (auto)", 0.0);
     if (!cn_ && cn_kind == SolverKind::Fft)
       throw std::invalid_argument("solver.crank_nicolson = \"fft\" does not apply: " + cn_fft_why);
   }
@@ -149,7 +149,7 @@ std::unique_ptr<LinearSolver> Fluid::poisson_solver(const std::string& system, c
     auto s = make_fft_solver(system, A, lat_, g.dimension() > 0, &why);
     if (s) {
       *fft = true;
-      if (kind == SolverKind::Auto) s->annotate(" (auto: periodic in x, walled in y)", 0.0);
+      if (kind == SolverKind::Auto) s->annotate(" (auto)", 0.0);
       return s;
     }
     if (kind == SolverKind::Fft) throw std::invalid_argument("solver.poisson = \"fft\" does not apply: " + why);
