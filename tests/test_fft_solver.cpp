@@ -8,9 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "fluid/boundary.hpp"
 #include "fluid/fft_poisson.hpp"
 #include "fluid/gauge.hpp"
-#include "fluid/projection.hpp"
+#include "fluid/kernel.hpp"
+#include "fluid/lattice.hpp"
+#include "fluid/neighbours.hpp"
+#include "fluid/operators.hpp"
+#include "fluid/solver.hpp"
 
 using namespace sphib;
 
@@ -29,19 +34,21 @@ const DomainCase kDomains[] = {{true, false, "channel", "FFT in x", "FFT in x"},
                                {true, true, "doubly periodic", "2-D FFT", "2-D FFT"},
                                {false, true, "walls in x, periodic y", "DCT-II in x", "DST-II in x"}};
 
-FluidParams params(const DomainCase& d, int nx, int ny, double h_over_dx) {
-  FluidParams p;
-  p.domain.periodic_x = d.px;
-  p.domain.periodic_y = d.py;
-  p.nx = nx;
-  p.ny = ny;
-  p.h_over_dx = h_over_dx;
-  p.mu = 1e-3;
-  p.dt = 1e-3;
-  p.convection = false;
-  p.projection = Projection::Exact;
-  p.cn_solver = p.poisson_solver = SolverKind::CholmodSimplicial;  // the Fluid's own: not under test here
-  return p;
+// The lattice of Eq. (68), its wall images and the operators EPSPH assembles on it (Eqs. 27-34).
+struct LatticeOperators {
+  Lattice L;
+  Operators op;
+  int size() const { return L.size(); }
+};
+LatticeOperators lattice_operators(const DomainCase& d, int nx, int ny, double h_over_dx) {
+  Domain dom;
+  dom.periodic_x = d.px;
+  dom.periodic_y = d.py;
+  LatticeOperators lo{make_lattice(dom, nx, ny), {}};
+  const CubicSplineKernel W(h_over_dx * 0.5 * (lo.L.dx + lo.L.dy));
+  const Images im = make_images(lo.L, W.support());
+  lo.op = build_operators(find_pairs(lo.L, im.x, W.support()), lo.L, im, W);
+  return lo;
 }
 
 // One system EPSPH solves, as fluid/projection.cpp builds it, with its null space and the parity of
@@ -53,13 +60,13 @@ struct System {
   bool odd;
 };
 
-std::vector<System> systems(const Fluid& f) {
-  const Operators& op = f.operators();
-  const Domain& d = f.lattice().domain;
+std::vector<System> systems(const LatticeOperators& f) {
+  const Operators& op = f.op;
+  const Domain& d = f.L.domain;
   const int N = f.size();
   SpMat I(N, N);
   I.setIdentity();
-  const double a = 0.5 * f.lattice().dx * f.lattice().dx;  // nu dt / 2 of a stiff Crank-Nicolson step
+  const double a = 0.5 * f.L.dx * f.L.dx;  // nu dt / 2 of a stiff Crank-Nicolson step
   const SpMat& Gx = op.grad_ux.A;
   const SpMat& Gy = op.grad_uy.A;
   const SpMat GtG_odd = SpMat(Gy.transpose()) * Gy + SpMat(Gx.transpose()) * Gx;
@@ -122,12 +129,12 @@ TEST(FftSolver, MatchesCholmodOnEveryDomainAndSystem) {
   struct Size { int nx, ny; double h_over_dx; };
   for (const Size& s : {Size{24, 20, 1.2}, Size{17, 22, 1.2}, Size{32, 28, 2.25}})
     for (const DomainCase& dc : kDomains) {
-      const Fluid f(params(dc, s.nx, s.ny, s.h_over_dx));
+      const LatticeOperators f = lattice_operators(dc, s.nx, s.ny, s.h_over_dx);
       for (const System& sys : systems(f)) {
         SCOPED_TRACE(std::string(dc.name) + ", " + sys.name + ", " + std::to_string(s.nx) + " x " + std::to_string(s.ny));
-        const Gauge g(f.lattice(), sys.null);
+        const Gauge g(f.L, sys.null);
         std::string why;
-        auto fft = make_fft_solver(sys.name, sys.A, f.lattice(), g.dimension() > 0, &why);
+        auto fft = make_fft_solver(sys.name, sys.A, f.L, g.dimension() > 0, &why);
         ASSERT_TRUE(fft) << why;
         EXPECT_NE(fft->info().method.find(sys.odd ? dc.odd_x : dc.even_x), std::string::npos) << fft->info().method;
         const double kappa = condition(sys.A, *fft, g);
@@ -155,12 +162,10 @@ TEST(FftSolver, MatchesCholmodOnEveryDomainAndSystem) {
 // bitwise the columns of two single solves, on the new paths (2-D FFT, DST-II + banded).
 TEST(FftSolver, TwoColumnsEqualTwoSingleSolves) {
   for (const DomainCase& dc : {kDomains[1], kDomains[2], kDomains[3]}) {
-    FluidParams p = params(dc, 96, 96, 1.2);
-    p.cn_solver = p.poisson_solver = SolverKind::Auto;  // CHOLMOD would take seconds here
-    const Fluid f(p);
+    const LatticeOperators f = lattice_operators(dc, 96, 96, 1.2);
     const System cn = systems(f)[0];
     std::string why;
-    auto fft = make_fft_solver(cn.name, cn.A, f.lattice(), false, &why);
+    auto fft = make_fft_solver(cn.name, cn.A, f.L, false, &why);
     ASSERT_TRUE(fft) << why;
     Eigen::MatrixXd B(f.size(), 2), X = Eigen::MatrixXd::Zero(f.size(), 2);
     B.col(0) = random_vector(f.size(), 1);
@@ -180,41 +185,40 @@ TEST(FftSolver, TwoColumnsEqualTwoSingleSolves) {
 // from the middle of a narrow closed box (no row free of images to take the model from); a matrix
 // said to be singular that is not, and the reverse.
 TEST(FftSolver, RefusesWhatItCannotSolve) {
-  const Fluid box(params(kDomains[1], 16, 16, 1.2));
-  const SpMat P = -box.operators().lap_phi;
+  const LatticeOperators box = lattice_operators(kDomains[1], 16, 16, 1.2);
+  const SpMat P = -box.op.lap_phi;
   for (int row : {0, 16 * 7}) {  // the corner, and the left wall's row in the middle of the box
     SpMat A = P;
     A.coeffRef(row, row) *= 1.0 + 1e-6;
     std::string why;
-    EXPECT_FALSE(make_fft_solver("Poisson", A, box.lattice(), true, &why));
+    EXPECT_FALSE(make_fft_solver("Poisson", A, box.L, true, &why));
     EXPECT_NE(why.find("row " + std::to_string(row) + " "), std::string::npos) << why;
   }
   {
     std::string why;
-    const SpMat mixed = P - box.operators().lap_u.A;
-    EXPECT_FALSE(make_fft_solver("mixed", mixed, box.lattice(), true, &why));
+    const SpMat mixed = P - box.op.lap_u.A;
+    EXPECT_FALSE(make_fft_solver("mixed", mixed, box.L, true, &why));
     EXPECT_NE(why.find("neither even nor odd"), std::string::npos) << why;
   }
   {
-    FluidParams p = params(kDomains[3], 12, 24, 2.25);  // walls in x: G^T G has half-width 8 of 12 sites
-    const Fluid narrow(p);
+    const LatticeOperators narrow = lattice_operators(kDomains[3], 12, 24, 2.25);  // G^T G: half-width 8 of 12 sites
     const System gtg = systems(narrow)[2];
     std::string why;
-    EXPECT_FALSE(make_fft_solver(gtg.name, gtg.A, narrow.lattice(), true, &why));
+    EXPECT_FALSE(make_fft_solver(gtg.name, gtg.A, narrow.L, true, &why));
     EXPECT_NE(why.find("reaches a wall"), std::string::npos) << why;
   }
   for (const DomainCase& dc : {kDomains[1], kDomains[2]}) {
-    const Fluid f(params(dc, 16, 16, 1.2));
+    const LatticeOperators f = lattice_operators(dc, 16, 16, 1.2);
     const System cn = systems(f)[0], poisson = systems(f)[1];
     std::string why;
-    EXPECT_FALSE(make_fft_solver(cn.name, cn.A, f.lattice(), true, &why)) << dc.name;
+    EXPECT_FALSE(make_fft_solver(cn.name, cn.A, f.L, true, &why)) << dc.name;
     EXPECT_NE(why.find("said to be singular"), std::string::npos) << why;
-    EXPECT_FALSE(make_fft_solver(poisson.name, poisson.A, f.lattice(), false, &why)) << dc.name;
+    EXPECT_FALSE(make_fft_solver(poisson.name, poisson.A, f.L, false, &why)) << dc.name;
     EXPECT_NE(why.find("not positive definite"), std::string::npos) << why;
   }
 }
 
-// The Fluid picks the fast path by itself (`auto`) on every domain kind and steps like CHOLMOD:
+// The fluid picks the fast path by itself (`auto`) on every domain kind and steps like CHOLMOD:
 // u after 5 steps from a random field with convection on, the Crank-Nicolson and stream-function
 // systems by FFT/DCT/DST against CHOLMOD for both. Measured max |u_fft - u_cholmod|: 1.5e-13
 // (doubly periodic), 2.1e-13 (walls in x), 4.3e-13 (channel), 2.2e-12 (closed box), max |u| 0.93-0.98:
@@ -223,20 +227,25 @@ TEST(FftSolver, FluidStepsLikeCholmodOnEveryDomain) {
   for (const DomainCase& dc : kDomains) {
     Mat2 u[2];
     for (int s = 0; s < 2; ++s) {
-      FluidParams p = params(dc, 20, 18, 1.2);
-      p.convection = true;
+      FluidParams p;
+      p.domain.periodic_x = dc.px;
+      p.domain.periodic_y = dc.py;
+      p.nx = 20;
+      p.ny = 18;
       p.mu = 0.05;
+      p.convection = true;
+      p.projection = Projection::Exact;
       p.cn_solver = p.poisson_solver = s ? SolverKind::CholmodSimplicial : SolverKind::Auto;
-      Fluid f(p);
+      auto f = make_fluid(p);
       if (s == 0)
-        for (const SolverInfo& si : f.solver_info())
-          EXPECT_EQ(si.method.find("CHOLMOD"), std::string::npos) << dc.name << ": " << si.method;
-      Mat2 u0(f.size(), 2);
-      u0.col(0) = random_vector(f.size(), 5);
-      u0.col(1) = random_vector(f.size(), 6);
-      f.set_velocity(u0);
-      for (int k = 0; k < 5; ++k) f.step(Mat2::Zero(f.size(), 2));
-      u[s] = f.u();
+        for (const std::string& line : f->describe())  // the run log's lines: one per solver
+          EXPECT_EQ(line.find("CHOLMOD"), std::string::npos) << dc.name << ": " << line;
+      Mat2 u0(f->size(), 2);
+      u0.col(0) = random_vector(f->size(), 5);
+      u0.col(1) = random_vector(f->size(), 6);
+      f->set_velocity(u0);
+      for (int k = 0; k < 5; ++k) f->step(Mat2::Zero(f->size(), 2));
+      u[s] = f->u();
     }
     EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-10) << dc.name;
   }
