@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -179,12 +180,39 @@ TEST(FftSolver, TwoColumnsEqualTwoSingleSolves) {
   }
 }
 
-// The structure check can fail, and says where: one coefficient of a closed box's corner row (row 0:
+// The structure check can fail, and says where: a channel's matrix that is not a translate along x
+// (one coefficient moved); one coefficient of a closed box's corner row (row 0:
 // both x and y images folded in) or of a wall row moved by 1e-6; a matrix whose x images are neither
 // even nor odd (the sum of an even-image and an odd-image operator); a stencil that reaches a wall
 // from the middle of a narrow closed box (no row free of images to take the model from); a matrix
-// said to be singular that is not, and the reverse.
+// said to be singular that is not, and the reverse. And the scene key asks for it in vain: a closed
+// box of 12 x 12 with h = 2.25 dx, where the exact projection's G^T G (half-width 8) is as wide as
+// the lattice.
 TEST(FftSolver, RefusesWhatItCannotSolve) {
+  {
+    const LatticeOperators ch = lattice_operators(kDomains[0], 16, 16, 1.2);
+    SpMat A = -ch.op.lap_phi;
+    A.coeffRef(40, 40) *= 1.0 + 1e-6;
+    std::string why;
+    EXPECT_FALSE(make_fft_solver("Poisson", A, ch.L, true, &why));
+    EXPECT_NE(why.find("row 40 "), std::string::npos) << why;
+    EXPECT_NE(why.find("not block circulant"), std::string::npos) << why;
+  }
+  {
+    FluidParams p;
+    p.domain.periodic_x = p.domain.periodic_y = false;
+    p.nx = p.ny = 12;
+    p.h_over_dx = 2.25;
+    p.projection = Projection::Exact;
+    p.poisson_solver = SolverKind::Fft;
+    try {
+      make_fluid(p);
+      ADD_FAILURE() << "solver.poisson = fft accepted where G^T G is as wide as the lattice";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("solver.poisson"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("as wide as the lattice"), std::string::npos) << e.what();
+    }
+  }
   const LatticeOperators box = lattice_operators(kDomains[1], 16, 16, 1.2);
   const SpMat P = -box.op.lap_phi;
   for (int row : {0, 16 * 7}) {  // the corner, and the left wall's row in the middle of the box

@@ -625,28 +625,6 @@ TEST(Solver, FftSolverSolvesCrankNicolsonLikeCholmod) {
   }
 }
 
-// The FFT solver refuses what it cannot solve, naming why: a matrix that is not a translate along x
-// (one coefficient moved); and the scene key asks for it in vain: a closed box of 12 x 12 with
-// h = 2.25 dx, where the exact projection's G^T G (half-width 8) is as wide as the lattice.
-// (Closed and doubly periodic boxes: tests/test_fft_solver.cpp.)
-TEST(Solver, FftSolverRefusesOtherStructures) {
-  const Fluid ch(make_params(16, 1.2, true, false));
-  SpMat A = -ch.operators().lap_phi;
-  A.coeffRef(40, 40) *= 1.0 + 1e-6;
-  std::string why;
-  EXPECT_FALSE(make_fft_solver("Poisson", A, ch.lattice(), true, &why));
-  EXPECT_NE(why.find("row 40"), std::string::npos) << why;
-  FluidParams p = make_params(12, 2.25, false, false);
-  p.poisson_solver = SolverKind::Fft;
-  try {
-    Fluid f(p);
-    ADD_FAILURE() << "solver.poisson = fft accepted where G^T G is as wide as the lattice";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("solver.poisson"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("as wide as the lattice"), std::string::npos) << e.what();
-  }
-}
-
 // ======================================================================================
 // Fluid: the PMIII step (Eqs. 28-35)
 // ======================================================================================
