@@ -3,6 +3,7 @@
 // formatting for tables and CSV, Markdown tables and reading its own CSV back (--keep,
 // --report-only). Header-only; the benchmarks are single files. Wall time: sphib::seconds_since.
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -16,6 +17,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -89,6 +91,70 @@ inline double cpu_seconds() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+}
+
+// A field of /proc/self/status in kB (VmHWM: peak resident memory, VmRSS: resident now); -1 if absent.
+inline long status_kb(const char* key) {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  const std::string k = std::string(key) + ":";
+  while (std::getline(f, line))
+    if (line.rfind(k, 0) == 0) return std::strtol(line.c_str() + k.size(), nullptr, 10);
+  return -1;
+}
+
+// This program run again as a child (/proc/self/exe with `args`, which start with the program name):
+// what it wrote on standard output, its exit status (as waitpid gives it), its peak resident memory
+// (wait4's ru_maxrss, kB) and its wall time. Memory figures per size need a fresh process each.
+struct ChildRun {
+  std::string out;
+  int status = 0;
+  long maxrss_kb = 0;
+  double wall_s = 0;
+};
+inline ChildRun run_self(const std::vector<std::string>& args) {
+  int fd[2];
+  if (pipe(fd) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  const auto t0 = Clock::now();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    dup2(fd[1], 1);
+    close(fd[0]);
+    close(fd[1]);
+    std::vector<char*> av;
+    for (const auto& a : args) av.push_back(const_cast<char*>(a.c_str()));
+    av.push_back(nullptr);
+    execv("/proc/self/exe", av.data());
+    _exit(127);
+  }
+  close(fd[1]);
+  ChildRun r;
+  char buf[4096];
+  for (ssize_t n; (n = read(fd[0], buf, sizeof buf)) > 0;) r.out.append(buf, n);
+  close(fd[0]);
+  rusage ru{};
+  wait4(pid, &r.status, 0, &ru);
+  r.maxrss_kb = ru.ru_maxrss;
+  r.wall_s = seconds_since(t0);
+  return r;
+}
+
+// The last line of `out` that starts with '{' (a child's JSON report), or "".
+inline std::string last_json_line(const std::string& out) {
+  std::stringstream ss(out);
+  std::string last;
+  for (std::string line; std::getline(ss, line);)
+    if (!line.empty() && line[0] == '{') last = line;
+  return last;
+}
+
+// The load average over the last minute (/proc/loadavg), NAN if unreadable.
+inline double load_average() {
+  std::ifstream f("/proc/loadavg");
+  double l = NAN;
+  f >> l;
+  return l;
 }
 
 inline std::string cpu_model() {

@@ -32,8 +32,6 @@
 // smallest sizes are dominated by fixed overheads). Writes DIR/scaling.csv, DIR/solvers.csv,
 // DIR/scaling.md atomically after every child. Times are wall seconds of a single-threaded child
 // on a 2-core machine shared with other jobs (CPU seconds of the loop are reported beside them).
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -59,14 +57,6 @@ namespace {
 using namespace sphib::bench;
 using sphib::seconds_since;
 
-long status_kb(const char* key) {  // VmHWM, VmRSS of this process in kB
-  std::ifstream f("/proc/self/status");
-  std::string line;
-  const std::string k = std::string(key) + ":";
-  while (std::getline(f, line))
-    if (line.rfind(k, 0) == 0) return std::strtol(line.c_str() + k.size(), nullptr, 10);
-  return -1;
-}
 double jnum(const json& j, const char* k) { return j.contains(k) && j[k].is_number() ? j[k].get<double>() : NAN; }
 
 std::vector<std::string> scene_sets(const std::string& c, int nx, const std::string& cn, const std::string& poisson) {
@@ -227,49 +217,21 @@ struct Options {
 
 // Runs one child; returns its JSON with the parent's wall time and wait4's ru_maxrss added.
 json spawn(const Options& o, const std::string& c, int nx, const std::string& cn, const std::string& poisson, long steps) {
-  int fd[2];
-  if (pipe(fd) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  const std::vector<std::string> args{"/proc/self/exe", "--child",  c, std::to_string(nx), cn, poisson,
-                                      std::to_string(steps), "--cases-dir", o.cases_dir.string()};
-  const auto t0 = Clock::now();
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-  if (pid == 0) {
-    dup2(fd[1], 1);
-    close(fd[0]);
-    close(fd[1]);
-    std::vector<char*> av;
-    for (const auto& a : args) av.push_back(const_cast<char*>(a.c_str()));
-    av.push_back(nullptr);
-    execv(av[0], av.data());
-    _exit(127);
-  }
-  close(fd[1]);
-  std::string out;
-  char buf[4096];
-  for (ssize_t n; (n = read(fd[0], buf, sizeof buf)) > 0;) out.append(buf, n);
-  close(fd[0]);
-  int st = 0;
-  rusage ru{};
-  wait4(pid, &st, 0, &ru);
+  const ChildRun r = run_self({"/proc/self/exe", "--child", c, std::to_string(nx), cn, poisson, std::to_string(steps),
+                               "--cases-dir", o.cases_dir.string()});
   json j;
-  {  // the child's last line is its JSON
-    std::stringstream ss(out);
-    std::string last;
-    for (std::string line; std::getline(ss, line);)
-      if (!line.empty() && line[0] == '{') last = line;
-    if (!last.empty()) j = json::parse(last, nullptr, false);
-  }
+  const std::string last = last_json_line(r.out);  // the child's last line is its JSON
+  if (!last.empty()) j = json::parse(last, nullptr, false);
   if (j.is_discarded() || j.is_null()) {
     j = json::object();
     j["case"] = c;
     j["nx"] = nx;
     j["cn"] = cn;
     j["poisson"] = poisson;
-    j["error"] = "child failed (status " + std::to_string(st) + ")";
+    j["error"] = "child failed (status " + std::to_string(r.status) + ")";
   }
-  j["child_wall_s"] = seconds_since(t0);
-  j["ru_maxrss_kb"] = ru.ru_maxrss;
+  j["child_wall_s"] = r.wall_s;
+  j["ru_maxrss_kb"] = r.maxrss_kb;
   return j;
 }
 

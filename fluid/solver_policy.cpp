@@ -23,7 +23,7 @@ std::unique_ptr<LinearSolver> lattice_solver(const std::string& system, const st
   if (!fixed) {
     why = "the particles move (the FFT solver needs the fixed lattice)";
   } else if (auto s = make_fft_solver(system, A, *fixed, singular, &why)) {
-    if (kind == SolverKind::Auto) s->annotate(" (auto: periodic in x, walled in y)", 0.0);
+    if (kind == SolverKind::Auto) s->annotate(" (auto)", 0.0);
     return s;
   }
   if (kind == SolverKind::Fft) throw std::invalid_argument(key + " = \"fft\" does not apply: " + why);

@@ -427,11 +427,11 @@ void read_time_and_solvers(Reader& r, Scene& s) {
   cn_kinds.push_back("pcg");
   cn_kinds.push_back("fft");
   f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", cn_kinds,
-                                     "Crank-Nicolson solver (auto: FFT in x + banded Cholesky in y when the domain is periodic in x and walled in y (eulerian), else warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor)"));
+                                     "Crank-Nicolson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   std::vector<std::string> poisson_kinds(kinds);
   poisson_kinds.push_back("fft");
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", poisson_kinds,
-                                          "Poisson solver (auto: FFT in x + banded Cholesky in y when the domain is periodic in x and walled in y (eulerian), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
+                                          "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
   s.sim.markers.extrapolate =

@@ -625,31 +625,6 @@ TEST(Solver, FftSolverSolvesCrankNicolsonLikeCholmod) {
   }
 }
 
-// The FFT solver refuses what it cannot solve, naming why: a closed box; a matrix that is not a
-// translate along x (one coefficient moved); and the scene key asks for it in vain.
-TEST(Solver, FftSolverRefusesOtherStructures) {
-  {
-    const EulerianFluid box(make_params(16, 1.2, false, false));
-    std::string why;
-    EXPECT_FALSE(make_fft_solver("Poisson", -box.operators().lap_phi, box.lattice(), true, &why));
-    EXPECT_NE(why.find("periodic in x"), std::string::npos) << why;
-  }
-  const EulerianFluid ch(make_params(16, 1.2, true, false));
-  SpMat A = -ch.operators().lap_phi;
-  A.coeffRef(40, 40) *= 1.0 + 1e-6;
-  std::string why;
-  EXPECT_FALSE(make_fft_solver("Poisson", A, ch.lattice(), true, &why));
-  EXPECT_NE(why.find("row 40"), std::string::npos) << why;
-  FluidParams p = make_params(16, 1.2, false, false);
-  p.poisson_solver = SolverKind::Fft;
-  try {
-    EulerianFluid f(p);
-    ADD_FAILURE() << "solver.poisson = fft accepted on a closed box";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("solver.poisson"), std::string::npos) << e.what();
-  }
-}
-
 // ======================================================================================
 // Fluid: the PMIII step (Eqs. 28-35)
 // ======================================================================================
