@@ -102,8 +102,9 @@ TEST(Gauge, NamedModesAreExactlyTheGradientsNullModes) {
 
 // One step from a random, divergent velocity: after the exact projection D u^{n+1} = 0 (D = -G^T)
 // to solver precision on every domain kind and with every Poisson solver, and the Poisson residual
-// is at round-off. Measured max |D u^1| / max |D u^0|: 2.7e-15 .. 3.6e-14 (FFT, CHOLMOD with one,
-// two or four pins); residuals <= 9.3e-15. Tolerances 1e-11 and 1e-10 (round-off times the
+// is at round-off. Measured max |D u^1| / max |D u^0|: 2.7e-16 .. 5.1e-16 (the lattice solvers of
+// fft_poisson.hpp on every domain, CHOLMOD with one, two or four pins); residuals <= 7.5e-14
+// (CHOLMOD on the closed box). Tolerances 1e-11 and 1e-10 (round-off times the
 // condition of G^T G near its null modes). The approximate projection leaves 0.57-0.58 of it
 // (test_fluid.cpp).
 TEST(ExactProjection, RandomFieldBecomesDivergenceFreeOnEveryDomain) {
