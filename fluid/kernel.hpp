@@ -62,14 +62,21 @@ struct CubicSplineKernel {
   // The markers' loops (coupling/neighbourhood.hpp) take two points at a time, lane by lane, from
   // squared distances r2: both pieces of Eq. (19) are computed and one selected, without a branch
   // (a query's points fall on either side of q = 1 in no predictable order), with q = r (1/h) and
-  // the constant factors folded, so that W takes one square root and no division, F one division.
-  // Equal to W() and F() to a few units in the last place of W(0) and F(0) (tests/test_fluid.cpp,
-  // Kernel.TwoLaneFormsMatchTheScalarOnes); 0 from 2h (1 + 1e-12) on.
+  // the constant factors folded, so that W takes one square root and no division, F and G one
+  // division between them. Equal to W() and F() to a few units in the last place of W(0) and F(0)
+  // (tests/test_fluid.cpp, Kernel.TwoLaneFormsMatchTheScalarOnes); 0 from 2h (1 + 1e-12) on.
   Lanes2 W2(Lanes2 r2) const { return Pieces(*this, r2).W(); }
   void W_F2(Lanes2 r2, Lanes2& w, Lanes2& f) const {
     const Pieces p(*this, r2);
     w = p.W();
     f = p.F();
+  }
+  // ... and G = (1/r) dF/dr: the Hessian of W(|x|) is F I + G x x^T (0 at r = 0, where G x x^T -> 0).
+  void W_F_G2(Lanes2 r2, Lanes2& w, Lanes2& f, Lanes2& g) const {
+    const Pieces p(*this, r2);
+    w = p.W();
+    f = p.F();
+    g = p.G();
   }
 
  private:
@@ -85,6 +92,11 @@ struct CubicSplineKernel {
       const double c = k.w0 / (k.h * k.h);
       const Lanes2 f_in = lanes2(c) * (lanes2(-2.0) + lanes2(1.5) * q), f_out = lanes2(-0.5 * c) * t * t * qinv();
       return select2(inside, select2(inner, f_in, f_out), lanes2(0.0));
+    }
+    Lanes2 G() const {  // (1/r) dF/dr: 1.5 c / (h^2 q) for q < 1, 0.5 c t (q + 2) / (h^2 q^3) for 1 <= q < 2
+      const double c = k.w0 / (k.h * k.h * k.h * k.h);
+      const Lanes2 qi = qinv(), g_in = lanes2(1.5 * c) * qi, g_out = lanes2(0.5 * c) * t * (q + lanes2(2.0)) * qi * qi * qi;
+      return select2(inside & (q > lanes2(0.0)), select2(inner, g_in, g_out), lanes2(0.0));
     }
     Lanes2 qinv() const { return lanes2(1.0) / q; }  // (inf at q = 0, in lanes not selected)
     const CubicSplineKernel& k;
