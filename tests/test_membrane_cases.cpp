@@ -177,6 +177,28 @@ TEST(MembraneCases, RestartKeepsTheLinearisedMarkerVelocity) {
   EXPECT_EQ((a.membranes()[0].m.X - b.membranes()[0].m.X).cwiseAbs().maxCoeff(), 0.0);
 }
 
+// The energy guard stops an unstable membrane (32 x 32, Nb 64, T0 = 1e4, mu = 1e-3, dt = 4e-4: past
+// the explicit elastic force's limit) when kinetic + elastic energy passes ten times its initial
+// value, before the other guards: measured at step 172 (t = 0.0688). (An elastic energy by the
+// trapezoidal rule from the tensions at the markers, 1.8e-3 off the spline's in a smooth run, misses
+// the marker-scale growth: the run went on to step 176, stopped by max |u|.) Tolerance: steps 165
+// to 175.
+TEST(MembraneCases, EnergyGuardStopsAnUnstableMembrane) {
+  try {
+    run_case("membrane_oscillation", {"grid.nx=32", "grid.ny=32", "membrane.nb=64", "membrane.T0=10000",
+                                      "fluid.mu=0.001", "time.dt=4e-4", "time.end=0.2", "output.interval=0"});
+    FAIL() << "no blow-up detected";
+  } catch (const RunError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("exceeds ten times its initial value"), std::string::npos) << m;
+    const size_t at = m.find("blow-up at step ");
+    ASSERT_NE(at, std::string::npos) << m;
+    const long step = std::stol(m.substr(at + 16));
+    EXPECT_GE(step, 165) << m;
+    EXPECT_LE(step, 175) << m;
+  }
+}
+
 // The two first iterates of the marker update (solver.marker_predictor) lead to the same root of
 // Eq. (59) within its tolerance; the extrapolated one saves the predictor's interpolation and, at
 // O(dt^3) from the root, most iterates. Each step's accepted iterate lies within about eps = 1e-12
