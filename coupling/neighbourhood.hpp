@@ -12,9 +12,10 @@ namespace sphib {
 class Neighbourhood {
  public:
   // The points within `radius` of (qx, qy), in CellGrid::for_each_near's order, padded to whole
-  // pairs with a repeat of the first point at twice the radius (where the kernel is 0).
-  void gather(const CellGrid& grid, double qx, double qy, double radius) {
-    grid.gather_near(qx, qy, radius, p_);
+  // pairs with a repeat of the first point at twice the radius (where the kernel is 0). Without
+  // `offsets` only the indices and squared distances (dx and dy unset).
+  void gather(const CellGrid& grid, double qx, double qy, double radius, bool offsets = true) {
+    grid.gather_near(qx, qy, radius, p_, offsets);
     const int n = p_.n;
     pairs = (n + 1) / 2;
     if (n % 2) {

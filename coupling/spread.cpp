@@ -10,7 +10,7 @@ void spread_force(const CellGrid& grid, const CubicSplineKernel& W_star, const M
   Neighbourhood nb;
   for (int k = 0; k < X.rows(); ++k) {
     const double fx = f(k, 0) * ds, fy = f(k, 1) * ds;  // f_k ds
-    nb.gather(grid, X(k, 0), X(k, 1), radius);
+    nb.gather(grid, X(k, 0), X(k, 1), radius, /*offsets=*/false);
     for (int m = 0; m < nb.pairs; ++m) {
       const Lanes2 w = W_star.W2(nb.r2(m));  // W(x_i - X_k, h*), 0 beyond 2h*
       const int i0 = nb.j0(m), i1 = nb.j1(m);

@@ -37,7 +37,7 @@ void NearPoints::reserve(int m) {
   for (auto* v : {&dx, &dy, &r2}) v->resize(size);
 }
 
-void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out) const {
+void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out, bool offsets) const {
   out.n = 0;
   if (lat_.n[0] == 0) {
     for_each_near(qx, qy, radius, [&](int j, double dx, double dy, double) {
@@ -58,11 +58,12 @@ void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out)
   if (ncol > kCols) throw std::invalid_argument("CellGrid::gather_near: the query spans more than 256 lattice columns");
   out.reserve(ncol * std::max(hi[1] - lo[1] + 1, 0) + 1);
   int col[kCols];
-  double cdx[kCols];
+  double cdx[kCols], cdx2[kCols];
   int iw = periodic_[0] ? ((lo[0] % nx) + nx) % nx : lo[0];
   for (int c = 0; c < ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
     col[c] = iw;
     cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
+    cdx2[c] = cdx[c] * cdx[c];
   }
   const double r2max = radius * radius;
   int* __restrict j = out.j.data();
@@ -75,10 +76,12 @@ void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out)
     if (ry2 >= r2max) continue;
     const int row = nx * (periodic_[1] ? ((b % ny) + ny) % ny : b);
     for (int c = 0; c < ncol; ++c) {
-      const double d2 = cdx[c] * cdx[c] + ry2;
+      const double d2 = cdx2[c] + ry2;
       j[n] = row + col[c];
-      dx[n] = cdx[c];
-      dy[n] = ry;
+      if (offsets) {  // (a loop-invariant branch: the compiler makes two loops)
+        dx[n] = cdx[c];
+        dy[n] = ry;
+      }
       r2[n] = d2;
       n += d2 < r2max;
     }

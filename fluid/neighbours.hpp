@@ -38,8 +38,9 @@ class CellGrid {
   // The points for_each_near visits, in its order and with the same offsets, into `out` (for loops
   // that evaluate a kernel over them without a branch per point). In lattice mode without a branch
   // per point either: every point of the query's box is written, and counted if inside the radius.
-  // Leaves room for one point more than out.n (to pad to whole SIMD lanes).
-  void gather_near(double qx, double qy, double radius, NearPoints& out) const;
+  // Leaves room for one point more than out.n (to pad to whole SIMD lanes). Without `offsets` the
+  // lattice mode leaves out.dx and out.dy unset (a caller that needs only j and r2).
+  void gather_near(double qx, double qy, double radius, NearPoints& out, bool offsets = true) const;
 
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
