@@ -15,6 +15,7 @@
 // Phys. 347 (2017) 183), and a closed curve moving with it keeps its area up to the time
 // integration. psi_h reproduces constants, so the gauge of psi does not matter; at a lattice point
 // grad psi_h is (G psi)_i / sum_j V W_ij, the fluid's own gradient of psi (Eq. 27) over the kernel sum.
+#include "coupling/marker_update.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/neighbours.hpp"
 
@@ -29,8 +30,9 @@ void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, cons
                           const Mat2& X, Mat2& U, bool normalised = true);
 
 // The divergence-free marker velocity above, from psi at the particles of `grid` and the uniform
-// flow U_mean. Throws like interpolate_velocity for a point with no particle within 2h.
+// flow U_mean; with dU non-null also its gradient dU/dX at X (from the Hessian of psi_h, exact for
+// the interpolant: trace 0). Throws like interpolate_velocity for a point with no particle within 2h.
 void interpolate_curl(const CellGrid& grid, const CubicSplineKernel& W, const Vec& psi,
-                      const Eigen::Vector2d& U_mean, const Mat2& X, Mat2& U);
+                      const Eigen::Vector2d& U_mean, const Mat2& X, Mat2& U, Jacobians* dU = nullptr);
 
 }  // namespace sphib

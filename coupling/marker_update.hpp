@@ -7,7 +7,17 @@
 // interpolation of coupling/interpolate.hpp. Both predictors lead to the same root within eps; the
 // paper's costs one interpolation more and starts O(dt^2) from it, the Adams-Bashforth
 // extrapolation (no interpolation: U^n and U^{n-1} are known) starts O(dt^3) from it, so that one
-// iterate usually meets eps = 1e-12 (main job: 2 interpolations per step instead of 4).
+// iterate usually meets eps = 1e-12.
+//
+// Linearised acceptance (when the interpolation also gives dU/dX, the divergence-free one): the
+// iterate X^[I+1] = X^[I] - g(X^[I]) is a step of |g| (~1e-11 on the main job) from the point
+// where U and dU/dX were interpolated, so there
+//   U^{n+1}(X^[I+1]) = U^{n+1}(X^[I]) - dU/dX g + O(|g|^2),   g(X^[I+1]) = dt/2 dU/dX g + O(dt |g|^2).
+// X^[I+1] is accepted without interpolating there when the step is below 1e-6 of max_move (one
+// lattice spacing: U varies on the kernel's scale h, so the neglected terms are ~1e-6 of the
+// linear ones) and the linear residual |dt/2 dU/dX g| is below eps/2; U^{n+1}(X^{n+1}) is then
+// the linearised value (the next step's U^n(X^n)), exact to O(|g|^2) ~ 1e-22. One interpolation
+// (with its gradient) per step instead of two, the same root within eps.
 #include <functional>
 
 #include "fluid/types.hpp"
@@ -19,21 +29,34 @@ struct MarkerUpdateParams {
   int max_iter = 50;
   double max_move = 0;  // > 0: a marker moving farther in one step is a blow-up (the Simulation sets dx)
   bool extrapolate = true;  // predictor: AB2 extrapolation when U^{n-1} is known, else Eq. (58)
+  bool linearise = true;    // linearised acceptance when the interpolation gives dU/dX (above)
 };
 
 struct MarkerUpdateResult {
   int iterations = 0;
-  double residual = 0;  // max_k |g_k| at the accepted iterate
+  double residual = 0;      // max_k |g_k| at the accepted iterate (linearised: its first-order value)
+  bool linearised = false;  // accepted by the linearised residual (U^{n+1}(X^{n+1}) linearised)
+  int interpolations = 0;   // marker velocity interpolations made
 };
 
-// The marker velocity U^{n+1} at points X (Nb x 2) into U (Nb x 2).
-using MarkerVelocity = std::function<void(const Mat2& X, Mat2& U)>;
+// dU/dX at each marker: dUx/dx, dUx/dy, dUy/dx, dUy/dy.
+using Jacobians = Eigen::Matrix<double, Eigen::Dynamic, 4>;
+
+// The marker velocity U^{n+1} at points X (Nb x 2) into U (Nb x 2); with dU non-null also its
+// gradient at X if the interpolation has one. Returns whether dU was filled.
+using MarkerVelocity = std::function<bool(const Mat2& X, Mat2& U, Jacobians* dU)>;
+
+struct MarkerWork {  // advance_markers' workspace (sized on first use)
+  Mat2 g;            // g(X^[I]) per marker
+  Jacobians dU;      // dU/dX at X^[I]
+};
 
 // X holds X^n on entry and X^{n+1} on exit; U_n = U^n(X^n); U_prev = U^{n-1}(X^{n-1}) or nullptr
 // (the first step, or prm.extrapolate off: Eq. 58); U is workspace (Nb x 2) and holds
-// U^{n+1}(X^{n+1}) on exit. Throws std::runtime_error naming `step` and the residual if the
-// iteration does not reach eps in max_iter iterations.
+// U^{n+1}(X^{n+1}) on exit (interpolated, or linearised as above). Throws std::runtime_error naming
+// `step` and the residual if the iteration does not reach eps in max_iter iterations.
 MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, const Mat2* U_prev, double dt,
-                                   const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U);
+                                   const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U,
+                                   MarkerWork& work);
 
 }  // namespace sphib

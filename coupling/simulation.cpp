@@ -95,25 +95,34 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
   mem_[k].hooke.compute(mem_[k].m.X, mem_[k].m.T0, mem_[k].f, mem_[k].T);
 }
 
-void Simulation::set_marker_history(size_t k, const Mat2& U_n) {
-  if (k >= mem_.size() || U_n.rows() != mem_[k].m.X.rows())
+void Simulation::set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next) {
+  if (k >= mem_.size() || U_n.rows() != mem_[k].m.X.rows() || (U_next && U_next->rows() != U_n.rows()))
     throw std::invalid_argument("membrane " + std::to_string(k) + ": marker velocities do not match the scene");
   mem_[k].U_n = U_n;
   mem_[k].U_n_known = true;
+  if (U_next) {
+    mem_[k].U = *U_next;
+    mem_[k].U_revision = fluid_->revision();
+  }
+}
+
+const Mat2* Simulation::next_marker_velocity(size_t k) const {
+  return k < mem_.size() && mem_[k].U_revision == fluid_->revision() ? &mem_[k].U : nullptr;
 }
 
 void Simulation::update_membrane_forces() {
   for (auto& s : mem_) s.hooke.compute(s.m.X, s.m.T0, s.f, s.T);
 }
 
-void Simulation::marker_velocity(const Mat2& X, Mat2& U) const {
+bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
   const FluidSolver& fluid = *fluid_;
   if (interp_ == MarkerInterpolation::DivergenceFree) {
     const StreamFunction sf = fluid.stream_function();  // once per fluid state, then cached
-    interpolate_curl(grid_, fluid.kernel(), *sf.psi, sf.mean, X, U);
-  } else {
-    interpolate_velocity(grid_, fluid.kernel(), fluid.volumes(), fluid.u(), X, U);  // Eq. (63)
+    interpolate_curl(grid_, fluid.kernel(), *sf.psi, sf.mean, X, U, dU);
+    return dU != nullptr;
   }
+  interpolate_velocity(grid_, fluid.kernel(), fluid.volumes(), fluid.u(), X, U);  // Eq. (63)
+  return false;
 }
 
 // One IB time step, t_n -> t_{n+1} (ARCHITECTURE.md, "One IB time step"):
@@ -151,7 +160,7 @@ void Simulation::marker_velocities_now() {
       s.U_prev_known = true;
     }
     s.U_n_known = true;
-    if (s.U_revision == fluid_->revision()) s.U_n = s.U;  // the last marker iterate: u^n at X^n, bit for bit
+    if (s.U_revision == fluid_->revision()) s.U_n = s.U;  // the last marker update's u^n at X^n
     else marker_velocity(s.m.X, s.U_n);
   }
 }
@@ -159,17 +168,19 @@ void Simulation::marker_velocities_now() {
 void Simulation::move_markers() {
   ScopedTimer t(prof_, k_markers_);
   if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // the particles of u^{n+1}
-  const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U) { marker_velocity(X, U); };
+  const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U, Jacobians* dU) { return marker_velocity(X, U, dU); };
   for (auto& s : mem_) {
     if (s.fixed) continue;
     s.U_revision = -1;
     try {
-      s.last = advance_markers(U_new, s.U_n, s.U_prev_known ? &s.U_prev : nullptr, fluid_->params().dt, prm_.markers, fluid_->steps(), s.m.X, s.X_n, s.U);
+      s.last = advance_markers(U_new, s.U_n, s.U_prev_known ? &s.U_prev : nullptr, fluid_->params().dt, prm_.markers,
+                               fluid_->steps(), s.m.X, s.X_n, s.U, s.work);
     } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
       throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
     }
-    s.U_revision = fluid_->revision();  // converged: U = u^{n+1}(X^{n+1}), the next step's U^n(X^n)
+    s.U_revision = fluid_->revision();  // converged: U = u^{n+1}(X^{n+1}) (to O(|g|^2) if linearised), the next U^n(X^n)
     s.iterations += s.last.iterations;
+    s.interpolations += s.last.interpolations;
     ++s.updates;
   }
 }

@@ -46,9 +46,11 @@ struct MembraneState {
   Mat2 U_prev;          // u^{n-1}(X^{n-1}): the marker predictor's extrapolation
   bool U_n_known = false, U_prev_known = false;
   long U_revision = -1;  // U = u(X) of the fluid at this revision, at the current markers (-1: not known)
+  MarkerWork work;      // the marker update's workspace
   Vec T;                // tension at the markers
   MarkerUpdateResult last;
   long iterations = 0, updates = 0;  // fixed-point iterations (Eq. 59) and marker updates so far
+  long interpolations = 0;           // marker velocity interpolations in those updates
 };
 
 class Simulation {
@@ -63,8 +65,12 @@ class Simulation {
   const Mat2& force() const { return F_; }  // F^n of the last step (body + membranes), N x 2
   void set_markers(size_t k, const Mat2& X);  // restart: markers of membrane k (same Nb)
   // Restart: U^n(X^n) of the step that made the checkpoint's markers, the next step's U^{n-1}
-  // (the marker predictor's history; without it the first step uses Eq. 58).
-  void set_marker_history(size_t k, const Mat2& U_n);
+  // (the marker predictor's history; without it the first step uses Eq. 58), and U_next, the
+  // U^{n+1}(X^{n+1}) that step left (next_marker_velocity), the next step's U^n(X^n) (without it,
+  // interpolated: a linearised one differs in the last bits).
+  void set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next = nullptr);
+  // U^{n+1}(X^{n+1}) of membrane k as the last marker update left it for the next step, or nullptr.
+  const Mat2* next_marker_velocity(size_t k) const;
   // f and T of every membrane at its current markers (Eqs. 47-50), as membranes()[k].f and .T show
   // them at all times: the constructor, set_markers and the end of step() call it, and step()
   // spreads the f it left (f^n at X^n).
@@ -73,8 +79,9 @@ class Simulation {
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
   MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
-  // The marker velocity of the fluid's current state at the points X, by the interpolation in use.
-  void marker_velocity(const Mat2& X, Mat2& U) const;
+  // The marker velocity of the fluid's current state at the points X, by the interpolation in use;
+  // with dU non-null also its gradient at X where the interpolation has one (returns whether it has).
+  bool marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU = nullptr) const;
 
  private:
   // The named parts of step():

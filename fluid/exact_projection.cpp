@@ -112,8 +112,8 @@ void ExactProjection::curl_transpose(const Mat2& u) {
 }
 
 void ExactProjection::psi_rhs() {
-  b_psi_ = cu_;
-  if (Q_ != 0.0) b_psi_.noalias() -= Q_ * psi_flux_;
+  if (Q_ != 0.0) b_psi_ = cu_ - Q_ * psi_flux_;  // (one pass)
+  else b_psi_ = cu_;
   psi_gauge_.project(b_psi_);  // G^T of a uniform flow is 0 on a periodic box: its mean is the stream function's U
 }
 
@@ -148,12 +148,17 @@ StreamFunction ExactProjection::markers(const Mat2& u, long revision) {
   if (psi_revision_ != revision) {
     if (!psi_solver_) make_psi_solver();
     if (cu_revision_ != revision) curl_transpose(u);  // the exact projection's step made it already
-    // -lap psi_m = C^T u with psi_m's wall values (0 and Q): -(A psi_m + Q B c1) = C^T u
-    b_m_ = cu_;
-    if (Q_ != 0.0) b_m_.noalias() += Q_ * mpsi_flux_;
-    mpsi_gauge_.project(b_m_);
-    if (!mpsi_unpinned_) mpsi_gauge_.pin_rhs(b_m_);
-    b_m_ *= mpsi_scale_;  // psi_m / m (make_psi_solver)
+    // -lap psi_m = C^T u with psi_m's wall values (0 and Q): -(A psi_m + Q B c1) = C^T u, divided
+    // by m (psi_m / m: make_psi_solver); in one pass where the gauge has nothing to do (walls)
+    if (mpsi_gauge_.dimension() == 0 && (mpsi_unpinned_ || mpsi_gauge_.pins().empty())) {
+      b_m_ = (cu_ + Q_ * mpsi_flux_) * mpsi_scale_;
+    } else {
+      b_m_ = cu_;
+      if (Q_ != 0.0) b_m_.noalias() += Q_ * mpsi_flux_;
+      mpsi_gauge_.project(b_m_);
+      if (!mpsi_unpinned_) mpsi_gauge_.pin_rhs(b_m_);
+      b_m_ *= mpsi_scale_;
+    }
     mpsi_solver_->solve(b_m_.data(), psi_m_.data(), 1);
     mpsi_gauge_.project(psi_m_);
     mean_.setZero();

@@ -30,6 +30,65 @@ void CellGrid::use_lattice(const Lattice& L) {
   lat_.o[1] = L.domain.periodic_y ? 0.0 : 0.5;
 }
 
+void NearPoints::reserve(int m) {
+  if (m <= static_cast<int>(j.size())) return;
+  const size_t size = std::max<size_t>(static_cast<size_t>(m), 2 * j.size());
+  j.resize(size);
+  for (auto* v : {&dx, &dy, &r2}) v->resize(size);
+}
+
+void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out, bool offsets) const {
+  out.n = 0;
+  if (lat_.n[0] == 0) {
+    for_each_near(qx, qy, radius, [&](int j, double dx, double dy, double) {
+      out.reserve(out.n + 2);
+      out.j[out.n] = j;
+      out.dx[out.n] = dx;
+      out.dy[out.n] = dy;
+      out.r2[out.n++] = dx * dx + dy * dy;
+    });
+    return out.reserve(out.n + 1);
+  }
+  // for_each_near's lattice loop, its columns' offsets and wrapped indices computed once per query
+  // (the same expressions, so the same values), and a count in place of its branch on r^2
+  int lo[2], hi[2];
+  lattice_range(qx, qy, radius, lo, hi);
+  const int nx = lat_.n[0], ny = lat_.n[1], ncol = std::max(hi[0] - lo[0] + 1, 0);
+  constexpr int kCols = 256;
+  if (ncol > kCols) throw std::invalid_argument("CellGrid::gather_near: the query spans more than 256 lattice columns");
+  out.reserve(ncol * std::max(hi[1] - lo[1] + 1, 0) + 1);
+  int col[kCols];
+  double cdx[kCols], cdx2[kCols];
+  int iw = periodic_[0] ? ((lo[0] % nx) + nx) % nx : lo[0];
+  for (int c = 0; c < ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
+    col[c] = iw;
+    cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
+    cdx2[c] = cdx[c] * cdx[c];
+  }
+  const double r2max = radius * radius;
+  int* __restrict j = out.j.data();
+  double* __restrict dx = out.dx.data();
+  double* __restrict dy = out.dy.data();
+  double* __restrict r2 = out.r2.data();
+  int n = 0;
+  for (int b = lo[1]; b <= hi[1]; ++b) {
+    const double ry = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]), ry2 = ry * ry;
+    if (ry2 >= r2max) continue;
+    const int row = nx * (periodic_[1] ? ((b % ny) + ny) % ny : b);
+    for (int c = 0; c < ncol; ++c) {
+      const double d2 = cdx2[c] + ry2;
+      j[n] = row + col[c];
+      if (offsets) {  // (a loop-invariant branch: the compiler makes two loops)
+        dx[n] = cdx[c];
+        dy[n] = ry;
+      }
+      r2[n] = d2;
+      n += d2 < r2max;
+    }
+  }
+  out.n = n;
+}
+
 void CellGrid::build(const Mat2& points) {
   lat_.n[0] = lat_.n[1] = 0;
   const int n = static_cast<int>(points.rows());

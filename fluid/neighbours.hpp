@@ -10,6 +10,15 @@
 
 namespace sphib {
 
+// The points near one query, gathered by CellGrid::gather_near: n points, each with its index j,
+// offset (dx, dy) = q - x_j and squared distance r2 = dx^2 + dy^2. The arrays are longer than n.
+struct NearPoints {
+  std::vector<int> j;
+  std::vector<double> dx, dy, r2;
+  int n = 0;
+  void reserve(int m);  // room for at least m points (grows, never shrinks)
+};
+
 class CellGrid {
  public:
   // Points in the box [lo, hi]; along a periodic axis the box is exactly one period and points wrap.
@@ -26,18 +35,19 @@ class CellGrid {
   // Calls f(j, dx, dy, r) for every point j with r = |q - x_j| < radius (minimum image),
   // where (dx, dy) = q - x_j. Any radius below half a periodic period: the cells overlapping the
   // query disc are visited, with their periodic shifts.
+  // The points for_each_near visits, in its order and with the same offsets, into `out` (for loops
+  // that evaluate a kernel over them without a branch per point). In lattice mode without a branch
+  // per point either: every point of the query's box is written, and counted if inside the radius.
+  // Leaves room for one point more than out.n (to pad to whole SIMD lanes). Without `offsets` the
+  // lattice mode leaves out.dx and out.dy unset (a caller that needs only j and r2).
+  void gather_near(double qx, double qy, double radius, NearPoints& out, bool offsets = true) const;
+
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
     const double r2max = radius * radius;
     if (lat_.n[0] > 0) {  // lattice: x_i = lo + (i + o) d, indices unwrapped around the query
       int lo[2], hi[2];
-      const double q[2] = {qx, qy};
-      for (int a = 0; a < 2; ++a) {
-        lo[a] = static_cast<int>(std::ceil((q[a] - radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
-        hi[a] = static_cast<int>(std::floor((q[a] + radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
-        if (!periodic_[a]) { lo[a] = std::max(lo[a], 0); hi[a] = std::min(hi[a], lat_.n[a] - 1); }
-        else if (hi[a] - lo[a] >= lat_.n[a]) throw std::invalid_argument("CellGrid: query radius exceeds half a period");
-      }
+      lattice_range(qx, qy, radius, lo, hi);
       const int nx = lat_.n[0], ny = lat_.n[1];
       for (int b = lo[1]; b <= hi[1]; ++b) {
         const double dy = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]);
@@ -99,6 +109,17 @@ class CellGrid {
       }
     }
     return n;
+  }
+
+  // Lattice mode: the unwrapped index ranges [lo, hi] of the lattice points in the query's box.
+  void lattice_range(double qx, double qy, double radius, int lo[2], int hi[2]) const {
+    const double q[2] = {qx, qy};
+    for (int a = 0; a < 2; ++a) {
+      lo[a] = static_cast<int>(std::ceil((q[a] - radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
+      hi[a] = static_cast<int>(std::floor((q[a] + radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
+      if (!periodic_[a]) { lo[a] = std::max(lo[a], 0); hi[a] = std::min(hi[a], lat_.n[a] - 1); }
+      else if (hi[a] - lo[a] >= lat_.n[a]) throw std::invalid_argument("CellGrid: query radius exceeds half a period");
+    }
   }
 
   struct {

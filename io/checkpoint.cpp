@@ -89,8 +89,12 @@ void write_checkpoint(const std::string& path, const Simulation& sim,
     for (const auto& m : sim.membranes()) history &= m.fixed || m.U_n_known;
     if (history) {  // U^n(X^n) of the last step: the marker predictor's U^{n-1} after the restart
       H vg{H5Gcreate2(f.id, "marker_velocities", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-      for (size_t k = 0; k < sim.membranes().size(); ++k)
-        if (!sim.membranes()[k].fixed) write_matrix(vg.id, std::to_string(k), sim.membranes()[k].U_n, path);
+      for (size_t k = 0; k < sim.membranes().size(); ++k) {
+        if (sim.membranes()[k].fixed) continue;
+        write_matrix(vg.id, std::to_string(k), sim.membranes()[k].U_n, path);
+        // the next step's U^n(X^n), as the last marker update left it (linearised: not an interpolation)
+        if (const Mat2* U = sim.next_marker_velocity(k)) write_matrix(vg.id, std::to_string(k) + "_next", *U, path);
+      }
     }
     if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush (disk full?)");
   }
@@ -141,9 +145,13 @@ Checkpoint read_checkpoint(const std::string& path) {
   if (H5Lexists(f.id, "marker_velocities", H5P_DEFAULT) > 0) {
     H vg{H5Gopen2(f.id, "marker_velocities", H5P_DEFAULT), H5Gclose};
     c.marker_velocities.resize(c.markers.size());
-    for (size_t k = 0; k < c.markers.size(); ++k)
-      if (H5Lexists(vg.id, std::to_string(k).c_str(), H5P_DEFAULT) > 0)
-        c.marker_velocities[k] = read_matrix(vg.id, std::to_string(k), path);
+    c.marker_velocities_next.resize(c.markers.size());
+    for (size_t k = 0; k < c.markers.size(); ++k) {
+      const std::string name = std::to_string(k);
+      if (H5Lexists(vg.id, name.c_str(), H5P_DEFAULT) > 0) c.marker_velocities[k] = read_matrix(vg.id, name, path);
+      if (H5Lexists(vg.id, (name + "_next").c_str(), H5P_DEFAULT) > 0)
+        c.marker_velocities_next[k] = read_matrix(vg.id, name + "_next", path);
+    }
   }
   return c;
 }
@@ -163,7 +171,9 @@ void restore_checkpoint(const Checkpoint& c, const std::string& path,
   sim.fluid().restore(c.fluid);
   for (size_t k = 0; k < c.markers.size(); ++k) sim.set_markers(k, c.markers[k]);
   for (size_t k = 0; k < c.marker_velocities.size(); ++k)
-    if (c.marker_velocities[k].rows() > 0) sim.set_marker_history(k, c.marker_velocities[k]);
+    if (c.marker_velocities[k].rows() > 0)
+      sim.set_marker_history(k, c.marker_velocities[k],
+                             c.marker_velocities_next[k].rows() > 0 ? &c.marker_velocities_next[k] : nullptr);
 }
 
 }  // namespace sphib

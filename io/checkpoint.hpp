@@ -17,6 +17,7 @@ struct Checkpoint {
   NamedArrays fluid;                                        // FluidSolver::state()
   std::vector<Mat2> markers;                                // X of each membrane
   std::vector<Mat2> marker_velocities;  // U^n(X^n) of each free membrane (the predictor's history), or empty
+  std::vector<Mat2> marker_velocities_next;  // U^{n+1}(X^{n+1}) as the marker update left it, or empty
 };
 
 // Writes the simulation's state and the scene's resolved keys. Throws std::runtime_error naming

@@ -111,12 +111,16 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   for (const Profile* P : profiles)
     for (size_t k = 0; k < P->names().size(); ++k) j["profile_seconds"][P->names()[k]] = P->seconds(static_cast<int>(k));
   for (const auto& line : fl.describe()) j["log"].push_back(line);
-  // Step time against its floor (the bare solves and products, timed alone on the final state).
+  // Step time against its floor (the fluid's bare solves and products, timed alone on the final
+  // state): the fluid step, and the whole step (the loop: fluid, membranes, coupling, checks, output).
   if (const double floor = fl.steps() > 0 ? fl.floor_seconds() : 0.0; floor > 0) {
     j["floor_seconds_per_step"] = floor;
     j["fluid_step_over_floor"] = fl.profile().total() / fl.steps() / floor;
     j["step_over_floor"] = timing.loop / fl.steps() / floor;
   }
+  // The membranes and their coupling (force, spreading, interpolation, marker update with the
+  // markers' stream function) as a share of the whole step.
+  if (!sim.membranes().empty() && timing.loop > 0) j["coupling_share"] = sim.profile().total() / timing.loop;
   for (const auto& [k, v] : fl.figures()) j[k] = v;
   return j;
 }

@@ -19,10 +19,12 @@ class Guards {
   void check(const Simulation& sim);
 
  private:
-  double total_energy(const Simulation& sim);  // kinetic + elastic
+  double elastic_energy(const Simulation& sim);  // of the splines through the markers (a blow-up of the
+                                                 // elastic force is marker-scale: the knots alone miss it)
 
   std::vector<MembraneDiagnostics> D_;
   double h_min_;
+  double v_min_;             // the smallest particle volume (fixed particles: once)
   double energy_bound_ = 0;  // 0: not armed
 };
 

@@ -57,6 +57,7 @@ class MembraneShapes final : public Analysis {
     for (const auto& [T, e] : area_at_) j["area_relative_error_at"][std::to_string(T)] = e;
     j["marker_iterations_last"] = m0.last.iterations;
     if (m0.updates > 0) j["marker_iterations_mean"] = static_cast<double>(m0.iterations) / m0.updates;
+    if (m0.updates > 0) j["marker_interpolations_mean"] = static_cast<double>(m0.interpolations) / m0.updates;
   }
 
  private:

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "io/checkpoint.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 
@@ -111,6 +112,91 @@ TEST(MembraneCases, RepeatedRunsAreBitwiseIdentical) {
   const nlohmann::json b = run_case("membrane_oscillation", sets);
   for (const char* k : {"rx", "ry", "area", "elastic_energy", "kinetic_energy", "max_div_u"})
     EXPECT_EQ(a[k].get<double>(), b[k].get<double>()) << k;
+}
+
+namespace {
+
+Scene oscillation_32() {
+  const fs::path scene = fs::path(SPHIB_SOURCE_DIR) / "cases" / "membrane_oscillation.toml";
+  return load_scene(scene.string(), {"grid.nx=32", "grid.ny=32", "membrane.nb=64", "time.dt=1e-4"});
+}
+
+}  // namespace
+
+// The linearised acceptance of the marker update (coupling/marker_update.hpp): one interpolation,
+// with dU/dX, per step. 32 x 32, Nb 64, dt 1e-4, 1000 steps. Every step after the first is
+// accepted linearised; the U^{n+1}(X^{n+1}) it leaves against an interpolation at X^{n+1}: measured
+// max 5.6e-16 (|U| <= 0.57; 9.5e-16 over 3000 steps of the main job); Eq. (59)'s residual with that
+// interpolation: measured 1.5e-14 (the tolerance eps = 1e-12); against the same run with the
+// linearisation off (two interpolations per step): markers 1.7e-16 apart, rx equal. Tolerances:
+// 4e-15, eps, 1e-14.
+TEST(MembraneCases, LinearisedMarkerUpdateMatchesTheInterpolation) {
+  const Scene sc = oscillation_32();
+  SimulationParams off = sc.sim;
+  off.markers.linearise = false;
+  Simulation a(sc.sim), b(off);
+  double worst_U = 0, worst_g = 0;
+  int linearised = 0;
+  const double dt = a.fluid().params().dt;
+  for (int n = 0; n < 1000; ++n) {
+    a.step();
+    b.step();
+    const MembraneState& s = a.membranes()[0];
+    Mat2 U(s.U.rows(), 2);
+    a.marker_velocity(s.m.X, U);
+    worst_U = std::max(worst_U, (U - s.U).cwiseAbs().maxCoeff());
+    worst_g = std::max(worst_g, (s.m.X - s.X_n - 0.5 * dt * (s.U_n + U)).rowwise().norm().maxCoeff());
+    linearised += s.last.linearised;
+  }
+  EXPECT_GE(linearised, 999);
+  EXPECT_EQ(b.membranes()[0].interpolations, 2001);  // off: two per step, and the first step's predictor
+  EXPECT_EQ(a.membranes()[0].interpolations, 1001);
+  EXPECT_LT(worst_U, 4e-15);
+  EXPECT_LT(worst_g, sc.sim.markers.eps);
+  EXPECT_LT((a.membranes()[0].m.X - b.membranes()[0].m.X).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+// A restart continues with the straight run's U^n(X^n) (linearised, not an interpolation) bit for
+// bit: the checkpoint carries it. (Without it the restart interpolates afresh, ~1e-16 off, which
+// changes the markers' last bits in about one restart in a hundred at Nb = 128.)
+TEST(MembraneCases, RestartKeepsTheLinearisedMarkerVelocity) {
+  const Scene sc = oscillation_32();
+  Simulation a(sc.sim), b(sc.sim);
+  for (int n = 0; n < 20; ++n) a.step();
+  ASSERT_TRUE(a.membranes()[0].last.linearised);
+  const fs::path path = fs::temp_directory_path() / "sphib_test_linearised_restart.h5";
+  write_checkpoint(path.string(), a, sc.resolved);
+  restore_checkpoint(read_checkpoint(path.string()), path.string(), sc.resolved, b);
+  fs::remove(path);
+  ASSERT_NE(b.next_marker_velocity(0), nullptr);
+  EXPECT_EQ((*b.next_marker_velocity(0) - a.membranes()[0].U).cwiseAbs().maxCoeff(), 0.0);
+  for (int n = 0; n < 30; ++n) {
+    a.step();
+    b.step();
+  }
+  EXPECT_EQ((a.membranes()[0].m.X - b.membranes()[0].m.X).cwiseAbs().maxCoeff(), 0.0);
+}
+
+// The energy guard stops an unstable membrane (32 x 32, Nb 64, T0 = 1e4, mu = 1e-3, dt = 4e-4: past
+// the explicit elastic force's limit) when kinetic + elastic energy passes ten times its initial
+// value, before the other guards: measured at step 172 (t = 0.0688). (An elastic energy by the
+// trapezoidal rule from the tensions at the markers, 1.8e-3 off the spline's in a smooth run, misses
+// the marker-scale growth: the run went on to step 176, stopped by max |u|.) Tolerance: steps 165
+// to 175.
+TEST(MembraneCases, EnergyGuardStopsAnUnstableMembrane) {
+  try {
+    run_case("membrane_oscillation", {"grid.nx=32", "grid.ny=32", "membrane.nb=64", "membrane.T0=10000",
+                                      "fluid.mu=0.001", "time.dt=4e-4", "time.end=0.2", "output.interval=0"});
+    FAIL() << "no blow-up detected";
+  } catch (const RunError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("exceeds ten times its initial value"), std::string::npos) << m;
+    const size_t at = m.find("blow-up at step ");
+    ASSERT_NE(at, std::string::npos) << m;
+    const long step = std::stol(m.substr(at + 16));
+    EXPECT_GE(step, 165) << m;
+    EXPECT_LE(step, 175) << m;
+  }
 }
 
 // The two first iterates of the marker update (solver.marker_predictor) lead to the same root of

@@ -330,15 +330,17 @@ TEST(StreamFunction, ManufacturedDivergenceFreeFlowKeepsTheArea) {
     Membrane m = make_membrane(circle(nb, 0.4, 0.45, 0.2), 0.2, 1.0);
     MembraneDiagnostics D(nb, m.L0);
     const double a0 = D.measure(m.X, 1.0).area;
-    MarkerVelocity vel = [&](const Mat2& X, Mat2& U) {
+    MarkerVelocity vel = [&](const Mat2& X, Mat2& U, Jacobians*) {
       if (curl) interpolate_curl(grid, W, psi, Eigen::Vector2d::Zero(), X, U);
       else interpolate_velocity(grid, W, L.volume, u, X, U);
+      return false;
     };
     Mat2 Un(nb, 2), U(nb, 2), Xn = m.X;
     MarkerUpdateParams mp;
+    MarkerWork work;
     for (int s = 0; s < static_cast<int>(std::lround(0.25 / dt)); ++s) {
-      vel(m.X, Un);
-      advance_markers(vel, Un, nullptr, dt, mp, s, m.X, Xn, U);
+      vel(m.X, Un, nullptr);
+      advance_markers(vel, Un, nullptr, dt, mp, s, m.X, Xn, U, work);
     }
     return std::fabs(D.measure(m.X, 1.0).area / a0 - 1.0);
   };
