@@ -146,7 +146,7 @@ TEST(Reliability, BadScenesExitWithStatusTwoAndWriteNothing) {
   struct Case { std::string text, expect; };
   const std::vector<Case> cases{
       {good + "[fluid2]\nmu = 1\n", "bad.toml:11: unknown key 'fluid2.mu'"},
-      {good + "[kernel]\nh_over_dx = -1\n", "bad.toml:11: kernel.h_over_dx: value -1 is out of range (allowed: > 0)"},
+      {good + "[kernel]\nh_over_dx = -1\n", "bad.toml:11: kernel.h_over_dx: value -1 is out of range (allowed: > max(dx, dy)/(dx + dy)"},
       {good + "[walls]\nleft = [1.0, 0.0]\n", "walls.left: a wall velocity is given on a periodic side"},
       {std::string("[grid]\nnx = 16\nny = 16\n[fluid]\nrho = 1.0\nmu = nan\n[time]\ndt = 0.001\nend = 0.01\n"),
        "bad.toml:6: fluid.mu: must be finite"},
