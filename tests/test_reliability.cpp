@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -50,6 +51,73 @@ TEST(Reliability, RestartReproducesTheStraightRunBitForBit) {
   fs::remove_all(d);
 }
 
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Low item: a checkpoint holding NaN or a negative clock was accepted. Both are refused naming the file.
+TEST(Reliability, DamagedCheckpointsAreRefused) {
+  const fs::path d = fs::temp_directory_path() / "sphib_restart_damaged";
+  fs::remove_all(d);
+  run((d / "a").string(), {"time.end=0.02"});
+  const fs::path ckpt = d / "a" / "checkpoint.h5";
+  auto damage = [&](const char* dataset, double value, int index) {
+    const fs::path bad = d / (std::string("bad_") + std::to_string(index) + ".h5");
+    fs::copy_file(ckpt, bad);
+    const hid_t f = H5Fopen(bad.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t ds = H5Dopen2(f, dataset, H5P_DEFAULT);
+    const hid_t sp = H5Dget_space(ds);
+    std::vector<double> v(static_cast<size_t>(H5Sget_simple_extent_npoints(sp)));
+    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    v[index] = value;
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Sclose(sp);
+    H5Dclose(ds);
+    H5Fclose(f);
+    return bad.string();
+  };
+  struct Case { std::string file, expect; };
+  const std::vector<Case> cases{{damage("/fluid/u", NAN, 7), "non-finite values in fluid/u"},
+                                {damage("/fluid/clock", -1.0, 0), "its clock is not valid (t = -1"},
+                                {damage("/membranes/0", INFINITY, 3), "non-finite values in membranes/0"}};
+  for (const auto& c : cases) {
+    try {
+      run((d / "b").string(), {"time.end=0.04"}, c.file);
+      ADD_FAILURE() << "accepted " << c.file;
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find("checkpoint " + c.file + ": "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(d / "b"));
+  }
+  fs::remove_all(d);
+}
+
+// Item 5: a 2 000-point membrane and a title over 64 kB ran every step, then failed at the checkpoint
+// ("cannot write attribute"), leaving .part files and no summary. Both now run, checkpoint and restart.
+TEST(Reliability, LongScenesRunCheckpointAndRestart) {
+  const fs::path d = fs::temp_directory_path() / "sphib_long_scene";
+  fs::remove_all(d);
+  std::string points = "[";
+  for (int k = 0; k < 2000; ++k) {
+    const double a = 2 * M_PI * k / 2000;
+    points += (k ? ", [" : "[") + std::to_string(0.6 * std::cos(a)) + ", " + std::to_string(0.45 * std::sin(a)) + "]";
+  }
+  points += "]";
+  const std::string title(70000, 't');
+  std::vector<std::string> sets = kSmall;
+  sets.insert(sets.end(), {"title=" + title, "membrane.shape=points", "membrane.points=" + points, "time.end=0.003"});
+  RunOptions o;
+  o.out_dir = (d / "a").string();
+  EXPECT_EQ(run_scene(load_scene(kScene, sets), o)["steps"], 3);
+  sets.back() = "time.end=0.006";
+  o.restart = (d / "a" / "checkpoint.h5").string();
+  EXPECT_EQ(run_scene(load_scene(kScene, sets), o)["steps"], 6);
+  for (const char* f : {"output.h5", "checkpoint.h5", "summary.json", "diagnostics.csv"}) EXPECT_TRUE(fs::exists(d / "a" / f)) << f;
+  fs::remove_all(d);
+}
+
 TEST(Reliability, RestartWithAnotherSceneIsRefused) {
   const fs::path d = fs::temp_directory_path() / "sphib_restart_mismatch";
   fs::remove_all(d);
@@ -57,7 +125,7 @@ TEST(Reliability, RestartWithAnotherSceneIsRefused) {
   try {
     run((d / "b").string(), {"time.max_steps=10", "fluid.mu=0.2"}, (d / "a" / "checkpoint.h5").string());
     FAIL() << "a restart with another viscosity was accepted";
-  } catch (const std::runtime_error& e) {
+  } catch (const CheckpointError& e) {  // refused before anything runs (the command's exit status 2)
     EXPECT_NE(std::string(e.what()).find("fluid.mu"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(d / "b" / "output.h5.part"));  // refused before anything was written
@@ -65,7 +133,7 @@ TEST(Reliability, RestartWithAnotherSceneIsRefused) {
   try {
     read_checkpoint((d / "a" / "summary.json").string());
     FAIL() << "a JSON file was read as a checkpoint";
-  } catch (const std::runtime_error& e) {
+  } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("summary.json"), std::string::npos) << e.what();
   }
   fs::remove_all(d);

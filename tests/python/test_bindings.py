@@ -222,7 +222,7 @@ class Runs(unittest.TestCase):
         self.assertEqual(summary["steps"], 40)
         self.assertEqual(summary["area"], straight["area"])  # bit for bit
         s.set({"fluid.mu": 0.2})
-        with self.assertRaisesRegex(RuntimeError, "its scene does not match: fluid.mu"):
+        with self.assertRaisesRegex(ValueError, "its scene does not match: fluid.mu"):  # refused: nothing run
             sphib.run(s, out=again, restart=os.path.join(self.out, "checkpoint.h5"))
 
 
