@@ -141,7 +141,10 @@ nlohmann::json run_or_reuse(const Run& r, const SweepOptions& o, SweepResult& re
   bool done = false;
   if (fs::exists(summary_path)) {
     std::ifstream in(summary_path);
-    try { done = nlohmann::json::parse(in).value("stop_reason", "") != "interrupted"; } catch (const std::exception&) {}
+    try {  // a run stopped by a signal is run again
+      const std::string why = nlohmann::json::parse(in).value("stop_reason", "");
+      done = why != "interrupted" && why != "terminated" && why.rfind("signal", 0) != 0;
+    } catch (const std::exception&) {}
   }
   if (done) {
     ++res.reused;

@@ -23,7 +23,7 @@ struct SweepOptions {
   std::vector<std::string> report;   // summary fields; a dotted name reaches into objects (area_relative_error_at.2)
   std::ostream* log = nullptr;       // one line per run (nullptr: silent)
   std::ostream* table = nullptr;     // the Markdown table at the end (nullptr: not printed)
-  const std::atomic<bool>* stop = nullptr;  // set: the current run ends cleanly, no further runs
+  const std::atomic<int>* stop = nullptr;  // a signal's number: the current run ends cleanly, no further runs
 };
 
 struct SweepResult {

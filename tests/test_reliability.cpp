@@ -56,6 +56,66 @@ std::string slurp(const fs::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+int snapshot_count(const fs::path& h5) {
+  const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return -1;
+  H5G_info_t gi;
+  const hid_t g = H5Gopen2(f, "snapshots", H5P_DEFAULT);
+  H5Gget_info(g, &gi);
+  H5Gclose(g);
+  H5Fclose(f);
+  return static_cast<int>(gi.nlinks);
+}
+
+// Issue 17, item 4: the area reference was reset to the restart state, so area_exact and the area
+// errors after a restart were measured from the wrong start (restart at 0.5: -0.86% reported at
+// t = 1.2, true -1.48%, with the paper's pair). The checkpoint now carries the t = 0 area, the errors
+// already measured and the diagnostics series: a restart into a new directory (b -> c) and into its
+// own (b -> b) report the straight run's figures and series bit for bit; the one into its own
+// directory continues its snapshots too.
+TEST(Reliability, RestartReportsTheStraightRunsAreaFiguresAndSeries) {
+  const fs::path d = fs::temp_directory_path() / "sphib_restart_area";
+  fs::remove_all(d);
+  const std::vector<std::string> out{"output.interval=0.1", "output.diagnostics_every=10"};
+  auto with = [&](std::string end) { auto v = out; v.push_back("time.end=" + end); return v; };
+  const auto straight = run((d / "a").string(), with("1.2"));
+  run((d / "b").string(), with("0.5"));
+  const std::string ckpt = (d / "b" / "checkpoint.h5").string();
+  const auto elsewhere = run((d / "c").string(), with("1.2"), ckpt);
+  const auto continued = run((d / "b").string(), with("1.2"), ckpt);
+  ASSERT_TRUE(straight.contains("area_relative_error_at"));
+  for (const auto* r : {&elsewhere, &continued}) {
+    for (const char* k : {"area", "area_exact", "area_relative_error", "rx", "steps", "time"}) EXPECT_EQ(straight[k], (*r)[k]) << k;
+    EXPECT_EQ(straight["area_relative_error_at"], (*r)["area_relative_error_at"]);
+    EXPECT_NE(straight["run_id"], (*r)["run_id"]);  // another run
+  }
+  EXPECT_EQ(elsewhere["run_id"], continued["run_id"]);  // the same run, continued twice
+  const std::string csv = slurp(d / "a" / "diagnostics.csv");
+  EXPECT_EQ(slurp(d / "b" / "diagnostics.csv"), csv);
+  EXPECT_EQ(slurp(d / "c" / "diagnostics.csv"), csv);
+  EXPECT_EQ(snapshot_count(d / "a" / "output.h5"), 13);  // t = 0, 0.1, ..., 1.2
+  EXPECT_EQ(snapshot_count(d / "b" / "output.h5"), 13);  // continued: the earlier part's kept
+  EXPECT_EQ(snapshot_count(d / "c" / "output.h5"), 8);   // a new directory: from the restart, t = 0.5
+  for (const auto& e : fs::directory_iterator(d / "b")) EXPECT_NE(e.path().extension(), ".part") << e.path();
+  fs::remove_all(d);
+}
+
+// A restart with no step ahead (time.end not after the checkpoint) is refused, nothing written.
+TEST(Reliability, RestartWithoutAStepAheadIsRefused) {
+  const fs::path d = fs::temp_directory_path() / "sphib_restart_none";
+  fs::remove_all(d);
+  run((d / "a").string(), {"time.end=0.02"});
+  try {
+    run((d / "b").string(), {"time.end=0.02"}, (d / "a" / "checkpoint.h5").string());
+    FAIL() << "a restart without a step ahead ran";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("time.end: 0.020000 (step 20) is not after the checkpoint's t = 0.02"),
+              std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(d / "b"));
+  fs::remove_all(d);
+}
+
 // Low item: a checkpoint holding NaN or a negative clock was accepted. Both are refused naming the file.
 TEST(Reliability, DamagedCheckpointsAreRefused) {
   const fs::path d = fs::temp_directory_path() / "sphib_restart_damaged";
@@ -169,6 +229,7 @@ TEST(Reliability, KilledRunsLeaveOnlyCompleteFiles) {
     for (const auto& e : fs::directory_iterator(d)) {
       const std::string p = e.path().string();
       if (e.path().extension() == ".part") continue;  // incomplete by name
+      if (e.path().filename() == ".sphib.lock") continue;  // the killed run's lock, released by the kernel
       ++checked;
       if (e.path().extension() == ".h5") {
         const hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

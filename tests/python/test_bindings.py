@@ -195,7 +195,7 @@ class Runs(unittest.TestCase):
         with self.assertRaises(sphib.RunError) as e:
             sphib.run(sphib.load_scene(OSCILLATION, set=sets), out=self.out)
         self.assertEqual(str(e.exception), expected)
-        self.assertIn("the last good state is in", expected)
+        self.assertIn("the output written before it is complete in", expected)
 
     def test_a_python_exception_in_a_callback_comes_back_as_itself(self):
         s = channel()
