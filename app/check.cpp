@@ -6,6 +6,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "io/scene_checks.hpp"
 #include "membrane/geometry.hpp"
 
 namespace sphib::app {
@@ -88,6 +89,10 @@ int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& 
   const int N = f.size();
   const double dx = f.lattice().dx, dy = f.lattice().dy, h_min = std::min(dx, dy), dt = fp.dt;
   int warnings = 0;
+  if (const std::string w = kernel_warning(fp); !w.empty()) {
+    ++warnings;
+    out << "    WARNING: " << w << "\n";
+  }
   // Markers farther apart than a lattice spacing let fluid through between them (documented
   // limit: markers per grid spacing >= 1, i.e. the largest marker spacing <= min(dx, dy)).
   for (size_t k = 0; k < sim.membranes().size(); ++k) {

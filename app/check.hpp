@@ -12,8 +12,9 @@ namespace sphib::app {
 int check_scene(const Scene& scene, std::ostream& out);
 
 // The warnings alone, for a simulation already built (sphib run prints them before running and
-// refuses the scene with --strict): markers farther apart than a lattice spacing, dt above the
-// convective CFL estimate, dt above the explicit elastic estimate. Returns their number.
+// refuses the scene with --strict): a kernel narrower than 0.9 lattice spacings, markers farther
+// apart than a lattice spacing, dt above the convective CFL estimate, dt above the explicit elastic
+// estimate. Returns their number.
 int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& out);
 
 }  // namespace sphib::app
