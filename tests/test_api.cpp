@@ -278,6 +278,17 @@ TEST(Api, SweepRunsEveryCombinationAndTabulates) {
   EXPECT_FALSE(fs::exists(dir / "bad" / "run_000"));
   EXPECT_EQ(shell(std::string(SPHIB_BINARY) + " sweep " + scene + " --vary grid.nx=8 --derive time.dt=1/ --report steps --out " +
                       (dir / "bad").string(), out), 2) << out;
+  // Issue 17, low item: --report nosuchfield gave an empty column, --report steps a second steps
+  // column. A field the first run's summary lacks is refused naming what it has; steps appears once.
+  const std::string few = std::string(SPHIB_BINARY) + " sweep " + scene + " --vary grid.nx=8,16 --set time.max_steps=2 --quiet --out " +
+                          (dir / "rep").string();
+  EXPECT_EQ(shell(few + " --report rms_error,nosuchfield", out), 2) << out;
+  EXPECT_NE(out.find("--report nosuchfield: " + (dir / "rep" / "run_000").string() + "/summary.json has no such field (it has: "),
+            std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "rep" / "run_001")) << "the sweep went on after the refusal";
+  ASSERT_EQ(shell(few + " --report steps,rms_error", out), 0) << out;
+  const std::string rep = slurp(dir / "rep" / "sweep.csv");
+  EXPECT_EQ(rep.substr(0, rep.find('\n')), "grid.nx,steps,rms_error,wall_seconds,run");
   fs::remove_all(dir);
 }
 
