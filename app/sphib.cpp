@@ -129,6 +129,9 @@ int main(int argc, char** argv) {
       std::cerr << "sphib: " << summary.value("stop_reason", "stopped") << " by signal " << g_stop.load()
                 << "; consistent output written to " << out_dir << "\n";
     return stopped_status();
+  } catch (const sphib::StoppedBeforeStart& e) {
+    std::cerr << "sphib: " << e.what() << "\n";
+    return 128 + e.signal;
   } catch (const sphib::SceneError& e) {
     std::cerr << "sphib: error: " << e.what() << "\n";
     return 2;

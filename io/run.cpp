@@ -273,6 +273,10 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
     dir.abandon();  // refused: nothing written, the directory as it was
     throw;
   }
+  if (const int sig = opt.stop ? opt.stop->load() : 0) {
+    dir.abandon();
+    throw StoppedBeforeStart(sig, stop_reason(sig) + " during the set-up: nothing was written to " + opt.out_dir);
+  }
   Simulation& sim = *p.sim;
   Observers& observers = p.observers;
   const Schedule plan(scene);

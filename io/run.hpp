@@ -36,6 +36,13 @@ struct RunError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A stop signal arrived while the run was being set up: nothing was written (the directory is as it
+// was). signal is its number.
+struct StoppedBeforeStart : std::runtime_error {
+  StoppedBeforeStart(int sig, const std::string& what) : std::runtime_error(what), signal(sig) {}
+  int signal;
+};
+
 // Runs the scene and writes DIR/output.h5 (+ .xdmf), DIR/diagnostics.csv, DIR/summary.json and
 // DIR/checkpoint.h5 (at the start, every output.checkpoint_interval and at the end). Returns the
 // summary. The run owns DIR: it takes DIR's lock before anything (DirectoryBusy if another run holds

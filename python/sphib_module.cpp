@@ -306,6 +306,7 @@ py::dict run(const PyScene& ps, const std::string& out, bool log, const std::str
   nlohmann::json summary;
   try {
     summary = run_scene(scene, opt);
+  } catch (const StoppedBeforeStart&) {  // nothing written; the signal follows below
   } catch (const std::exception& e) {
     ctx->sim = nullptr;
     reraise(*ctx, e);

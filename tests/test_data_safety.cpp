@@ -203,6 +203,18 @@ TEST(DataSafety, SigtermEndsTheRunWithCompleteOutput) {
   fs::remove_all(tmp);
 }
 
+// A signal during the set-up (256^2: its factorisations take a while) ends the run before it writes
+// anything: the directory it made is gone, exit 128 + the signal.
+TEST(DataSafety, ASignalDuringTheSetUpWritesNothing) {
+  const fs::path tmp = temp_dir("setup"), d = tmp / "D";
+  const pid_t pid = spawn(run_args(d, {"grid.nx=256", "grid.ny=256", "membrane.nb=512", "time.end=1"}));  // later --set win
+  ASSERT_TRUE(wait_for(d / ".sphib.lock", 20));  // the lock is taken before the set-up
+  kill(pid, SIGINT);
+  EXPECT_EQ(reap(pid), 130);
+  EXPECT_FALSE(fs::exists(d)) << "a run stopped in its set-up left its directory";
+  fs::remove_all(tmp);
+}
+
 // What a run that could not write leaves: exit status 1, a message naming the file and the cause,
 // this run's files .part, no summary, the last checkpoint complete (written at t = 0 and then every
 // 0.1), and no crash in HDF5's shutdown (item 3: exit 139, "slist already enabled?").
