@@ -61,6 +61,8 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a scene and print what it will compute");
   check->add_option("scene", scene_path, "scene file (TOML)")->required();
   check->add_option("--set", sets, "override a scene value: key=value");
+  bool build = false;
+  check->add_flag("--build", build, "build the simulation even when its memory estimate is above 1 GB");
 
   sphib::app::SweepOptions sw;
   std::string report;
@@ -104,7 +106,7 @@ int main(int argc, char** argv) {
     }
     sphib::Scene scene = sphib::load_scene(scene_path, sets);
     if (check->parsed()) {
-      const int warnings = sphib::app::check_scene(scene, std::cout);
+      const int warnings = sphib::app::check_scene(scene, std::cout, build);
       if (warnings) std::cout << "  " << warnings << " warning(s)\n";
       return 0;
     }

@@ -273,7 +273,7 @@ SweepResult run_sweep(const SweepOptions& o) {
   std::vector<std::string> cols(plan.keys);
   for (const auto& [dk, e] : plan.derives)
     if (std::find(cols.begin(), cols.end(), dk) == cols.end()) cols.push_back(dk);
-  for (const std::string c : o.report)  // each column once (--report steps gave two)
+  for (const std::string& c : o.report)  // each column once (--report steps gave two)
     if (std::find(cols.begin(), cols.end(), c) == cols.end()) cols.push_back(c);
   for (const std::string c : {"steps", "wall_seconds", "run"})
     if (std::find(cols.begin(), cols.end(), c) == cols.end()) cols.push_back(c);

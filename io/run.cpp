@@ -10,6 +10,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/footprint.hpp"
 #include "io/output.hpp"
 #include "io/output_dir.hpp"
 #include "io/progress.hpp"
@@ -265,6 +266,7 @@ Ending run_loop(Simulation& sim, Observers& observers, RunOutput& output, const 
 
 nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   if (const std::string why = steps_problem(scene); !why.empty()) throw SceneError(scene.path + ": time.end: " + why);
+  refuse_if_too_large(scene);        // before any allocation
   OutputDirectory dir(opt.out_dir);  // the lock, before anything is written
   Prepared p;
   try {

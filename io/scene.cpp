@@ -513,6 +513,10 @@ void read_output(Reader& r, Scene& s) {
                      {"none", "poiseuille", "couette", "cavity", "membrane_equilibrium", "membrane_oscillation"},
                      "which exact or reference solution to measure against");
   s.reference_dir = r.text("observe.reference_dir", "reference", "directory of the Ghia et al. tables, relative to the scene file");
+  s.memory_limit_gb = r.number("limits.memory_gb", 0.0, ">= 0",
+                               "refuse a run whose memory estimate (sphib check) exceeds this many GB (0: the machine's "
+                               "memory, MemTotal or the cgroup's limit); raise it to run anyway",
+                               false, 0.0);
 }
 
 // [membrane] for one, [[membranes]] for several (documenting: the keys of [membrane] are listed).

@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "app/check.hpp"
+#include "io/footprint.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "membrane/geometry.hpp"
@@ -412,6 +413,7 @@ PYBIND11_MODULE(sphib, m) {
              auto s = std::make_unique<PySim>();
              s->ctx = std::make_shared<Context>();
              s->scene = ps.build(s->ctx);
+             refuse_if_too_large(s->scene);  // SceneError before any allocation
              try {
                s->owned = std::make_unique<Simulation>(s->scene.sim);
              } catch (const std::exception& e) {

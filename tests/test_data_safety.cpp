@@ -6,7 +6,9 @@
 #include <hdf5.h>
 #include <signal.h>
 #include <spawn.h>
+#include <fcntl.h>
 #include <sys/mount.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -275,5 +277,42 @@ TEST(DataSafety, BadCommandLinesAreRefusedWithExitTwoAndWriteNothing) {
     EXPECT_NE(e.err.find(c.expect), std::string::npos) << c.cmd << ": " << e.err;
     EXPECT_FALSE(fs::exists(out)) << c.cmd;
   }
+  fs::remove_all(tmp);
+}
+
+// Item 9: no size guard (nx = 1e6 allocated > 5 GB before bad_alloc) and `sphib check` built
+// everything (1024^2: 56 s, 3.8 GB). A run is refused from the estimate before it allocates (exit 2,
+// naming limits.memory_gb, the estimate and the limit); check of a 2048^2 scene reports the estimate
+// without building it.
+TEST(DataSafety, TheMemoryGuardRefusesBeforeAllocatingAndCheckDoesNotBuildLargeScenes) {
+  const fs::path tmp = temp_dir("memory"), d = tmp / "D";
+  const Exit e = shell(command(run_args(d, {"grid.nx=3000", "grid.ny=3000", "membrane.nb=6000", "limits.memory_gb=2"})), tmp);
+  EXPECT_EQ(e.status, 2) << e.err;
+  EXPECT_NE(e.err.find("limits.memory_gb: the run would need about 58.5 GB (9000000 particles x 20 neighbours x 325 B, "
+                       "EPSPH, FFT solvers, exact projection"),
+            std::string::npos) << e.err;
+  EXPECT_NE(e.err.find("more than limits.memory_gb = 2"), std::string::npos) << e.err;
+  EXPECT_FALSE(fs::exists(d));
+  // check at 2048^2: the estimate (27 GB) without the lattice's operators; its own peak is its lattice
+  // and initial velocity (32 bytes a particle); limit 400 MB.
+  std::vector<std::string> args{SPHIB_BINARY, "check", kScene, "--set", "grid.nx=2048", "--set", "grid.ny=2048",
+                                "--set", "membrane.nb=4096"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, (tmp / "check.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  ASSERT_EQ(posix_spawn(&pid, SPHIB_BINARY, &fa, nullptr, argv.data(), environ), 0);
+  int status = 0;
+  struct rusage ru {};
+  wait4(pid, &status, 0, &ru);
+  posix_spawn_file_actions_destroy(&fa);
+  const std::string out = slurp(tmp / "check.txt");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+  EXPECT_NE(out.find("not built: its estimated peak, 27.3 GB, is above 1 GB"), std::string::npos) << out;
+  EXPECT_NE(out.find("4194304 particles x 20 neighbours x 325 bytes"), std::string::npos) << out;
+  EXPECT_LT(ru.ru_maxrss, 400 * 1024) << "check's own peak, kB";
   fs::remove_all(tmp);
 }
