@@ -20,11 +20,7 @@ namespace sphib {
 
 namespace {
 
-std::string fmt_num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string fmt_num(double v) { return number_text(v); }
 
 // Reads typed values by dotted key, records which keys were used and documents each key.
 class Reader {

@@ -12,11 +12,7 @@ namespace sphib {
 
 namespace {
 
-std::string str(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string str(double v) { return number_text(v); }
 
 double spacing_x(const FluidParams& f) { return f.domain.Lx() / f.nx; }
 double spacing_y(const FluidParams& f) { return f.domain.Ly() / f.ny; }
@@ -77,6 +73,12 @@ bool polygons_meet(const Mat2& A, const Mat2& B, long& i_out, long& j_out) {
 }
 
 }  // namespace
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 
 std::string lattice_too_large(const FluidParams& f) {
   const double N = static_cast<double>(f.nx) * f.ny;

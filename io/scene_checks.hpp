@@ -13,6 +13,9 @@ struct Scene;
 constexpr int kMaxMarkers = 1000000;  // membrane.nb: far beyond any lattice that fits in memory
 constexpr long kMaxSteps = 1000000000;  // steps of one run (the HDF5 step attribute is an int32)
 
+// A number as the scene's messages show it (six significant digits).
+std::string number_text(double v);
+
 // grid.nx x grid.ny: the particle count and the non-zeros of the widest operator (the exact
 // projection's G^T G, radius 4h) must fit the 32-bit indices of the lattice and of Eigen's sparse
 // matrices.

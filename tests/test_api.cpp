@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/expression.hpp"
+#include "helpers.hpp"
 #include "io/run.hpp"
 #include "membrane/geometry.hpp"
 #include "membrane/polygon.hpp"
@@ -25,19 +26,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("sphib_api_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sphib_test::slurp;
+using sphib_test::temp_dir;
 
 // Runs the command line, returns its exit status and stdout + stderr.
 int shell(const std::string& cmd, std::string& output) {

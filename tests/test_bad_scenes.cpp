@@ -10,16 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "helpers.hpp"
+
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-}  // namespace
+using sphib_test::slurp;
 
 TEST(BadScenes, EveryFileIsRefusedNamingItsKeyAndWritesNothing) {
   const fs::path corpus = fs::path(SPHIB_SOURCE_DIR) / "tests" / "bad_scenes";

@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "helpers.hpp"
 #include "io/checkpoint.hpp"
 
 extern char** environ;
@@ -31,22 +32,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kScene = std::string(SPHIB_SOURCE_DIR) + "/cases/membrane_oscillation.toml";
-const std::vector<std::string> kSmall{"grid.nx=24", "grid.ny=24", "membrane.nb=48", "time.dt=1e-3"};
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("sphib_safety_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sphib_test::kSmall;
+using sphib_test::slurp;
+using sphib_test::temp_dir;
+const std::string& kScene = sphib_test::kOscillation;
 
 // `sphib run SCENE --out OUT --quiet --set ...` with the small oscillating membrane and `more`.
 std::vector<std::string> run_args(const fs::path& out, const std::vector<std::string>& more) {

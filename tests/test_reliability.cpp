@@ -14,6 +14,7 @@
 #include <random>
 #include <thread>
 
+#include "helpers.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
@@ -25,8 +26,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kScene = std::string(SPHIB_SOURCE_DIR) + "/cases/membrane_oscillation.toml";
-const std::vector<std::string> kSmall{"grid.nx=24", "grid.ny=24", "membrane.nb=48", "time.dt=1e-3"};
+using sphib_test::kSmall;
+using sphib_test::slurp;
+const std::string& kScene = sphib_test::kOscillation;
 
 nlohmann::json run(const std::string& dir, std::vector<std::string> sets, const std::string& restart = "") {
   sets.insert(sets.begin(), kSmall.begin(), kSmall.end());
@@ -49,11 +51,6 @@ TEST(Reliability, RestartReproducesTheStraightRunBitForBit) {
   for (const char* k : {"time", "rx", "ry", "area", "kinetic_energy", "max_div_u", "elastic_energy", "max_speed"})
     EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k;
   fs::remove_all(d);
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 int snapshot_count(const fs::path& h5) {
