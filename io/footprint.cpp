@@ -23,7 +23,7 @@ namespace {
 //   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N).
 // The constants are chosen for the main path's error across 64^2-1024^2 (README "Memory").
 constexpr double kFftExact = 325, kFftApproximate = 185;
-constexpr double kCholmodExactPerLog = 46, kCholmodApproximatePerLog = 22;
+constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;
 // The run's fixed overhead over the process before it (OpenMP threads, HDF5, FFTW, CHOLMOD):
 // a 16^2 run peaks at 32.2 MB, the command holds 15.7 MB when it estimates (/proc/self/statm).

@@ -253,8 +253,8 @@ Ending run_loop(Simulation& sim, Observers& observers, RunOutput& output, const 
 [[noreturn]] void stop_writing(RunOutput& output, const std::string& error, const Simulation& sim, const std::string& dir) {
   output.abandon();
   std::ostringstream m;
-  m << error << "; the run stopped at step " << sim.steps() << " (t = " << sim.time() << "), its files in " << dir
-    << " stay .part; ";
+  m << error << "; the run stopped at step " << sim.steps() << " (t = " << sim.time() << "), its unfinished files in "
+    << dir << " stay .part; ";
   if (output.checkpoint_time() >= 0)
     m << "the last complete checkpoint is " << output.checkpoint_path() << " (t = " << output.checkpoint_time() << ")";
   else
