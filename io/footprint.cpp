@@ -19,7 +19,7 @@ namespace {
 //   EPSPH, FFT solvers (a channel): exact projection 311-349 at 128^2-1024^2 (242-263 at 64^2),
 //     approximate 165-189;
 //   EPSPH, CHOLMOD (a box, doubly periodic, or solvers chosen): the factors grow like log2 N:
-//     exact 34-51 x log2 N, approximate 11-25 x log2 N;
+//     exact 34-51 x log2 N, approximate 11-25 x log2 N (44 and 22 keep 64^2-256^2 within 18%);
 //   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N).
 // The constants are chosen for the main path's error across 64^2-1024^2 (README "Memory").
 constexpr double kFftExact = 325, kFftApproximate = 185;
