@@ -80,8 +80,10 @@ TEST(Reliability, RestartReportsTheStraightRunsAreaFiguresAndSeries) {
   const std::string ckpt = (d / "b" / "checkpoint.h5").string();
   const auto elsewhere = run((d / "c").string(), with("1.2"), ckpt);
   const auto continued = run((d / "b").string(), with("1.2"), ckpt);
+  run((d / "e").string(), with("1.1"));  // past t = 1: its error at t = 1 comes with the checkpoint
+  const auto late = run((d / "f").string(), with("1.2"), (d / "e" / "checkpoint.h5").string());
   ASSERT_TRUE(straight.contains("area_relative_error_at"));
-  for (const auto* r : {&elsewhere, &continued}) {
+  for (const auto* r : {&elsewhere, &continued, &late}) {
     for (const char* k : {"area", "area_exact", "area_relative_error", "rx", "steps", "time"}) EXPECT_EQ(straight[k], (*r)[k]) << k;
     EXPECT_EQ(straight["area_relative_error_at"], (*r)["area_relative_error_at"]);
     EXPECT_NE(straight["run_id"], (*r)["run_id"]);  // another run
