@@ -6,6 +6,8 @@
 #include <ostream>
 #include <sstream>
 
+#include "io/footprint.hpp"
+#include "io/scene_checks.hpp"
 #include "membrane/geometry.hpp"
 
 namespace sphib::app {
@@ -18,12 +20,7 @@ std::string num(double v, int digits = 3) {
   return s.str();
 }
 
-std::string bytes(double b) {
-  const char* unit[] = {"B", "kB", "MB", "GB", "TB"};
-  int k = 0;
-  while (b >= 1000 && k < 4) { b /= 1000; ++k; }
-  return num(b) + " " + unit[k];
-}
+std::string bytes(double b) { return bytes_text(b); }
 
 double figure(const FluidSolver& f, const std::string& name, double def) {
   for (const auto& [k, v] : f.figures())
@@ -33,65 +30,127 @@ double figure(const FluidSolver& f, const std::string& name, double def) {
 
 }  // namespace
 
-int check_scene(const Scene& scene, std::ostream& out) {
-  Simulation sim(scene.sim);  // builds everything: refuses what cannot run
-  const FluidSolver& f = sim.fluid();
-  const FluidParams& fp = f.params();
-  const int N = f.size();
-  const double dx = f.lattice().dx, dy = f.lattice().dy;
-  int warnings = 0;
+namespace {
 
-  out << (scene.path.empty() ? scene.title : scene.path) << ": ok\n";
-  for (const auto& line : f.describe()) out << "  " << line << "\n";
-  const double images = figure(f, "images", NAN), neighbours = figure(f, "neighbours_per_particle", NAN);
-  out << "  particles " << N << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(dx) << ", dy = " << num(dy)
-      << "), images " << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10))
-      << ", neighbours per particle " << num(neighbours) << ", h = " << num(f.h()) << "\n";
+// Above this estimated peak `sphib check` does not build the simulation (at 1024^2 that took 56 s
+// and 3.8 GB): it reports from the scene, the lattice and the membranes alone.
+constexpr double kBuildBytes = 1e9;
 
-  // ---- Membranes: marker spacing against the lattice
-  for (size_t k = 0; k < sim.membranes().size(); ++k) {
-    const auto& m = sim.membranes()[k];
+// What the report and the warnings read: the lattice, the flow at t = 0, the membranes and the
+// marker interpolation, from a built simulation or from the scene alone.
+struct Picture {
+  const FluidParams& fp;
+  double dx, dy;
+  const Mat2& x;  // particle positions at t = 0
+  const Mat2& u;  // velocity at t = 0
+  const std::vector<MembraneState>& membranes;
+  bool paper_pair;  // the paper's projection and interpolation (its elastic limit is looser)
+};
+
+void report_membranes(const Picture& p, std::ostream& out) {
+  for (size_t k = 0; k < p.membranes.size(); ++k) {
+    const auto& m = p.membranes[k];
     const int nb = m.m.nb();
     double current = 0;  // mean chord between neighbouring markers
     for (int i = 0; i < nb; ++i) current += (m.m.X.row((i + 1) % nb) - m.m.X.row(i)).norm();
     current /= nb;
     out << "  membrane " << k << ": " << nb << " markers, T0 = " << m.m.T0 << ", h* = " << num(m.h_star)
-        << (m.fixed ? ", fixed" : "") << "; markers per grid spacing: dx / rest spacing = " << num(dx / m.m.ds())
-        << ", dx / current spacing = " << num(dx / current) << "\n";
+        << (m.fixed ? ", fixed" : "") << "; markers per grid spacing: dx / rest spacing = " << num(p.dx / m.m.ds())
+        << ", dx / current spacing = " << num(p.dx / current) << "\n";
   }
+}
 
-  // ---- Memory estimate (EPSPH: what the fixed-particle method keeps for the whole run)
-  if (const auto kept = f.footprint()) {
-    const double b_op = 12.0 * kept->operator_nonzeros, b_fac = 12.0 * kept->factor_nonzeros;
-    const double b_pairs = 28.0 * kept->pairs + 4.0 * (N + 1);
-    const double b_fields = 8.0 * (34.0 * N + 8.0 * (std::isnan(images) ? 0.0 : images));
-    out << "  memory estimate: " << bytes(b_op + b_fac + b_pairs + b_fields) << " = operators " << bytes(b_op)
-        << " (" << kept->operator_nonzeros << " non-zeros) + factors " << bytes(b_fac) << " (" << kept->factor_nonzeros
-        << " non-zeros) + pair list " << bytes(b_pairs) << " (" << kept->pairs << " pairs) + fields " << bytes(b_fields)
-        << "\n    (counts: every non-zero of the operator matrices, of the Cholesky/LU factors and of the kept"
-           " Poisson matrix at 12 bytes (8-byte value + 4-byte index); each pair at 28 bytes (index, x_ij, r);"
-           " 34 doubles per particle (u, u*, AB2 and Crank-Nicolson work arrays, phi, p, forces, positions) and"
-           " 8 per image. Not counted: solver workspaces, HDF5 buffers, the membranes.)\n";
-  } else {
-    out << "  memory estimate: not available for method " << fp.method
-        << " (its operators are rebuilt every step)\n";
+// The estimate of io/footprint against the machine; a WARNING (counted) when sphib run would refuse it.
+int report_memory(const Scene& scene, const MemoryEstimate& e, std::ostream& out) {
+  const MachineMemory m = machine_memory();
+  out << "  memory estimate: " << bytes(e.bytes) << " at the run's peak = " << bytes(e.base)
+      << " (this process and the run's fixed overhead) + " << e.particles << " particles x " << e.neighbours
+      << " neighbours x " << num(e.per_neighbour) << " bytes (" << e.path << ", measured: README \"Memory\"); machine: "
+      << bytes(m.bytes) << " (" << m.source << ")";
+  if (scene.memory_limit_gb > 0) out << ", limits.memory_gb = " << scene.memory_limit_gb;
+  out << "\n";
+  const std::string why = memory_problem(scene, e, m);
+  if (!why.empty()) out << "    WARNING: sphib run will refuse it: " << why << "\n";
+  return why.empty() ? 0 : 1;
+}
+
+// The built simulation's own account: its factorisations, images, neighbours and kept non-zeros.
+void report_built(const Simulation& sim, std::ostream& out) {
+  const FluidSolver& f = sim.fluid();
+  const FluidParams& fp = f.params();
+  for (const auto& line : f.describe()) out << "  " << line << "\n";
+  const double images = figure(f, "images", NAN), neighbours = figure(f, "neighbours_per_particle", NAN);
+  out << "  particles " << f.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(f.lattice().dx)
+      << ", dy = " << num(f.lattice().dy) << "), images "
+      << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10)) << ", neighbours per particle "
+      << num(neighbours) << ", h = " << num(f.h()) << "\n";
+  if (const auto kept = f.footprint())
+    out << "  kept for the run: " << kept->operator_nonzeros << " operator non-zeros, " << kept->factor_nonzeros
+        << " factor non-zeros, " << kept->pairs << " pairs\n";
+}
+
+bool paper_pair_of(const FluidParams& fp, MarkerInterpolation interp, bool particles_move) {
+  return interp == MarkerInterpolation::Sph &&
+         (fp.projection == Projection::Approximate || (fp.projection == Projection::Auto && particles_move));
+}
+
+int warnings_for(const Scene& scene, const Picture& p, std::ostream& out);
+
+}  // namespace
+
+int check_scene(const Scene& scene, std::ostream& out, bool build) {
+  const MemoryEstimate e = estimate_memory(scene);
+  out << (scene.path.empty() ? scene.title : scene.path) << ": ok\n";
+  if (build || e.bytes <= kBuildBytes) {
+    const Simulation sim(scene.sim);  // builds everything: refuses what cannot run
+    report_built(sim, out);
+    const Picture p{sim.fluid().params(), sim.fluid().lattice().dx, sim.fluid().lattice().dy, sim.fluid().x(),
+                    sim.fluid().u(), sim.membranes(),
+                    paper_pair_of(sim.fluid().params(), sim.interpolation(), sim.fluid().particles_move())};
+    report_membranes(p, out);
+    return report_memory(scene, e, out) + warnings_for(scene, p, out);
   }
-
-  warnings += time_step_warnings(scene, sim, out);
-  return warnings;
+  // Too large to build here: the lattice, the flow at t = 0 and the membranes from the scene alone.
+  const FluidParams& fp = scene.sim.fluid;
+  const Lattice L = make_lattice(fp.domain, fp.nx, fp.ny);
+  Mat2 u0 = Mat2::Zero(L.size(), 2);
+  if (scene.sim.initial_velocity)
+    for (int i = 0; i < L.size(); ++i) u0.row(i) = scene.sim.initial_velocity(L.x(i, 0), L.x(i, 1)).transpose();
+  std::vector<MembraneState> membranes(scene.sim.membranes.begin(), scene.sim.membranes.end());
+  MarkerInterpolation interp = scene.sim.interpolation;
+  if (interp == MarkerInterpolation::Auto) interp = fp.method == "eulerian" ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
+  const Picture p{fp, L.dx, L.dy, L.x, u0, membranes, paper_pair_of(fp, interp, fp.method != "eulerian")};
+  out << "  not built: its estimated peak, " << bytes(e.bytes) << ", is above " << bytes(kBuildBytes)
+      << " (sphib check --build builds it: the factorisations, and a membrane too close to a wall, are then checked too)\n"
+      << "  particles " << L.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(L.dx) << ", dy = " << num(L.dy)
+      << "), lattice neighbours per particle " << e.neighbours << ", h = " << num(fp.h_over_dx * 0.5 * (L.dx + L.dy)) << "\n";
+  report_membranes(p, out);
+  return report_memory(scene, e, out) + warnings_for(scene, p, out);
 }
 
 int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& out) {
   const FluidSolver& f = sim.fluid();
-  const FluidParams& fp = f.params();
+  const Picture p{f.params(), f.lattice().dx, f.lattice().dy, f.x(), f.u(), sim.membranes(),
+                  paper_pair_of(f.params(), sim.interpolation(), f.particles_move())};
+  return warnings_for(scene, p, out);
+}
+
+namespace {
+
+int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
+  const FluidParams& fp = p.fp;
   const Domain& d = fp.domain;
-  const int N = f.size();
-  const double dx = f.lattice().dx, dy = f.lattice().dy, h_min = std::min(dx, dy), dt = fp.dt;
+  const int N = static_cast<int>(p.x.rows());
+  const double dx = p.dx, dy = p.dy, h_min = std::min(dx, dy), dt = fp.dt;
   int warnings = 0;
+  if (const std::string w = kernel_warning(fp); !w.empty()) {
+    ++warnings;
+    out << "    WARNING: " << w << "\n";
+  }
   // Markers farther apart than a lattice spacing let fluid through between them (documented
   // limit: markers per grid spacing >= 1, i.e. the largest marker spacing <= min(dx, dy)).
-  for (size_t k = 0; k < sim.membranes().size(); ++k) {
-    const auto& m = sim.membranes()[k];
+  for (size_t k = 0; k < p.membranes.size(); ++k) {
+    const auto& m = p.membranes[k];
     const int nb = m.m.nb();
     double widest = 0;
     for (int i = 0; i < nb; ++i) widest = std::max(widest, (m.m.X.row((i + 1) % nb) - m.m.X.row(i)).norm());
@@ -108,11 +167,11 @@ int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& 
   for (int s = 0; s < 4; ++s)
     if (d.is_wall(static_cast<Side>(s))) U_wall = std::max(U_wall, d.wall_velocity[s].norm());
   scales.push_back({U_wall, "wall velocity"});
-  scales.push_back({f.u().rowwise().norm().maxCoeff(), "initial velocity"});
+  scales.push_back({p.u.rowwise().norm().maxCoeff(), "initial velocity"});
   double F = scene.sim.body_force.norm();
   if (scene.sim.body_force_field) {
     F = 0;
-    for (int i = 0; i < N; ++i) F = std::max(F, scene.sim.body_force_field(f.x()(i, 0), f.x()(i, 1), 0.0).norm());
+    for (int i = 0; i < N; ++i) F = std::max(F, scene.sim.body_force_field(p.x(i, 0), p.x(i, 1), 0.0).norm());
   }
   if (F > 0) {
     // Poiseuille centre-line F L^2/(8 mu) across the narrowest walled extent, reached after the
@@ -122,8 +181,8 @@ int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& 
     if (std::isfinite(L)) U_F = std::min(U_F, F * L * L / (8.0 * fp.mu));
     scales.push_back({U_F, "body force: min(F L^2/(8 mu), F t_end/rho)"});
   }
-  for (size_t k = 0; k < sim.membranes().size(); ++k) {
-    const auto& m = sim.membranes()[k];
+  for (size_t k = 0; k < p.membranes.size(); ++k) {
+    const auto& m = p.membranes[k];
     if (m.fixed || m.m.T0 <= 0) continue;
     // The elastic energy E released into the fluid: the Stokes speed T0 eps_max/(4 mu) of the
     // largest strain (a line force density f at wavenumber k moves a line at f/(4 mu k), here
@@ -159,12 +218,9 @@ int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& 
   // extremes"). The inertial constant depends on the pair: the paper's (approximate projection,
   // Eq. 63 markers) leaks area and with it elastic energy, which lets it run with dt about 3 times
   // larger (bench/stability_map, fitted in h* form: 0.32 conservative, about 1 paper's).
-  const bool paper_pair = sim.interpolation() == MarkerInterpolation::Sph &&
-                          (fp.projection == Projection::Approximate ||
-                           (fp.projection == Projection::Auto && sim.fluid().particles_move()));
-  const double c_i = paper_pair ? 1.0 : 0.3;
-  for (size_t k = 0; k < sim.membranes().size(); ++k) {
-    const auto& m = sim.membranes()[k];
+  const double c_i = p.paper_pair ? 1.0 : 0.3;
+  for (size_t k = 0; k < p.membranes.size(); ++k) {
+    const auto& m = p.membranes[k];
     if (m.fixed || m.m.T0 <= 0) continue;
     const double hs = m.h_star;
     const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / m.m.T0), viscous = 10.0 * fp.mu * hs / m.m.T0;
@@ -177,5 +233,7 @@ int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& 
   }
   return warnings;
 }
+
+}  // namespace
 
 }  // namespace sphib::app

@@ -1,5 +1,9 @@
 // The sphib command: run a scene, check it, sweep its parameters, list the scene keys.
-// Exit status: 0 done, 2 bad scene or arguments (nothing run), 1 a run failed, 130 interrupted.
+// Exit status: 0 done; 2 refused, nothing run or written (a bad scene or argument, an output
+// directory another run holds, a checkpoint that does not fit); 1 a run failed (a fault of the
+// method, a write error); 130 interrupted (SIGINT), 143 terminated (SIGTERM), each after the current
+// step with complete output (a second signal ends the process at once).
+#include <hdf5.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -17,11 +21,26 @@
 #include "sphib_version.hpp"
 
 namespace {
-std::atomic<bool> g_stop{false};
-extern "C" void on_sigint(int) { g_stop.store(true); }
+std::atomic<int> g_stop{0};
+extern "C" void on_signal(int sig) { g_stop.store(sig); }
+
+// SIGINT and SIGTERM end the run after the current step; the handler is reset by its first call.
+void handle_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+int stopped_status() { return g_stop.load() ? 128 + g_stop.load() : 0; }
 }  // namespace
 
 int main(int argc, char** argv) {
+  // HDF5 1.10 crashes at exit on a file whose metadata write failed (it tries again); every file
+  // the command completes is closed explicitly, so nothing is lost without that clean-up.
+  H5dont_atexit();
   CLI::App app{"sphib: immersed-boundary fluid-structure interaction with projection SPH"};
   app.set_version_flag("--version", std::string("sphib ") + SPHIB_VERSION);
   app.require_subcommand(1);
@@ -42,6 +61,8 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "validate a scene and print what it will compute");
   check->add_option("scene", scene_path, "scene file (TOML)")->required();
   check->add_option("--set", sets, "override a scene value: key=value");
+  bool build = false;
+  check->add_flag("--build", build, "build the simulation even when its memory estimate is above 1 GB");
 
   sphib::app::SweepOptions sw;
   std::string report;
@@ -75,21 +96,21 @@ int main(int argc, char** argv) {
       std::stringstream ss(report);
       for (std::string r; std::getline(ss, r, ',');)
         if (!r.empty()) sw.report.push_back(r);
-      std::signal(SIGINT, on_sigint);
+      handle_stop_signals();
       sw.log = quiet ? nullptr : &std::cerr;
       sw.table = &std::cout;
       sw.stop = &g_stop;
       const auto res = sphib::app::run_sweep(sw);
-      if (g_stop.load()) return 130;
+      if (g_stop.load()) return stopped_status();
       return res.failed ? 1 : 0;
     }
     sphib::Scene scene = sphib::load_scene(scene_path, sets);
     if (check->parsed()) {
-      const int warnings = sphib::app::check_scene(scene, std::cout);
+      const int warnings = sphib::app::check_scene(scene, std::cout, build);
       if (warnings) std::cout << "  " << warnings << " warning(s)\n";
       return 0;
     }
-    std::signal(SIGINT, on_sigint);
+    handle_stop_signals();
     sphib::RunOptions opt;
     opt.out_dir = out_dir;
     opt.log = quiet ? nullptr : &std::cerr;
@@ -105,9 +126,14 @@ int main(int argc, char** argv) {
         throw sphib::SceneError(scene_path + ": refused by --strict: " + std::to_string(n) +
                                 " warning(s) above (see `sphib check`)");
     };
-    sphib::run_scene(scene, opt);
-    if (g_stop.load()) std::cerr << "sphib: interrupted; consistent output written to " << out_dir << "\n";
-    return g_stop.load() ? 130 : 0;
+    const auto summary = sphib::run_scene(scene, opt);
+    if (g_stop.load())
+      std::cerr << "sphib: " << summary.value("stop_reason", "stopped") << " by signal " << g_stop.load()
+                << "; consistent output written to " << out_dir << "\n";
+    return stopped_status();
+  } catch (const sphib::StoppedBeforeStart& e) {
+    std::cerr << "sphib: " << e.what() << "\n";
+    return 128 + e.signal;
   } catch (const sphib::SceneError& e) {
     std::cerr << "sphib: error: " << e.what() << "\n";
     return 2;

@@ -14,6 +14,7 @@
 
 #include "app/expression.hpp"
 #include "io/atomic_file.hpp"
+#include "io/output_dir.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 
@@ -141,7 +142,10 @@ nlohmann::json run_or_reuse(const Run& r, const SweepOptions& o, SweepResult& re
   bool done = false;
   if (fs::exists(summary_path)) {
     std::ifstream in(summary_path);
-    try { done = nlohmann::json::parse(in).value("stop_reason", "") != "interrupted"; } catch (const std::exception&) {}
+    try {  // a run stopped by a signal is run again
+      const std::string why = nlohmann::json::parse(in).value("stop_reason", "");
+      done = why != "interrupted" && why != "terminated" && why.rfind("signal", 0) != 0;
+    } catch (const std::exception&) {}
   }
   if (done) {
     ++res.reused;
@@ -165,17 +169,34 @@ nlohmann::json run_or_reuse(const Run& r, const SweepOptions& o, SweepResult& re
   try { return nlohmann::json::parse(in); } catch (const std::exception&) { return nlohmann::json::object(); }
 }
 
-// A table row: the run's values and the reported summary fields (a dotted name reaches into
-// nested objects).
+// A summary field by its name; a dotted name reaches into nested objects. nullptr if there is none.
+const nlohmann::json* field(const nlohmann::json& s, const std::string& name) {
+  const nlohmann::json* v = &s;
+  for (const auto& part : split(name, '.')) {
+    if (!v->is_object() || !v->contains(part)) return nullptr;
+    v = &(*v)[part];
+  }
+  return v;
+}
+
+// A --report field the first run's summary does not have is a mistake (it gave an empty column):
+// refused, naming the fields there are. The runs done so far are kept and reused by the next call.
+void check_report(const nlohmann::json& s, const Run& r, const std::vector<std::string>& report) {
+  if (s.value("stop_reason", "") == "fault") return;  // a fault's summary has no figures
+  for (const auto& rep : report) {
+    if (field(s, rep)) continue;
+    std::string names;
+    for (const auto& [k, v] : s.items()) names += (names.empty() ? "" : ", ") + k;
+    throw UsageError("--report " + rep + ": " + r.dir + "/summary.json has no such field (it has: " + names + ")");
+  }
+}
+
+// A table row: the run's values and the reported summary fields.
 nlohmann::json table_row(const Run& r, const nlohmann::json& s, const std::vector<std::string>& report) {
   nlohmann::json row = nlohmann::json::object();
   for (const auto& [k, v] : r.env) row[k] = v;
   for (const auto& rep : report) {
-    const nlohmann::json* v = &s;
-    for (const auto& part : split(rep, '.')) {
-      if (v->is_object() && v->contains(part)) v = &(*v)[part];
-      else { v = nullptr; break; }
-    }
+    const nlohmann::json* v = field(s, rep);
     row[rep] = v ? *v : nlohmann::json();
   }
   row["steps"] = s.value("steps", nlohmann::json());
@@ -238,21 +259,24 @@ std::string markdown_table(const std::vector<std::string>& cols, const std::vect
 SweepResult run_sweep(const SweepOptions& o) {
   const Plan plan = parse_plan(o);
   const std::vector<Run> runs = combinations(plan, o);
-  fs::create_directories(o.out);
+  OutputDirectory owned(o.out);  // one sweep at a time in DIR (DirectoryBusy: refused before any run)
   SweepResult res;
   std::vector<nlohmann::json> rows;
   for (const Run& r : runs) {
     if (o.stop && o.stop->load()) break;
     const nlohmann::json s = run_or_reuse(r, o, res);
     if (s.is_null()) continue;
+    if (res.runs == 0) check_report(s, r, o.report);
     ++res.runs;
     rows.push_back(table_row(r, s, o.report));
   }
   std::vector<std::string> cols(plan.keys);
   for (const auto& [dk, e] : plan.derives)
     if (std::find(cols.begin(), cols.end(), dk) == cols.end()) cols.push_back(dk);
-  cols.insert(cols.end(), o.report.begin(), o.report.end());
-  for (const char* c : {"steps", "wall_seconds", "run"}) cols.emplace_back(c);
+  for (const std::string& c : o.report)  // each column once (--report steps gave two)
+    if (std::find(cols.begin(), cols.end(), c) == cols.end()) cols.push_back(c);
+  for (const std::string c : {"steps", "wall_seconds", "run"})
+    if (std::find(cols.begin(), cols.end(), c) == cols.end()) cols.push_back(c);
   write_file_atomic((fs::path(o.out) / "sweep.csv").string(), csv_table(cols, rows));
   res.markdown = markdown_table(cols, rows, plan.keys, o.report);
   write_file_atomic((fs::path(o.out) / "sweep.md").string(), res.markdown);

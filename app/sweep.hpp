@@ -23,7 +23,7 @@ struct SweepOptions {
   std::vector<std::string> report;   // summary fields; a dotted name reaches into objects (area_relative_error_at.2)
   std::ostream* log = nullptr;       // one line per run (nullptr: silent)
   std::ostream* table = nullptr;     // the Markdown table at the end (nullptr: not printed)
-  const std::atomic<bool>* stop = nullptr;  // set: the current run ends cleanly, no further runs
+  const std::atomic<int>* stop = nullptr;  // a signal's number: the current run ends cleanly, no further runs
 };
 
 struct SweepResult {
@@ -34,7 +34,8 @@ struct SweepResult {
 // Every combination of the --vary values (the last key varying fastest) is set up first (a bad
 // key or value throws SceneError before anything runs), then run with run_scene into
 // DIR/run_NNN unless DIR/run_NNN/summary.json exists from a run that was not interrupted (delete
-// DIR to start over). A run that fails is reported and the sweep goes on; its row has the
+// DIR to start over). A --report field missing from the first run's summary throws UsageError
+// naming the fields it has (the runs done are kept). A run that fails is reported and the sweep goes on; its row has the
 // figures its summary has, if any.
 // Observed orders: between successive values of the first varied key with the other varied keys
 // fixed, log(e_a/e_b)/log(n_b/n_a). Throws UsageError or ExpressionError for bad arguments.

@@ -15,6 +15,7 @@
 #   equilibrium_t10  free membrane in equilibrium without the steady-state stop, t = 10 (area, jump)
 #   oscillation_pair the main job with each projection x interpolation pair (area at t = 1, 2, 10)
 #   capsule        the capsule in shear (build/capsule_shear), Ca = 0.05, 0.1, 0.2
+#   kernel_width   Couette (64 x 64, dt = 1e-3, t = 1) and Poiseuille errors against kernel.h_over_dx 0.51-1.2
 # Without arguments: all but fig10 and sweep (the long ones).
 # PAIR=paper runs every scene with the paper's approximate projection and SPH interpolation
 # (fluid.projection = "approximate", coupling.interpolation = "sph") into bench_out/paper/; the
@@ -39,6 +40,11 @@ for s in "${sections[@]}"; do
     poiseuille)
       $SWEEP --scene cases/poiseuille.toml --out $OUT/poiseuille --vary grid.nx=64 \
         --report rms_error,seconds_per_step,setup_seconds ;;
+    kernel_width)
+      $SWEEP --scene cases/couette.toml --out $OUT/kernel_width_couette --vary kernel.h_over_dx=0.51,0.6,0.7,0.8,0.9,1.0,1.2 \
+        --set grid.nx=64 --set grid.ny=64 --set time.dt=1e-3 --report rms_error
+      $SWEEP --scene cases/poiseuille.toml --out $OUT/kernel_width_poiseuille --vary kernel.h_over_dx=0.51,0.6,0.7,0.8,0.9,1.0,1.2 \
+        --report rms_error ;;
     couette)
       $SWEEP --scene cases/couette.toml --out $OUT/couette --vary grid.nx=16,32,64 --derive grid.ny={grid.nx} \
         --report rms_error,seconds_per_step ;;

@@ -1,19 +1,39 @@
 #include "io/checkpoint.hpp"
 
+#include <cerrno>
+#include <cstring>
+
 #include <hdf5.h>
 
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <stdexcept>
 
 #include "io/atomic_file.hpp"
+#include "io/hdf5_writer.hpp"
 #include "sphib_version.hpp"
 
 namespace sphib {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) {
-  throw std::runtime_error("checkpoint " + path + ": " + what);
+// Layout (format 2):
+//   /                    attributes sphib_version, checkpoint_format (text)
+//   /scene               one text attribute per resolved scene key
+//   /fluid/<name>        FluidSolver::state(), each a matrix
+//   /membranes/<k>       X of membrane k; /marker_velocities/<k> U^n(X^n) of the free ones
+//   /run                 attributes run_id, analyses (JSON text); dataset series (rows x columns)
+//                        with attribute columns (text array)
+// Text is stored as variable-length UTF-8 strings: a 70 kB title or a 2 000-point membrane fit (a
+// fixed-length attribute is limited to 64 kB).
+
+[[noreturn]] void refuse(const std::string& path, const std::string& what) {
+  throw CheckpointError("checkpoint " + path + ": " + what);
+}
+
+[[noreturn]] void write_failed(const std::string& path, const std::string& what) {
+  throw WriteError("checkpoint " + path + ": " + what);
 }
 
 // Closes an HDF5 handle at scope exit.
@@ -23,80 +43,200 @@ struct H {
   ~H() { if (id >= 0) close(id); }
 };
 
+H text_type() {
+  H t{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(t.id, H5T_VARIABLE);
+  H5Tset_cset(t.id, H5T_CSET_UTF8);
+  return t;
+}
+
 void write_matrix(hid_t loc, const std::string& name, const Eigen::MatrixXd& m, const std::string& path) {
   // Row-major on disk (rows x cols), as h5py shows it.
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r = m;
   hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
   H space{H5Screate_simple(2, dims, nullptr), H5Sclose};
   H d{H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
-  if (d.id < 0 || H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.data()) < 0)
-    fail(path, "cannot write " + name);
+  if (d.id < 0 || (r.size() > 0 && H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.data()) < 0))
+    write_failed(path, "cannot write " + name);
 }
 
 Eigen::MatrixXd read_matrix(hid_t loc, const std::string& name, const std::string& path) {
   H d{H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose};
-  if (d.id < 0) fail(path, "no dataset " + name);
+  if (d.id < 0) refuse(path, "no dataset " + name);
   H space{H5Dget_space(d.id), H5Sclose};
   hsize_t dims[2] = {0, 0};
-  if (H5Sget_simple_extent_ndims(space.id) != 2) fail(path, name + " is not a matrix");
+  if (H5Sget_simple_extent_ndims(space.id) != 2) refuse(path, name + " is not a matrix");
   H5Sget_simple_extent_dims(space.id, dims, nullptr);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r(dims[0], dims[1]);
-  if (H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.data()) < 0) fail(path, "cannot read " + name);
+  if (r.size() > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.data()) < 0)
+    refuse(path, "cannot read " + name);
   return r;
 }
 
 void write_text(hid_t loc, const std::string& name, const std::string& value, const std::string& path) {
-  H type{H5Tcopy(H5T_C_S1), H5Tclose};
-  H5Tset_size(type.id, value.size() + 1);
+  H type = text_type();
   H space{H5Screate(H5S_SCALAR), H5Sclose};
   H a{H5Acreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-  if (a.id < 0 || H5Awrite(a.id, type.id, value.c_str()) < 0) fail(path, "cannot write attribute " + name);
+  const char* p = value.c_str();
+  if (a.id < 0 || H5Awrite(a.id, type.id, &p) < 0) write_failed(path, "cannot write attribute " + name);
 }
 
-std::string read_text(hid_t attr) {
+void write_texts(hid_t loc, const std::string& name, const std::vector<std::string>& v, const std::string& path) {
+  H type = text_type();
+  const hsize_t n = v.size();
+  H space{H5Screate_simple(1, &n, nullptr), H5Sclose};
+  H a{H5Acreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  std::vector<const char*> p;
+  for (const auto& s : v) p.push_back(s.c_str());
+  if (a.id < 0 || (n > 0 && H5Awrite(a.id, type.id, p.data()) < 0)) write_failed(path, "cannot write attribute " + name);
+}
+
+// The strings of a text attribute (scalar or array, variable-length).
+std::vector<std::string> read_texts(hid_t attr, const std::string& path, const std::string& name) {
   H type{H5Aget_type(attr), H5Tclose};
-  std::string s(H5Tget_size(type.id), '\0');
-  H mem{H5Tcopy(H5T_C_S1), H5Tclose};
-  H5Tset_size(mem.id, s.size());
-  H5Aread(attr, mem.id, s.data());
-  return s.c_str();
+  H space{H5Aget_space(attr), H5Sclose};
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id);
+  if (H5Tget_class(type.id) != H5T_STRING || H5Tis_variable_str(type.id) <= 0 || n < 0)
+    refuse(path, "attribute " + name + " is not variable-length text (an older checkpoint format?)");
+  std::vector<char*> p(static_cast<size_t>(n), nullptr);
+  H mem = text_type();
+  if (n > 0 && H5Aread(attr, mem.id, p.data()) < 0) refuse(path, "cannot read attribute " + name);
+  std::vector<std::string> out;
+  for (char* s : p) out.emplace_back(s ? s : "");
+  if (n > 0) H5Dvlen_reclaim(mem.id, space.id, H5P_DEFAULT, p.data());
+  return out;
 }
 
-// Keys that say how long to run and what to write; a restart may change them.
+std::string read_text(hid_t loc, const std::string& name, const std::string& path) {
+  H a{H5Aopen(loc, name.c_str(), H5P_DEFAULT), H5Aclose};
+  if (a.id < 0) refuse(path, "no attribute " + name);
+  const auto v = read_texts(a.id, path, name);
+  if (v.size() != 1) refuse(path, "attribute " + name + " is not one text");
+  return v[0];
+}
+
+// Keys that say how long to run, what to write and what the machine allows; a restart may change them.
 bool may_differ(const std::string& key) {
   return key.rfind("time.end", 0) == 0 || key.rfind("time.max_steps", 0) == 0 || key.rfind("output.", 0) == 0 ||
-         key == "title";
+         key.rfind("limits.", 0) == 0 || key == "title";
+}
+
+double checkpoint_bytes(const Simulation& sim, const std::vector<std::pair<std::string, std::string>>& scene,
+                        const Observers* observers) {
+  double b = 0;
+  for (const auto& [k, v] : sim.fluid().state()) b += 8.0 * v.size() + 4096;
+  for (const auto& m : sim.membranes()) b += 48.0 * m.m.X.rows() + 12288;  // X, U^n, U^{n+1}
+  for (const auto& [k, v] : scene) b += 128.0 + k.size() + v.size();
+  if (observers) b += 8.0 * observers->series().rows.size() * observers->columns().size() + 65536;
+  return b;
+}
+
+void write_state(hid_t f, const Simulation& sim, const std::vector<std::pair<std::string, std::string>>& scene,
+                 const std::string& path) {
+  write_text(f, "sphib_version", SPHIB_VERSION, path);
+  write_text(f, "checkpoint_format", std::to_string(kCheckpointFormat), path);
+  H sc{H5Gcreate2(f, "scene", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  for (const auto& [k, v] : scene) write_text(sc.id, k, v, path);
+  H fl{H5Gcreate2(f, "fluid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  for (const auto& [k, v] : sim.fluid().state()) write_matrix(fl.id, k, v, path);
+  H mg{H5Gcreate2(f, "membranes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  for (size_t k = 0; k < sim.membranes().size(); ++k) write_matrix(mg.id, std::to_string(k), sim.membranes()[k].m.X, path);
+  bool history = !sim.membranes().empty();
+  for (const auto& m : sim.membranes()) history &= m.fixed || m.U_n_known;
+  if (history) {  // U^n(X^n) of the last step: the marker predictor's U^{n-1} after the restart
+    H vg{H5Gcreate2(f, "marker_velocities", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+    for (size_t k = 0; k < sim.membranes().size(); ++k) {
+      if (sim.membranes()[k].fixed) continue;
+      write_matrix(vg.id, std::to_string(k), sim.membranes()[k].U_n, path);
+      // the next step's U^n(X^n), as the last marker update left it (linearised: not an interpolation)
+      if (const Mat2* U = sim.next_marker_velocity(k)) write_matrix(vg.id, std::to_string(k) + "_next", *U, path);
+    }
+  }
+}
+
+void write_run(hid_t f, const std::string& run_id, const Observers& observers, const std::string& path) {
+  H rg{H5Gcreate2(f, "run", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  write_text(rg.id, "run_id", run_id, path);
+  write_text(rg.id, "analyses", observers.state().dump(), path);
+  const Series& s = observers.series();
+  Eigen::MatrixXd rows(static_cast<Eigen::Index>(s.rows.size()), static_cast<Eigen::Index>(s.columns.size()));
+  for (size_t r = 0; r < s.rows.size(); ++r)
+    for (size_t c = 0; c < s.columns.size(); ++c) rows(r, c) = s.rows[r][c];
+  write_matrix(rg.id, "series", rows, path);
+  H d{H5Dopen2(rg.id, "series", H5P_DEFAULT), H5Dclose};
+  write_texts(d.id, "columns", s.columns, path);
+}
+
+void read_run(hid_t f, Checkpoint& c, const std::string& path) {
+  H rg{H5Gopen2(f, "run", H5P_DEFAULT), H5Gclose};
+  if (rg.id < 0) return;  // a checkpoint written outside a run (no record)
+  c.run_id = read_text(rg.id, "run_id", path);
+  try {
+    c.analyses = nlohmann::json::parse(read_text(rg.id, "analyses", path));
+  } catch (const nlohmann::json::exception&) {
+    refuse(path, "its run record is damaged");
+  }
+  const Eigen::MatrixXd rows = read_matrix(rg.id, "series", path);
+  H d{H5Dopen2(rg.id, "series", H5P_DEFAULT), H5Dclose};
+  H a{H5Aopen(d.id, "columns", H5P_DEFAULT), H5Aclose};
+  if (a.id < 0) refuse(path, "no series columns");
+  c.series.columns = read_texts(a.id, path, "columns");
+  if (static_cast<size_t>(rows.cols()) != c.series.columns.size() && rows.rows() > 0) refuse(path, "its series is damaged");
+  for (Eigen::Index r = 0; r < rows.rows(); ++r) {
+    std::vector<double> row(static_cast<size_t>(rows.cols()));
+    for (Eigen::Index k = 0; k < rows.cols(); ++k) row[k] = rows(r, k);
+    c.series.rows.push_back(std::move(row));
+  }
+}
+
+// Every attribute of a group, as (name, text).
+std::vector<std::pair<std::string, std::string>> read_group_texts(hid_t g, const std::string& path) {
+  std::vector<std::pair<std::string, std::string>> out;
+  H5O_info_t info;
+  H5Oget_info(g, &info);
+  for (hsize_t k = 0; k < info.num_attrs; ++k) {
+    H a{H5Aopen_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    if (a.id < 0) refuse(path, "cannot read its scene");
+    const ssize_t len = H5Aget_name(a.id, 0, nullptr);
+    std::string name(static_cast<size_t>(std::max<ssize_t>(len, 0)), '\0');
+    H5Aget_name(a.id, name.size() + 1, name.data());
+    const auto v = read_texts(a.id, path, name);
+    if (v.size() != 1) refuse(path, "scene value " + name + " is not one text");
+    out.emplace_back(name, v[0]);
+  }
+  return out;
+}
+
+void require_finite(const Eigen::MatrixXd& m, const std::string& what, const std::string& path) {
+  if (!m.allFinite()) refuse(path, "it holds non-finite values in " + what + " (a damaged or blown-up state)");
 }
 
 }  // namespace
 
 void write_checkpoint(const std::string& path, const Simulation& sim,
-                      const std::vector<std::pair<std::string, std::string>>& scene) {
+                      const std::vector<std::pair<std::string, std::string>>& scene, const std::string& run_id,
+                      const Observers* observers) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const std::string part = part_path(path);
   {
+    errno = 0;
     H f{H5Fcreate(part.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose};
-    if (f.id < 0) fail(path, "cannot create " + part);
-    write_text(f.id, "sphib_version", SPHIB_VERSION, path);
-    H sc{H5Gcreate2(f.id, "scene", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-    for (const auto& [k, v] : scene) write_text(sc.id, k, v, path);
-    H fl{H5Gcreate2(f.id, "fluid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-    for (const auto& [k, v] : sim.fluid().state()) write_matrix(fl.id, k, v, path);
-    H mg{H5Gcreate2(f.id, "membranes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-    for (size_t k = 0; k < sim.membranes().size(); ++k)
-      write_matrix(mg.id, std::to_string(k), sim.membranes()[k].m.X, path);
-    bool history = !sim.membranes().empty();
-    for (const auto& m : sim.membranes()) history &= m.fixed || m.U_n_known;
-    if (history) {  // U^n(X^n) of the last step: the marker predictor's U^{n-1} after the restart
-      H vg{H5Gcreate2(f.id, "marker_velocities", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-      for (size_t k = 0; k < sim.membranes().size(); ++k) {
-        if (sim.membranes()[k].fixed) continue;
-        write_matrix(vg.id, std::to_string(k), sim.membranes()[k].U_n, path);
-        // the next step's U^n(X^n), as the last marker update left it (linearised: not an interpolation)
-        if (const Mat2* U = sim.next_marker_velocity(k)) write_matrix(vg.id, std::to_string(k) + "_next", *U, path);
-      }
+    if (f.id < 0) {  // (a full disk: HDF5 may have made the file without its superblock)
+      const std::string why = errno ? std::string(": ") + std::strerror(errno) : "";
+      std::remove(part.c_str());
+      write_failed(path, "cannot create " + part + why);
     }
-    if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush (disk full?)");
+    try {
+      reserve_hdf5_space(f.id, checkpoint_bytes(sim, scene, observers), part);
+      write_state(f.id, sim, scene, path);
+      if (observers) write_run(f.id, run_id, *observers, path);
+      if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) write_failed(path, "cannot flush (disk full?)");
+    } catch (...) {
+      H5Fclose(f.id);
+      f.id = -1;
+      std::remove(part.c_str());
+      throw;
+    }
   }
   commit_part(part, path);
 }
@@ -104,43 +244,33 @@ void write_checkpoint(const std::string& path, const Simulation& sim,
 Checkpoint read_checkpoint(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   H f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
-  if (f.id < 0) fail(path, "cannot open it as HDF5");
+  if (f.id < 0) refuse(path, "cannot open it as HDF5 (missing, or not a checkpoint)");
   Checkpoint c;
-  {
-    H a{H5Aopen(f.id, "sphib_version", H5P_DEFAULT), H5Aclose};
-    if (a.id < 0) fail(path, "not a sphib checkpoint (no sphib_version)");
-    c.version = read_text(a.id);
-  }
+  if (H5Aexists(f.id, "sphib_version") <= 0) refuse(path, "not a sphib checkpoint (no sphib_version)");
+  if (H5Aexists(f.id, "checkpoint_format") <= 0 || read_text(f.id, "checkpoint_format", path) != std::to_string(kCheckpointFormat))
+    refuse(path, "written in an older checkpoint format (this sphib reads format " + std::to_string(kCheckpointFormat) +
+                     "): run the scene from the start");
+  c.version = read_text(f.id, "sphib_version", path);
   H sc{H5Gopen2(f.id, "scene", H5P_DEFAULT), H5Gclose};
-  if (sc.id < 0) fail(path, "no scene group");
-  H5O_info_t info;
-  H5Oget_info(sc.id, &info);
-  for (hsize_t k = 0; k < info.num_attrs; ++k) {
-    H a{H5Aopen_by_idx(sc.id, ".", H5_INDEX_CRT_ORDER, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-    if (a.id < 0) {  // creation order not tracked: by name
-      H b{H5Aopen_by_idx(sc.id, ".", H5_INDEX_NAME, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-      char name[512];
-      H5Aget_name(b.id, sizeof name, name);
-      c.scene.emplace_back(name, read_text(b.id));
-      continue;
-    }
-    char name[512];
-    H5Aget_name(a.id, sizeof name, name);
-    c.scene.emplace_back(name, read_text(a.id));
-  }
+  if (sc.id < 0) refuse(path, "no scene group");
+  c.scene = read_group_texts(sc.id, path);
   H fl{H5Gopen2(f.id, "fluid", H5P_DEFAULT), H5Gclose};
-  if (fl.id < 0) fail(path, "no fluid group");
+  if (fl.id < 0) refuse(path, "no fluid group");
   H5G_info_t gi;
   H5Gget_info(fl.id, &gi);
   for (hsize_t k = 0; k < gi.nlinks; ++k) {
     char name[512];
     H5Lget_name_by_idx(fl.id, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
     c.fluid.emplace_back(name, read_matrix(fl.id, name, path));
+    require_finite(c.fluid.back().second, std::string("fluid/") + name, path);
   }
   H mg{H5Gopen2(f.id, "membranes", H5P_DEFAULT), H5Gclose};
   if (mg.id >= 0) {
     H5Gget_info(mg.id, &gi);
-    for (hsize_t k = 0; k < gi.nlinks; ++k) c.markers.push_back(read_matrix(mg.id, std::to_string(k), path));
+    for (hsize_t k = 0; k < gi.nlinks; ++k) {
+      c.markers.push_back(read_matrix(mg.id, std::to_string(k), path));
+      require_finite(c.markers.back(), "membranes/" + std::to_string(k), path);
+    }
   }
   if (H5Lexists(f.id, "marker_velocities", H5P_DEFAULT) > 0) {
     H vg{H5Gopen2(f.id, "marker_velocities", H5P_DEFAULT), H5Gclose};
@@ -148,32 +278,44 @@ Checkpoint read_checkpoint(const std::string& path) {
     c.marker_velocities_next.resize(c.markers.size());
     for (size_t k = 0; k < c.markers.size(); ++k) {
       const std::string name = std::to_string(k);
-      if (H5Lexists(vg.id, name.c_str(), H5P_DEFAULT) > 0) c.marker_velocities[k] = read_matrix(vg.id, name, path);
-      if (H5Lexists(vg.id, (name + "_next").c_str(), H5P_DEFAULT) > 0)
+      if (H5Lexists(vg.id, name.c_str(), H5P_DEFAULT) > 0) {
+        c.marker_velocities[k] = read_matrix(vg.id, name, path);
+        require_finite(c.marker_velocities[k], "marker_velocities/" + name, path);
+      }
+      if (H5Lexists(vg.id, (name + "_next").c_str(), H5P_DEFAULT) > 0) {
         c.marker_velocities_next[k] = read_matrix(vg.id, name + "_next", path);
+        require_finite(c.marker_velocities_next[k], "marker_velocities/" + name + "_next", path);
+      }
     }
   }
+  if (H5Lexists(f.id, "run", H5P_DEFAULT) > 0) read_run(f.id, c, path);
   return c;
 }
 
 void restore_checkpoint(const Checkpoint& c, const std::string& path,
                         const std::vector<std::pair<std::string, std::string>>& scene, Simulation& sim) {
   if (c.version != SPHIB_VERSION)
-    fail(path, "written by sphib " + c.version + ", this is " + SPHIB_VERSION);
+    refuse(path, "written by sphib " + c.version + ", this is " + SPHIB_VERSION);
   std::map<std::string, std::string> saved(c.scene.begin(), c.scene.end()), now(scene.begin(), scene.end());
   for (const auto& [k, v] : now)
     if (!may_differ(k) && (!saved.count(k) || saved[k] != v))
-      fail(path, "its scene does not match: " + k + " = " + (saved.count(k) ? saved[k] : "(unset)") +
-                     " in the checkpoint, " + v + " now");
+      refuse(path, "its scene does not match: " + k + " = " + (saved.count(k) ? saved[k] : "(unset)") +
+                       " in the checkpoint, " + v + " now");
   for (const auto& [k, v] : saved)
-    if (!may_differ(k) && !now.count(k)) fail(path, "its scene does not match: " + k + " = " + v + " is not set now");
-  if (c.markers.size() != sim.membranes().size()) fail(path, "it has a different number of membranes");
-  sim.fluid().restore(c.fluid);
-  for (size_t k = 0; k < c.markers.size(); ++k) sim.set_markers(k, c.markers[k]);
-  for (size_t k = 0; k < c.marker_velocities.size(); ++k)
-    if (c.marker_velocities[k].rows() > 0)
-      sim.set_marker_history(k, c.marker_velocities[k],
-                             c.marker_velocities_next[k].rows() > 0 ? &c.marker_velocities_next[k] : nullptr);
+    if (!may_differ(k) && !now.count(k)) refuse(path, "its scene does not match: " + k + " = " + v + " is not set now");
+  if (c.markers.size() != sim.membranes().size()) refuse(path, "it has a different number of membranes");
+  try {
+    sim.fluid().restore(c.fluid);
+    for (size_t k = 0; k < c.markers.size(); ++k) sim.set_markers(k, c.markers[k]);
+    for (size_t k = 0; k < c.marker_velocities.size(); ++k)
+      if (c.marker_velocities[k].rows() > 0)
+        sim.set_marker_history(k, c.marker_velocities[k],
+                               c.marker_velocities_next[k].rows() > 0 ? &c.marker_velocities_next[k] : nullptr);
+  } catch (const std::exception& e) {  // sizes that do not fit the scene's lattice or membranes
+    refuse(path, e.what());
+  }
+  if (!(std::isfinite(sim.time()) && sim.time() >= 0) || sim.steps() < 0)
+    refuse(path, "its clock is not valid (t = " + std::to_string(sim.time()) + ", step " + std::to_string(sim.steps()) + ")");
 }
 
 }  // namespace sphib

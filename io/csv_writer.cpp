@@ -26,8 +26,7 @@ CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns)
   if (columns_.empty()) throw std::invalid_argument("CsvWriter '" + path_ + "': no columns");
   file_ = std::fopen(part_.c_str(), "w");
   if (!file_)
-    throw std::runtime_error("CsvWriter: cannot open '" + part_ + "' for writing: " +
-                             std::strerror(errno));
+    throw WriteError("CsvWriter: cannot open '" + part_ + "' for writing: " + std::strerror(errno));
   std::string header;
   for (std::size_t c = 0; c < columns_.size(); ++c)
     header += (c ? "," : "") + csv_field(columns_[c]);
@@ -35,7 +34,7 @@ CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns)
   if (std::fputs(header.c_str(), file_) < 0 || std::fflush(file_) != 0) {
     const int err = errno;
     std::fclose(file_);
-    throw std::runtime_error("CsvWriter: cannot write '" + part_ + "': " + std::strerror(err));
+    throw WriteError("CsvWriter: cannot write '" + part_ + "': " + std::strerror(err));
   }
 }
 
@@ -48,8 +47,7 @@ CsvWriter::~CsvWriter() {
 }
 
 void CsvWriter::fail(const std::string& what) {
-  throw std::runtime_error("CsvWriter: " + what + " '" + part_ + "' failed: " +
-                           std::strerror(errno));
+  throw WriteError("CsvWriter: " + what + " '" + part_ + "' failed: " + std::strerror(errno));
 }
 
 void CsvWriter::row(const std::vector<double>& values) {
@@ -84,6 +82,12 @@ void CsvWriter::close() {
     fail("close of");
   }
   commit_part(part_, path_);
+}
+
+void CsvWriter::abandon() {
+  if (!file_) return;
+  std::fclose(file_);
+  file_ = nullptr;
 }
 
 }  // namespace sphib

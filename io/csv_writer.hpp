@@ -19,9 +19,10 @@ class CsvWriter {
   CsvWriter& operator=(const CsvWriter&) = delete;
 
   // One value per column (std::invalid_argument otherwise); NaN/Inf are written as nan/inf.
-  // Throws std::runtime_error naming the file if the write fails (e.g. disk full).
+  // Throws WriteError naming the file if the write fails (e.g. disk full).
   void row(const std::vector<double>& values);
   void close();  // flush, fsync, rename path.part -> path; idempotent
+  void abandon();  // close without the rename: path.part stays, incomplete by its name (a run that failed to write)
 
   const std::string& path() const { return path_; }
   const std::vector<std::string>& columns() const { return columns_; }

@@ -34,8 +34,7 @@ herr_t keep_deepest(unsigned, const H5E_error2_t* e, void* out) {
   std::string cause;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, keep_deepest, &cause);
   H5Eclear2(H5E_DEFAULT);
-  throw std::runtime_error("Hdf5Writer: " + op + " failed for '" + file + "'" +
-                           (cause.empty() ? "" : ": " + cause));
+  throw WriteError("Hdf5Writer: " + op + " failed for '" + file + "'" + (cause.empty() ? "" : ": " + cause));
 }
 
 void check(herr_t rc, const std::string& file, const std::string& op) {
@@ -151,6 +150,17 @@ std::string xml_escape(const std::string& s) {
   return r;
 }
 
+double attribute_bytes(const RunAttributes& attrs) {
+  double b = 0;
+  for (const auto& [name, value] : attrs.text) b += 128.0 + name.size() + value.size();
+  return b + 128.0 * attrs.numbers.size();
+}
+
+void write_attributes(hid_t file, const RunAttributes& attrs, const std::string& part) {
+  for (const auto& [name, value] : attrs.text) attr_string(file, name, value, part);
+  for (const auto& [name, value] : attrs.numbers) attr_double(file, name, value, part);
+}
+
 }  // namespace
 
 Hdf5Writer::Hdf5Writer(std::string path, const RunAttributes& attrs)
@@ -159,15 +169,175 @@ Hdf5Writer::Hdf5Writer(std::string path, const RunAttributes& attrs)
   file_ = H5Fcreate(part_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file_ < 0) fail(part_, "H5Fcreate");
   try {
-    for (const auto& [name, value] : attrs.text) attr_string(file_, name, value, part_);
-    for (const auto& [name, value] : attrs.numbers) attr_double(file_, name, value, part_);
-    create_group(file_, "snapshots", part_);
-    check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+    reserve(attribute_bytes(attrs));
+    writing([&] {
+      write_attributes(file_, attrs, part_);
+      create_group(file_, "snapshots", part_);
+      check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+    });
   } catch (...) {
     H5Fclose(file_);
+    file_ = -1;
     std::remove(part_.c_str());
     throw;
   }
+}
+
+Hdf5Writer::Hdf5Writer(std::string path, const RunAttributes& attrs, const std::string& source, long resume_step)
+    : path_(std::move(path)), part_(part_path(path_)) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::equivalent(source, part_, ec)) {
+    fs::copy_file(source, part_, fs::copy_options::overwrite_existing, ec);
+    if (ec) throw WriteError("Hdf5Writer: cannot copy '" + source + "' to '" + part_ + "': " + ec.message());
+  }
+  file_ = H5Fopen(part_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (file_ < 0) fail(part_, "H5Fopen");
+  try {
+    reserve(attribute_bytes(attrs));
+    writing([&] {
+      H5O_info_t info;
+      check(H5Oget_info(file_, &info), part_, "H5Oget_info");
+      for (hsize_t k = 0; k < info.num_attrs; ++k)
+        check(H5Adelete_by_idx(file_, ".", H5_INDEX_NAME, H5_ITER_DEC, 0, H5P_DEFAULT), part_, "H5Adelete_by_idx");
+      write_attributes(file_, attrs, part_);
+      for (const char* g : {"diagnostics", "xdmf"})  // written again by close()
+        if (H5Lexists(file_, g, H5P_DEFAULT) > 0) check(H5Ldelete(file_, g, H5P_DEFAULT), part_, std::string("H5Ldelete of ") + g);
+      resume_snapshots(resume_step);
+      check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+    });
+  } catch (...) {
+    H5Fclose(file_);
+    file_ = -1;
+    throw;
+  }
+}
+
+// The snapshots of the earlier file before resume_step, as the XDMF needs them; later ones deleted.
+void Hdf5Writer::resume_snapshots(long resume_step) {
+  Handle g(H5Gopen2(file_, "snapshots", H5P_DEFAULT), H5Gclose, part_, "H5Gopen2 of group 'snapshots'");
+  H5G_info_t gi;
+  check(H5Gget_info(g, &gi), part_, "H5Gget_info");
+  std::vector<std::string> later;
+  for (hsize_t k = 0; k < gi.nlinks; ++k) {
+    char name[64] = {0};
+    if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT) < 0) fail(part_, "H5Lget_name_by_idx");
+    Handle s(H5Gopen2(g, name, H5P_DEFAULT), H5Gclose, part_, std::string("H5Gopen2 of snapshot ") + name);
+    int step = 0;
+    SnapshotInfo info;
+    {
+      Handle a(H5Aopen(s, "step", H5P_DEFAULT), H5Aclose, part_, "H5Aopen of step");
+      check(H5Aread(a, H5T_NATIVE_INT, &step), part_, "H5Aread of step");
+      Handle b(H5Aopen(s, "time", H5P_DEFAULT), H5Aclose, part_, "H5Aopen of time");
+      check(H5Aread(b, H5T_NATIVE_DOUBLE, &info.t), part_, "H5Aread of time");
+    }
+    if (step >= resume_step) { later.emplace_back(name); continue; }
+    info.group = std::string("/snapshots/") + name;
+    next_index_ = std::max(next_index_, std::atoi(name) + 1);
+    H5G_info_t si;
+    check(H5Gget_info(s, &si), part_, "H5Gget_info");
+    for (hsize_t j = 0; j < si.nlinks; ++j) {
+      char item[256] = {0};
+      if (H5Lget_name_by_idx(s, ".", H5_INDEX_NAME, H5_ITER_INC, j, item, sizeof item, H5P_DEFAULT) < 0) fail(part_, "H5Lget_name_by_idx");
+      const std::string it(item);
+      if (it == "x") {
+        Handle d(H5Dopen2(s, item, H5P_DEFAULT), H5Dclose, part_, "H5Dopen2 of x");
+        Handle sp(H5Dget_space(d), H5Sclose, part_, "H5Dget_space of x");
+        hsize_t n = 0;
+        H5Sget_simple_extent_dims(sp, &n, nullptr);
+        info.n = static_cast<long>(n);
+      } else if (it == "velocity") {
+        info.velocity = true;
+      } else if (it.rfind("membrane_", 0) == 0) {
+        Handle d(H5Dopen2(s, (it + "/X").c_str(), H5P_DEFAULT), H5Dclose, part_, "H5Dopen2 of " + it + "/X");
+        Handle sp(H5Dget_space(d), H5Sclose, part_, "H5Dget_space of " + it + "/X");
+        hsize_t dims[2] = {0, 0};
+        H5Sget_simple_extent_dims(sp, dims, nullptr);
+        const size_t k = std::stoul(it.substr(9));
+        if (info.nb.size() <= k) info.nb.resize(k + 1);
+        info.nb[k] = static_cast<long>(dims[0]);
+      } else if (it != "y" && it != "xy") {
+        info.scalars.push_back(it);
+      }
+    }
+    info.lattice_pending = H5Lexists(s, "xy", H5P_DEFAULT) <= 0;
+    snapshots_.push_back(std::move(info));
+  }
+  for (const auto& name : later) check(H5Ldelete(g, name.c_str(), H5P_DEFAULT), part_, "H5Ldelete of snapshot " + name);
+}
+
+template <class F>
+void Hdf5Writer::writing(F&& write) {
+  try {
+    write();
+  } catch (...) {
+    broken_ = true;
+    throw;
+  }
+}
+
+std::string root_text_attribute(const std::string& path, const std::string& name) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return "";
+  std::string out;
+  if (H5Aexists(f, name.c_str()) > 0) {
+    const hid_t a = H5Aopen(f, name.c_str(), H5P_DEFAULT);
+    const hid_t t = a >= 0 ? H5Aget_type(a) : -1;
+    if (t >= 0 && H5Tget_class(t) == H5T_STRING && H5Tis_variable_str(t) > 0) {
+      char* p = nullptr;
+      const hid_t mem = H5Tcopy(H5T_C_S1);
+      H5Tset_size(mem, H5T_VARIABLE);
+      H5Tset_cset(mem, H5T_CSET_UTF8);
+      if (H5Aread(a, mem, &p) >= 0 && p) {
+        out = p;
+        H5free_memory(p);
+      }
+      H5Tclose(mem);
+    }
+    if (t >= 0) H5Tclose(t);
+    if (a >= 0) H5Aclose(a);
+  }
+  H5Fclose(f);
+  return out;
+}
+
+bool snapshots_readable(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return false;
+  bool ok = true;
+  try {
+    Handle g(H5Gopen2(f, "snapshots", H5P_DEFAULT), H5Gclose, path, "H5Gopen2");
+    H5G_info_t gi;
+    check(H5Gget_info(g, &gi), path, "H5Gget_info");
+    for (hsize_t k = 0; k < gi.nlinks; ++k) {
+      char name[64] = {0};
+      if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT) < 0) fail(path, "H5Lget_name_by_idx");
+      Handle s(H5Gopen2(g, name, H5P_DEFAULT), H5Gclose, path, "H5Gopen2");
+      Handle a(H5Aopen(s, "step", H5P_DEFAULT), H5Aclose, path, "H5Aopen");
+      int step = 0;
+      check(H5Aread(a, H5T_NATIVE_INT, &step), path, "H5Aread");
+      Handle x(H5Dopen2(s, "x", H5P_DEFAULT), H5Dclose, path, "H5Dopen2");
+    }
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  H5Fclose(f);
+  return ok;
+}
+
+void Hdf5Writer::reserve(double bytes) { reserve_hdf5_space(file_, bytes, part_); }
+
+void reserve_hdf5_space(std::int64_t file, double bytes, const std::string& path) {
+  hsize_t size = 0;
+  if (H5Fget_filesize(file, &size) < 0) fail(path, "H5Fget_filesize");
+  void* handle = nullptr;
+  if (H5Fget_vfd_handle(file, H5P_DEFAULT, &handle) < 0 || !handle) return;  // no POSIX file: nothing to reserve
+  // HDF5's own metadata (object headers, B-trees, heaps: under 1 kB per dataset): a quarter of the data
+  // and 256 kB more.
+  reserve_space(*static_cast<int*>(handle), static_cast<long long>(size + 1.25 * bytes + (256 << 10)), path);
 }
 
 Hdf5Writer::~Hdf5Writer() {
@@ -235,8 +405,20 @@ void Hdf5Writer::write_snapshot(
     info.cells = static_cast<long>(lattice->nx - 1) * (lattice->ny - 1);
     if (std::none_of(lattices_.begin(), lattices_.end(), [&](const auto& l) { return l.first == info.lattice; }))
       lattices_.emplace_back(info.lattice, *lattice);
+    for (SnapshotInfo& s : snapshots_)  // resumed ones: the same scene, the same lattice
+      if (s.lattice_pending && s.n == n) s.lattice = info.lattice, s.cells = info.cells, s.lattice_pending = false;
   }
+  double bytes = 8.0 * n * (2 + particle_scalars.size() + (info.velocity ? 3 : 0) + (info.lattice.empty() ? 2 : 0));
+  for (long nb : info.nb) bytes += 8.0 * nb * 8 + 4.0 * (nb + 1) + 4096;
+  reserve(bytes + 4096.0 * (4 + particle_scalars.size()));
+  writing([&] { write_snapshot_data(info, step, t, x, particle_scalars, membranes, u, v); });
+  snapshots_.push_back(std::move(info));
+}
 
+void Hdf5Writer::write_snapshot_data(SnapshotInfo& info, int step, double t, const Mat2& x,
+                                     const std::vector<std::pair<std::string, const Vec*>>& particle_scalars,
+                                     const std::vector<MembraneSnapshot>& membranes, const Vec* u, const Vec* v) {
+  const long n = info.n;
   char name[32];
   std::snprintf(name, sizeof name, "/snapshots/%06d", next_index_);
   info.group = name;
@@ -275,7 +457,6 @@ void Hdf5Writer::write_snapshot(
     doubles(mg, "f3", {nb, 3}, f3.data(), part_);
   }
   check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
-  snapshots_.push_back(std::move(info));
 }
 
 void Hdf5Writer::write_series(const std::string& name, const std::vector<std::string>& columns,
@@ -293,24 +474,48 @@ void Hdf5Writer::write_series(const std::string& name, const std::vector<std::st
                                   std::to_string(nc) + " columns");
     data.insert(data.end(), rows[r].begin(), rows[r].end());
   }
-  const htri_t exists = H5Lexists(file_, "diagnostics", H5P_DEFAULT);
-  if (exists < 0) fail(part_, "H5Lexists of group 'diagnostics'");
-  if (!exists) create_group(file_, "diagnostics", part_);
-  const std::string dname = "/diagnostics/" + name;
-  doubles(file_, dname, {static_cast<hsize_t>(rows.size()), nc}, data.data(), part_);
-  Handle d(H5Dopen2(file_, dname.c_str(), H5P_DEFAULT), H5Dclose, part_, "H5Dopen2 of " + dname);
-  attr_strings(d, "columns", columns, part_);
-  check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+  double names = 0;
+  for (const auto& c : columns) names += 64.0 + c.size();
+  reserve(8.0 * data.size() + names + 8192);
+  writing([&] {
+    const htri_t exists = H5Lexists(file_, "diagnostics", H5P_DEFAULT);
+    if (exists < 0) fail(part_, "H5Lexists of group 'diagnostics'");
+    if (!exists) create_group(file_, "diagnostics", part_);
+    const std::string dname = "/diagnostics/" + name;
+    doubles(file_, dname, {static_cast<hsize_t>(rows.size()), nc}, data.data(), part_);
+    Handle d(H5Dopen2(file_, dname.c_str(), H5P_DEFAULT), H5Dclose, part_, "H5Dopen2 of " + dname);
+    attr_strings(d, "columns", columns, part_);
+    check(H5Fflush(file_, H5F_SCOPE_LOCAL), part_, "H5Fflush");
+  });
+}
+
+void Hdf5Writer::abandon() {
+  if (file_ < 0) return;
+  H5Fclose(file_);  // after a failed write HDF5 may refuse; the .part stays either way
+  file_ = -1;
 }
 
 void Hdf5Writer::close() {
   if (file_ < 0) return;
+  if (broken_) {  // HDF5 cannot complete a file whose write failed: leave the .part
+    abandon();
+    return;
+  }
+  std::set<long> counts;  // one vertex connectivity per count of moving particles
+  for (const auto& s : snapshots_)
+    if (s.lattice.empty() && !s.lattice_pending) counts.insert(s.n);
+  double bytes = 0;
+  for (long n : counts) bytes += 4.0 * n;
+  for (const auto& [name, L] : lattices_) bytes += 16.0 * L.size() + 16.0 * (L.nx - 1) * (L.ny - 1);
+  try {
+    reserve(bytes);
+  } catch (...) {
+    abandon();
+    throw;
+  }
   const hid_t file = file_;
   file_ = -1;  // never retried: a failed close leaves only the .part file
   try {
-    std::set<long> counts;  // one vertex connectivity per count of moving particles
-    for (const auto& s : snapshots_)
-      if (s.lattice.empty()) counts.insert(s.n);
     if (!counts.empty() || !lattices_.empty()) {
       Handle g = create_group(file, "xdmf", part_);
       for (long n : counts) {
@@ -331,6 +536,7 @@ void Hdf5Writer::close() {
       }
     }
   } catch (...) {
+    broken_ = true;
     H5Fclose(file);
     throw;
   }
@@ -364,6 +570,7 @@ std::string Hdf5Writer::xdmf_text(bool membranes) const {
     << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const SnapshotInfo& s : snapshots_) {
     const std::string n = std::to_string(s.n);
+    if (!membranes && s.lattice_pending) continue;  // never happens: a resumed run writes its lattice at once
     if (!membranes) {
       o << "   <Grid Name=\"" << (s.lattice.empty() ? "particles" : "fluid") << "\" GridType=\"Uniform\">\n"
         << "    <Time Value=\"" << s.t << "\"/>\n";

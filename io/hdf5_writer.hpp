@@ -25,7 +25,10 @@
 //                          contours and stream-traces it); moving particles (LPSPH, WCSPH) as vertices;
 //   <stem>_membranes.xdmf  every membrane as a closed polyline with f (vector) and T (only with membranes).
 // (Xdmf3 reads no X_Y geometry, and crashed ParaView 5.11 on the former particle topology: hence xy.)
-// Every HDF5 failure throws std::runtime_error naming the file, the operation and HDF5's cause.
+// Every HDF5 failure throws WriteError (io/atomic_file.hpp) naming the file, the operation and
+// HDF5's cause. HDF5 (1.10) cannot close a file after a failed write of its metadata (and crashes at
+// exit trying), so the writer reserves the disk space of each write before it makes it: a full disk
+// is met by the reservation, with the file still closable, its earlier snapshots intact.
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -49,10 +52,27 @@ struct MembraneSnapshot {
   const Vec* T;   // tension (nb)
 };
 
+// Reserves disk space for `bytes` more data (and HDF5's metadata for them) in the open HDF5 file
+// `file` (a hid_t) at `path`: a write of them cannot then fail for want of space. Throws WriteError.
+void reserve_hdf5_space(std::int64_t file, double bytes, const std::string& path);
+
+// A text attribute of the root group of the HDF5 file at path ("" if the file does not open or has
+// no such attribute), e.g. the run_id of a run's output.
+std::string root_text_attribute(const std::string& path, const std::string& name);
+
+// The file at path opens read-only and every /snapshots group in it reads (its step attribute, its x):
+// a run may continue it (a killed run's .part may not).
+bool snapshots_readable(const std::string& path);
+
 class Hdf5Writer {
  public:
   // Creates path.part (truncating it). Disables HDF5's automatic error printing process-wide.
   Hdf5Writer(std::string path, const RunAttributes& attrs);
+  // Continues the file of an earlier part of the same run: `source` (path, or path.part of a killed
+  // run) copied to path.part (opened in place if it is path.part), keeping its snapshots of steps
+  // before `resume_step` (later ones are written again), the root attributes replaced by attrs;
+  // /diagnostics and /xdmf are written again by close(). path stays as it was until close().
+  Hdf5Writer(std::string path, const RunAttributes& attrs, const std::string& source, long resume_step);
   ~Hdf5Writer();  // close() if not closed; errors go to stderr
   Hdf5Writer(const Hdf5Writer&) = delete;
   Hdf5Writer& operator=(const Hdf5Writer&) = delete;
@@ -70,7 +90,10 @@ class Hdf5Writer {
                     const std::vector<std::vector<double>>& rows);
 
   // Closes the HDF5 file, renames path.part -> path, writes the XDMF (tmp + rename). Idempotent.
+  // After a failed write it only closes (what HDF5 still can): path.part stays, incomplete by name.
   void close();
+  // Closes without completing: path.part stays (a run that could not write its output). Idempotent.
+  void abandon();
 
   const std::string& path() const { return path_; }
   std::string xdmf_path() const;            // the fluid's XDMF: path with extension .xdmf
@@ -85,17 +108,26 @@ class Hdf5Writer {
     std::vector<std::string> scalars;  // particle scalar names
     bool velocity = false;             // a velocity (N x 3) dataset
     std::string lattice;               // on a fixed lattice: the /xdmf group of its mesh; "": moving
+    bool lattice_pending = false;      // resumed from an earlier file: on the lattice of the next snapshot
     long cells = 0;                    // quadrilaterals of that mesh
     std::vector<long> nb;              // markers per membrane
   };
 
   void require_open(const char* what) const;
   std::string xdmf_text(bool membranes) const;
+  void reserve(double bytes);
+  void write_snapshot_data(SnapshotInfo& info, int step, double t, const Mat2& x,
+                           const std::vector<std::pair<std::string, const Vec*>>& particle_scalars,
+                           const std::vector<MembraneSnapshot>& membranes, const Vec* u, const Vec* v);  // disk space for the next `bytes` of data and their metadata
+  void resume_snapshots(long resume_step);
+  template <class F>
+  void writing(F&& write);  // runs a write; a failure marks the file broken (never completed)
 
   std::string path_;
   std::string part_;
   std::int64_t file_ = -1;  // hid_t
   int next_index_ = 0;      // of the next /snapshots group
+  bool broken_ = false;     // a write failed: HDF5's state is not trusted, the file is never completed
   std::vector<SnapshotInfo> snapshots_;
   std::vector<std::pair<std::string, Lattice>> lattices_;  // the meshes written by close()
 };

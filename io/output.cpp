@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "io/checkpoint.hpp"
+#include "io/scene_checks.hpp"
 #include "sphib_version.hpp"
 
 namespace sphib {
@@ -28,28 +29,51 @@ RunAttributes attributes(const Scene& scene, const Simulation& sim) {
   return a;
 }
 
-long steps_per(double interval, double dt) { return interval > 0 ? std::max<long>(1, std::lround(interval / dt)) : 0; }
+// Steps between outputs (0: none); an interval longer than any run never falls due.
+long steps_per(double interval, double dt) {
+  if (!(interval > 0)) return 0;
+  const double k = std::round(interval / dt);
+  return k > kMaxSteps ? kMaxSteps + 1 : std::max<long>(1, static_cast<long>(k));
+}
+
+std::unique_ptr<Hdf5Writer> open_hdf5(const Scene& scene, const Simulation& sim, const OutputTarget& t) {
+  RunAttributes a = attributes(scene, sim);
+  a.text.emplace_back("run_id", t.run_id);
+  const std::string path = t.dir + "/output.h5";
+  if (t.resume_from.empty()) return std::make_unique<Hdf5Writer>(path, a);
+  return std::make_unique<Hdf5Writer>(path, a, t.resume_from, sim.steps());
+}
 
 }  // namespace
 
-RunOutput::RunOutput(const Scene& scene, const Simulation& sim, const std::vector<std::string>& columns,
-                     const std::string& dir)
+RunOutput::RunOutput(const Scene& scene, const Simulation& sim, const Observers& observers, const OutputTarget& target)
     : scene_(scene),
-      h5_(dir + "/output.h5", attributes(scene, sim)),
-      csv_(dir + "/diagnostics.csv", columns),
-      checkpoint_path_(dir + "/checkpoint.h5"),
+      observers_(observers),
+      run_id_(target.run_id),
+      h5_(open_hdf5(scene, sim, target)),
+      csv_(target.dir + "/diagnostics.csv", observers.columns()),
+      checkpoint_path_(target.dir + "/checkpoint.h5"),
       snapshot_every_(steps_per(scene.output_interval, sim.fluid().params().dt)),
       checkpoint_every_(steps_per(scene.checkpoint_interval, sim.fluid().params().dt)),
       u_(sim.fluid().size()),
-      v_(sim.fluid().size()) {}
+      v_(sim.fluid().size()) {
+  for (const auto& r : observers.series().rows) csv_.row(r);  // a restart's series so far
+}
+
+RunOutput::~RunOutput() { abandon(); }
 
 bool RunOutput::due(long step) const {
   return (snapshot_every_ && step % snapshot_every_ == 0) || (checkpoint_every_ && step % checkpoint_every_ == 0);
 }
 
-void RunOutput::write_due(const Simulation& sim) {
+void RunOutput::write_due(const Simulation& sim) {  // the restart point first: it matters more
+  if (checkpoint_every_ && sim.steps() % checkpoint_every_ == 0) checkpoint(sim);
   if (snapshot_every_ && sim.steps() % snapshot_every_ == 0) snapshot(sim);
-  if (checkpoint_every_ && sim.steps() % checkpoint_every_ == 0) write_checkpoint(checkpoint_path_, sim, scene_.resolved);
+}
+
+void RunOutput::checkpoint(const Simulation& sim) {
+  write_checkpoint(checkpoint_path_, sim, scene_.resolved, run_id_, &observers_);
+  checkpoint_time_ = sim.time();
 }
 
 void RunOutput::snapshot(const Simulation& sim) {
@@ -65,19 +89,24 @@ void RunOutput::snapshot(const Simulation& sim) {
   }
   std::vector<MembraneSnapshot> ms;
   for (const auto& m : sim.membranes()) ms.push_back({&m.m.X, &m.f, &m.T});
-  h5_.write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms,
-                     fl.particles_move() ? nullptr : &fl.lattice());  // a fixed lattice: a quadrilateral mesh
+  h5_->write_snapshot(static_cast<int>(fl.steps()), fl.time(), fl.x(), fields, ms,
+                      fl.particles_move() ? nullptr : &fl.lattice());  // a fixed lattice: a quadrilateral mesh
 }
 
-void RunOutput::finish(const Simulation& sim, const std::vector<std::string>& columns,
-                       const std::vector<std::vector<double>>& series, bool good) {
-  if (good) {
-    snapshot(sim);
-    if (sim.steps() > 0) write_checkpoint(checkpoint_path_, sim, scene_.resolved);
-  }
-  h5_.write_series("diagnostics", columns, series);
-  h5_.close();
+void RunOutput::finish(const Simulation& sim, bool good) {
+  if (good) snapshot(sim);
+  h5_->write_series("diagnostics", observers_.columns(), observers_.series().rows);
+  h5_->close();
   csv_.close();
+  done_ = true;
+  if (good && sim.steps() > 0) checkpoint(sim);
+}
+
+void RunOutput::abandon() {
+  if (done_) return;
+  done_ = true;
+  h5_->abandon();
+  csv_.abandon();
 }
 
 }  // namespace sphib

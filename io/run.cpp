@@ -1,11 +1,20 @@
 #include "io/run.hpp"
 
+#include <chrono>
+#include <csignal>
+#include <cstdint>
 #include <filesystem>
+#include <iomanip>
+#include <random>
 #include <sstream>
 
+#include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/footprint.hpp"
 #include "io/output.hpp"
+#include "io/output_dir.hpp"
 #include "io/progress.hpp"
+#include "io/scene_checks.hpp"
 #include "io/summary.hpp"
 #include "observe/guards.hpp"
 #include "sphib_version.hpp"
@@ -34,18 +43,11 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
   return o;
 }
 
-void create_directory(const std::string& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir))
-    throw std::runtime_error("output directory " + dir + " cannot be created: " + ec.message());
-}
-
 // How long, and how often a diagnostics row.
 struct Schedule {
   long steps, sample_every;
-  Schedule(const Scene& s, double dt)
-      : steps(s.max_steps > 0 ? std::min<long>(s.max_steps, std::lround(s.t_end / dt)) : std::lround(s.t_end / dt)),
+  explicit Schedule(const Scene& s)
+      : steps(planned_steps(s)),
         sample_every(s.diagnostics_every > 0 ? s.diagnostics_every : std::max<long>(1, steps / 500)) {}
 };
 
@@ -86,37 +88,49 @@ void step(Simulation& sim) {
 
 struct Timing {
   double setup, loop;
+  long steps;          // taken by this run (a restart's count from the checkpoint)
   const Profile* run;  // the loop's own phases
 };
 
+// How the loop ended: its reason, the fault or write error, and the last good state.
+struct Ending {
+  std::string reason = "end time";
+  std::string fault;
+  bool write_error = false;
+  long good_steps = 0;
+  double good_time = 0;
+};
+
 // What every summary holds, the faulty run's too: how the run ended, its timing and the fluid's
-// figures.
-nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& timing,
-                           const std::string& stop_reason, const std::string& fault) {
+// figures. After a fault, steps and time are the last good state's (fault_step the one that failed).
+nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& timing, const Ending& end,
+                           const std::string& run_id) {
   const FluidSolver& fl = sim.fluid();
   nlohmann::json j;
   j["sphib_version"] = SPHIB_VERSION;
   j["scene"] = scene.path;
-  j["stop_reason"] = stop_reason;
-  if (!fault.empty()) j["fault"] = fault;
-  j["steps"] = fl.steps();
-  j["time"] = fl.time();
+  j["run_id"] = run_id;
+  j["stop_reason"] = end.reason;
+  if (!end.fault.empty()) j["fault"] = end.fault;
+  j["steps"] = end.fault.empty() ? fl.steps() : end.good_steps;
+  j["time"] = end.fault.empty() ? fl.time() : end.good_time;
+  if (!end.fault.empty()) j["fault_step"] = end.good_steps + 1;
   j["particles"] = fl.size();
   j["method"] = fl.params().method;
   j["wall_seconds"] = timing.loop + timing.setup;
   j["setup_seconds"] = timing.setup;
   j["loop_seconds"] = timing.loop;
-  j["seconds_per_step"] = fl.steps() ? timing.loop / fl.steps() : 0.0;
+  j["seconds_per_step"] = timing.steps ? timing.loop / timing.steps : 0.0;
   const Profile* profiles[] = {&fl.profile(), &sim.profile(), timing.run};
   for (const Profile* P : profiles)
     for (size_t k = 0; k < P->names().size(); ++k) j["profile_seconds"][P->names()[k]] = P->seconds(static_cast<int>(k));
   for (const auto& line : fl.describe()) j["log"].push_back(line);
   // Step time against its floor (the fluid's bare solves and products, timed alone on the final
   // state): the fluid step, and the whole step (the loop: fluid, membranes, coupling, checks, output).
-  if (const double floor = fl.steps() > 0 ? fl.floor_seconds() : 0.0; floor > 0) {
+  if (const double floor = timing.steps > 0 && end.fault.empty() ? fl.floor_seconds() : 0.0; floor > 0) {
     j["floor_seconds_per_step"] = floor;
-    j["fluid_step_over_floor"] = fl.profile().total() / fl.steps() / floor;
-    j["step_over_floor"] = timing.loop / fl.steps() / floor;
+    j["fluid_step_over_floor"] = fl.profile().total() / timing.steps / floor;
+    j["step_over_floor"] = timing.loop / timing.steps / floor;
   }
   // The membranes and their coupling (force, spreading, interpolation, marker update with the
   // markers' stream function) as a share of the whole step.
@@ -125,34 +139,98 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   return j;
 }
 
-}  // namespace
+std::string new_run_id() {
+  std::random_device rd;
+  const auto t = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
+  std::ostringstream s;
+  s << std::hex << std::setw(16) << std::setfill('0') << ((static_cast<std::uint64_t>(rd()) << 32 ^ rd()) ^ t);
+  return s.str();
+}
 
-nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
-  // Set-up: everything that can refuse the scene happens before anything is written.
-  const auto t_setup = Profile::Clock::now();
-  Simulation sim(scene.sim);
-  if (!opt.restart.empty()) restore_checkpoint(read_checkpoint(opt.restart), opt.restart, scene.resolved, sim);
-  if (opt.before_run) opt.before_run(sim);
-  const double setup_seconds = seconds_since(t_setup);
-  Observers observers = observers_for(scene, sim, opt.out_dir);
-  create_directory(opt.out_dir);
-  const Schedule plan(scene, sim.fluid().params().dt);
-  auto say = [&](const std::string& s) { if (opt.log) *opt.log << s << std::endl; };
-  say(setup_report(scene, sim, setup_seconds, plan, opt.out_dir));
-  RunOutput output(scene, sim, observers.columns(), opt.out_dir);
-  output.snapshot(sim);
-  output.row(observers.sample(sim));
+// Everything before the first write: the simulation, its analyses (built on the state at t = 0, so
+// that a restart measures from the same start), a restart's state and record, the caller's checks.
+struct Prepared {
+  std::unique_ptr<Simulation> sim;
+  Observers observers;
+  std::string run_id;
+  bool resumed_series = false;  // the series so far came with the checkpoint
+  double seconds = 0;
+};
+
+Prepared prepare(const Scene& scene, const RunOptions& opt) {
+  const auto t0 = Profile::Clock::now();
+  Prepared p;
+  p.sim = std::make_unique<Simulation>(scene.sim);
+  p.observers = observers_for(scene, *p.sim, opt.out_dir);
+  if (!opt.restart.empty()) {
+    const Checkpoint c = read_checkpoint(opt.restart);
+    restore_checkpoint(c, opt.restart, scene.resolved, *p.sim);
+    if (!c.run_id.empty()) {
+      try {
+        p.observers.restore(c.analyses, c.series);
+      } catch (const std::exception& e) {
+        throw CheckpointError("checkpoint " + opt.restart + ": " + e.what());
+      }
+      p.run_id = c.run_id;
+      p.resumed_series = true;
+    }
+    if (planned_steps(scene) <= p.sim->steps())
+      throw SceneError(scene.path + ": time.end: " + std::to_string(scene.t_end) + " (step " +
+                       std::to_string(planned_steps(scene)) + ") is not after the checkpoint's t = " +
+                       std::to_string(p.sim->time()) + " (step " + std::to_string(p.sim->steps()) + "): no step would run");
+  }
+  if (p.run_id.empty()) p.run_id = new_run_id();
+  if (opt.before_run) opt.before_run(*p.sim);
+  p.seconds = seconds_since(t0);
+  return p;
+}
+
+// A restart into the checkpoint's own directory continues that run's output.h5 (the .part of a
+// killed run first, if it opens), if it carries the same run id.
+std::string resumable_output(const OutputDirectory& dir, const RunOptions& opt, const std::string& run_id) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (opt.restart.empty() || !fs::equivalent(fs::path(opt.restart).parent_path().empty() ? "." : fs::path(opt.restart).parent_path(), dir.path(), ec))
+    return "";
+  for (const std::string& f : {part_path(dir.file("output.h5")), dir.file("output.h5")})
+    if (fs::exists(f, ec) && root_text_attribute(f, "run_id") == run_id && snapshots_readable(f)) return f;
+  return "";
+}
+
+// Where this run writes: a new run removes an earlier run's files first (a summary of another run
+// never sits beside this one's files); a run continuing its own directory removes only the
+// incomplete .part files of the earlier part that it does not continue.
+OutputTarget claim(OutputDirectory& dir, const RunOptions& opt, const std::string& run_id, std::ostream* log) {
+  OutputTarget t{dir.path(), run_id, resumable_output(dir, opt, run_id)};
+  const bool continuing = !t.resume_from.empty();
+  const std::vector<std::string> removed = dir.remove_earlier_files({opt.restart, t.resume_from}, continuing);
+  if (log && continuing) *log << "  continuing this run's files in " << dir.path() << " (from " << t.resume_from << ")\n";
+  if (log && !removed.empty()) {
+    *log << "  removed " << (continuing ? "the incomplete files of the earlier part" : "the earlier run's files") << ":";
+    for (const auto& f : removed) *log << " " << f;
+    *log << "\n";
+  }
+  return t;
+}
+
+std::string stop_reason(int signal) {
+  if (signal == SIGINT) return "interrupted";
+  if (signal == SIGTERM) return "terminated";
+  return "signal " + std::to_string(signal);
+}
+
+// The loop: step; guards; observers; output; progress. A fault of the method or a write error ends it.
+Ending run_loop(Simulation& sim, Observers& observers, RunOutput& output, const Schedule& plan, const Scene& scene,
+                const RunOptions& opt, Profile& prof) {
   Guards guards(scene.sim, sim);
   Progress progress(opt.log, opt.progress_bar, opt.log_every_seconds, plan.steps);
-  Profile prof;  // the loop's own work
   const int k_checks = prof.phase("run-time checks and diagnostics"), k_output = prof.phase("output");
-
-  // The loop: step; guards; observers; output; progress.
-  std::string stop_reason = "end time", fault;
-  const auto t_loop = Profile::Clock::now();
+  Ending end;
   try {
     while (sim.steps() < plan.steps) {
-      if (opt.stop && opt.stop->load()) { stop_reason = "interrupted"; break; }
+      if (const int sig = opt.stop ? opt.stop->load() : 0) { end.reason = stop_reason(sig); break; }
+      end.good_steps = sim.steps();
+      end.good_time = sim.time();
       observers.before_step(sim);
       step(sim);
       const auto t_checks = Profile::Clock::now();
@@ -162,26 +240,81 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
       if (last || sim.steps() % plan.sample_every == 0) output.row(observers.sample(sim));
       prof.add(k_checks, seconds_since(t_checks));
       if (!last && output.due(sim.steps())) { ScopedTimer t(prof, k_output); output.write_due(sim); }
-      if (observers.done()) { stop_reason = "steady state"; break; }
+      if (observers.done()) { end.reason = "steady state"; break; }
       progress.tick(sim, observers.last("m0_area_rel_error"));
     }
+  } catch (const WriteError& e) {
+    end = Ending{"write error", e.what(), true, sim.steps(), sim.time()};
   } catch (const std::exception& e) {
-    fault = e.what();
-    stop_reason = "fault";
+    end.fault = e.what();
+    end.reason = "fault";
   }
-  const Timing timing{setup_seconds, seconds_since(t_loop), &prof};
   progress.end();
-  output.finish(sim, observers.columns(), observers.series().rows, fault.empty());
+  return end;
+}
 
-  nlohmann::json j = run_summary(scene, sim, timing, stop_reason, fault);
-  if (!fault.empty()) {  // the state is not trustworthy: no figures from it
+// A write error: this run's files stay .part, the ones completed before stay intact; no summary.
+[[noreturn]] void stop_writing(RunOutput& output, const std::string& error, const Simulation& sim, const std::string& dir) {
+  output.abandon();
+  std::ostringstream m;
+  m << error << "; the run stopped at step " << sim.steps() << " (t = " << sim.time() << "), its unfinished files in "
+    << dir << " stay .part; ";
+  if (output.checkpoint_time() >= 0)
+    m << "the last complete checkpoint is " << output.checkpoint_path() << " (t = " << output.checkpoint_time() << ")";
+  else
+    m << "no checkpoint of this run was completed";
+  throw RunError(m.str());
+}
+
+}  // namespace
+
+nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
+  if (const std::string why = steps_problem(scene); !why.empty()) throw SceneError(scene.path + ": time.end: " + why);
+  refuse_if_too_large(scene);        // before any allocation
+  OutputDirectory dir(opt.out_dir);  // the lock, before anything is written
+  Prepared p;
+  try {
+    p = prepare(scene, opt);
+  } catch (...) {
+    dir.abandon();  // refused: nothing written, the directory as it was
+    throw;
+  }
+  if (const int sig = opt.stop ? opt.stop->load() : 0) {
+    dir.abandon();
+    throw StoppedBeforeStart(sig, stop_reason(sig) + " during the set-up: nothing was written to " + opt.out_dir);
+  }
+  Simulation& sim = *p.sim;
+  Observers& observers = p.observers;
+  const Schedule plan(scene);
+  auto say = [&](const std::string& s) { if (opt.log) *opt.log << s << std::endl; };
+  say(setup_report(scene, sim, p.seconds, plan, opt.out_dir));
+  const OutputTarget target = claim(dir, opt, p.run_id, opt.log);
+  const long first_step = sim.steps();
+  Profile prof;  // the loop's own work
+  RunOutput output(scene, sim, observers, target);
+  Ending end;
+  const auto t_loop = Profile::Clock::now();
+  try {
+    output.snapshot(sim);
+    if (!p.resumed_series) output.row(observers.sample(sim));
+    if (target.resume_from.empty()) output.checkpoint(sim);  // a restart point from the start: checkpoints work
+    end = run_loop(sim, observers, output, plan, scene, opt, prof);
+    if (end.write_error) stop_writing(output, end.fault, sim, opt.out_dir);
+    output.finish(sim, end.fault.empty());
+  } catch (const WriteError& e) {
+    stop_writing(output, e.what(), sim, opt.out_dir);
+  }
+  const Timing timing{p.seconds, seconds_since(t_loop), sim.steps() - first_step, &prof};
+  nlohmann::json j = run_summary(scene, sim, timing, end, p.run_id);
+  if (!end.fault.empty()) {  // the state is not trustworthy: no figures from it
     write_json_atomic(opt.out_dir + "/summary.json", j);
-    say("  stopped by a fault at step " + std::to_string(sim.steps()) + ": " + fault);
-    throw RunError(fault + "; the last good state is in " + opt.out_dir);
+    say("  stopped by a fault in step " + std::to_string(end.good_steps + 1) + ": " + end.fault);
+    throw RunError(end.fault + "; the output written before it is complete in " + opt.out_dir + " (the last good step " +
+                   std::to_string(end.good_steps) + ", t = " + std::to_string(end.good_time) + ")");
   }
   observers.summarize(sim, j);
   write_json_atomic(opt.out_dir + "/summary.json", j);
-  say("  " + stop_reason + " after " + std::to_string(sim.steps()) + " steps, t = " + std::to_string(sim.time()) +
+  say("  " + end.reason + " after " + std::to_string(sim.steps()) + " steps, t = " + std::to_string(sim.time()) +
       ", loop " + std::to_string(timing.loop) + " s (" + std::to_string(1e6 * j["seconds_per_step"].get<double>()) +
       " us/step); output in " + opt.out_dir);
   return j;

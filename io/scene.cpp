@@ -1,26 +1,26 @@
 #include "io/scene.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include <toml++/toml.h>
 
+#include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
 
 namespace sphib {
 
 namespace {
 
-std::string fmt_num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+std::string fmt_num(double v) { return number_text(v); }
 
 // Reads typed values by dotted key, records which keys were used and documents each key.
 class Reader {
@@ -52,7 +52,7 @@ class Reader {
     const toml::node* n = use(key);
     if (!n) {
       if (required && !documenting) fail(key, "missing (required: " + what + ")");
-      return def;
+      return record(key, def);
     }
     std::optional<double> v;
     if (n->is_floating_point()) v = n->as_floating_point()->get();
@@ -61,36 +61,45 @@ class Reader {
     if (!std::isfinite(*v)) fail(key, "must be finite (got " + fmt_num(*v) + ")");
     if ((lo_open ? !(*v > lo) : !(*v >= lo)) || !(*v <= hi))
       fail(key, "value " + fmt_num(*v) + " is out of range (allowed: " + range + ")");
-    return *v;
+    return record(key, *v);
   }
   double positive(const std::string& key, double def, const std::string& what, bool required = false) {
     return number(key, def, "> 0", what, required, 0.0, true);
   }
-  long integer(const std::string& key, long def, long lo, const std::string& what, bool required = false) {
-    doc(key, "integer", required ? "(required)" : std::to_string(def), ">= " + std::to_string(lo), what);
+  // An integer in [lo, hi], checked on the file's 64-bit value before anything narrows it.
+  long integer(const std::string& key, long def, long lo, const std::string& what, bool required = false,
+               long hi = std::numeric_limits<long>::max()) {
+    const std::string range =
+        hi == std::numeric_limits<long>::max() ? ">= " + std::to_string(lo) : "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    doc(key, "integer", required ? "(required)" : std::to_string(def), range, what);
     const toml::node* n = use(key);
     if (!n) {
       if (required && !documenting) fail(key, "missing (required: " + what + ")");
-      return def;
+      return record(key, def);
     }
     if (!n->is_integer()) fail(key, "must be an integer (got " + type_name(*n) + ")");
-    const long v = static_cast<long>(n->as_integer()->get());
-    if (v < lo) fail(key, "value " + std::to_string(v) + " is out of range (allowed: >= " + std::to_string(lo) + ")");
-    return v;
+    const std::int64_t v = n->as_integer()->get();
+    if (v < lo || v > hi) fail(key, "value " + std::to_string(v) + " is out of range (allowed: " + range + ")");
+    return record(key, static_cast<long>(v));
+  }
+  // The same for a value kept in an int.
+  int int32(const std::string& key, int def, int lo, const std::string& what, bool required = false,
+            int hi = std::numeric_limits<int>::max()) {
+    return static_cast<int>(integer(key, def, lo, what, required, hi));
   }
   bool boolean(const std::string& key, bool def, const std::string& what) {
     doc(key, "boolean", def ? "true" : "false", "true | false", what);
     const toml::node* n = use(key);
-    if (!n) return def;
+    if (!n) return record(key, def);
     if (!n->is_boolean()) fail(key, "must be true or false (got " + type_name(*n) + ")");
-    return n->as_boolean()->get();
+    return record(key, n->as_boolean()->get());
   }
   std::string text(const std::string& key, const std::string& def, const std::string& what) {
     doc(key, "string", "\"" + def + "\"", "", what);
     const toml::node* n = use(key);
-    if (!n) return def;
+    if (!n) return record(key, def);
     if (!n->is_string()) fail(key, "must be a string (got " + type_name(*n) + ")");
-    return n->as_string()->get();
+    return record(key, n->as_string()->get());
   }
   std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& options,
                      const std::string& what) {
@@ -109,7 +118,7 @@ class Reader {
     const toml::node* n = use(key);
     if (!n) {
       if (required && !documenting) fail(key, "missing (required: " + what + ")");
-      return def;
+      return record(key, def);
     }
     const toml::array* a = n->as_array();
     if (!a || a->size() != 2) fail(key, "must be an array of two numbers");
@@ -121,22 +130,12 @@ class Reader {
       else fail(key, "must be an array of two numbers");
       if (!std::isfinite(v[k])) fail(key, "must be finite");
     }
-    return v;
+    return record(key, v);
   }
+  // A value read by the caller: recorded as the file gives it (TOML text), when given.
   const toml::node* raw(const std::string& key, const std::string& type, const std::string& what) {
     doc(key, type, "", "", what);
-    return use(key);
-  }
-
-  // Every leaf key present but never read is an error.
-  void reject_unknown() const { walk(root_, ""); }
-
-  std::vector<std::pair<std::string, std::string>> resolved;
-
- private:
-  const toml::node* use(const std::string& key) {
-    used_.insert(key);
-    const toml::node* n = find(key);
+    const toml::node* n = use(key);
     if (n && !n->is_table()) {
       std::ostringstream s;
       n->visit([&](const auto& v) { s << v; });
@@ -144,6 +143,32 @@ class Reader {
     }
     return n;
   }
+
+  // Every leaf key present but never read is an error.
+  void reject_unknown() const { walk(root_, ""); }
+
+  // Every key read, given or not, with the value used in one canonical text (numbers in their
+  // shortest exact form): a restart compares them, so a key set to its default matches its absence.
+  std::vector<std::pair<std::string, std::string>> resolved;
+
+ private:
+  const toml::node* use(const std::string& key) {
+    used_.insert(key);
+    return find(key);
+  }
+  template <class T>
+  T record(const std::string& key, const T& v) {
+    if (!documenting) resolved.emplace_back(key, canonical(v));
+    return v;
+  }
+  static std::string canonical(double v) {
+    char buf[32];
+    return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+  }
+  static std::string canonical(long v) { return std::to_string(v); }
+  static std::string canonical(bool v) { return v ? "true" : "false"; }
+  static std::string canonical(const std::string& v) { return v; }
+  static std::string canonical(const Eigen::Vector2d& v) { return "[" + canonical(v[0]) + ", " + canonical(v[1]) + "]"; }
   void doc(const std::string& key, const std::string& type, const std::string& def, const std::string& range,
            const std::string& what) {
     docs.push_back({key, type, def, range, what});
@@ -275,12 +300,15 @@ std::string apply_override(toml::table& root, const std::string& kv, const std::
     throw SceneError(name + ": --set " + kv + ": expected key=value (for example grid.nx=32)");
   std::string key = kv.substr(0, eq);
   const std::string val = kv.substr(eq + 1);
+  if (val.find_first_of("\n\r") != std::string::npos)  // would add keys of its own: one value, one line
+    throw SceneError(name + ": (--set " + key + "): the value holds a line break (one value per --set)");
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + val);
   } catch (const toml::parse_error&) {
     parsed.insert_or_assign("v", val);  // a bare word: a string
   }
+  if (parsed.size() != 1) throw SceneError(name + ": (--set " + key + "): the value is not one TOML value");
   if (key.rfind("membrane.", 0) == 0 && !root.contains("membrane")) {
     if (toml::array* arr = root["membranes"].as_array(); arr && arr->size() == 1)
       key = "membranes[0]." + key.substr(9);
@@ -299,9 +327,11 @@ std::string apply_override(toml::table& root, const std::string& kv, const std::
     const auto br = part.find('[');
     if (br != std::string::npos) {  // membranes[0]
       const std::string arr_name = part.substr(0, br);
-      const int idx = std::atoi(part.c_str() + br + 1);
+      char* end = nullptr;
+      const long idx = std::strtol(part.c_str() + br + 1, &end, 10);
       toml::array* arr = (*t)[arr_name].as_array();
-      if (!arr || idx < 0 || idx >= static_cast<int>(arr->size()) || !arr->get(idx)->is_table())
+      if (!arr || end != part.c_str() + part.size() - 1 || *end != ']' || idx < 0 ||
+          idx >= static_cast<long>(arr->size()) || !arr->get(idx)->is_table())
         throw SceneError(name + ": --set " + kv + ": no table " + part);
       t = arr->get(idx)->as_table();
     } else {
@@ -328,7 +358,7 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
                      "initial shape: circle (radius), ellipse (rx, ry) or points (a closed point list)");
   m.r0 = r.positive(p + "r0", 0.5, "rest radius r0: rest length L0 = 2 pi r0", true);
   m.T0 = r.number(p + "T0", 1.0, ">= 0", "Young's modulus T0 of Eq. (47)", true, 0.0);
-  m.nb = static_cast<int>(r.integer(p + "nb", 128, 4, "number of markers Nb"));
+  m.nb = r.int32(p + "nb", 128, 4, "number of markers Nb", false, kMaxMarkers);
   const Eigen::Vector2d c = r.pair(p + "centre", Eigen::Vector2d::Zero(), "centre of the initial circle/ellipse");
   m.cx = c[0];
   m.cy = c[1];
@@ -374,15 +404,21 @@ void read_domain(Reader& r, Scene& s) {
     f.domain.wall_velocity[k] = r.pair(key, Eigen::Vector2d::Zero(), std::string("velocity of the ") + sides[k] + " wall");
     if (given && !f.domain.is_wall(static_cast<Side>(k)))
       r.fail(key, "a wall velocity is given on a periodic side");
+    if (const std::string why = wall_moves_normally(f.domain, k); !why.empty()) r.fail(key, why);
   }
 }
 
 // Resolution, kernel, the fluid and its method's parameters.
 void read_fluid(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
-  f.nx = static_cast<int>(r.integer("grid.nx", 0, 2, "particles along x (Eq. 68)", true));
-  f.ny = static_cast<int>(r.integer("grid.ny", 0, 2, "particles along y (Eq. 68)", true));
-  f.h_over_dx = r.positive("kernel.h_over_dx", 1.2, "smoothing length h = h_over_dx (dx + dy)/2; support 2h");
+  f.nx = r.int32("grid.nx", 0, 2, "particles along x (Eq. 68)", true);
+  f.ny = r.int32("grid.ny", 0, 2, "particles along y (Eq. 68)", true);
+  f.h_over_dx = r.number("kernel.h_over_dx", 1.2, "> max(dx, dy)/(dx + dy) (0.5 when dx = dy)",
+                         "smoothing length h = h_over_dx (dx + dy)/2; support 2h", false, 0.0, true);
+  if (!r.documenting) {
+    if (const std::string why = lattice_too_large(f); !why.empty()) r.fail("grid.nx", why);
+    if (const std::string why = kernel_too_narrow(f); !why.empty()) r.fail("kernel.h_over_dx", why);
+  }
   // Fluid
   f.rho = r.positive("fluid.rho", 1.0, "density rho", true);
   f.mu = r.positive("fluid.mu", 1.0, "dynamic viscosity mu", true);
@@ -399,8 +435,8 @@ void read_fluid(Reader& r, Scene& s) {
   f.projection = projection == "approximate" ? Projection::Approximate
                  : projection == "exact"     ? Projection::Exact
                                              : Projection::Auto;
-  f.lagrangian.reinit_every = static_cast<int>(r.integer(
-      "lagrangian.reinit_every", 0, 0, "LPSPH: put the particles back on the lattice every so many steps (0: never)"));
+  f.lagrangian.reinit_every = r.int32(
+      "lagrangian.reinit_every", 0, 0, "LPSPH: put the particles back on the lattice every so many steps (0: never)");
   f.lagrangian.min_kernel_sum = r.number("lagrangian.min_kernel_sum", 0.5, "[0, 1]",
                                          "LPSPH: stop when a particle's kernel sum sum_j V_j W_ij falls below this",
                                          false, 0.0, false, 1.0);
@@ -433,7 +469,7 @@ void read_time_and_solvers(Reader& r, Scene& s) {
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", poisson_kinds,
                                           "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
-  s.sim.markers.max_iter = static_cast<int>(r.integer("solver.marker_max_iter", 50, 1, "fixed-point iteration limit"));
+  s.sim.markers.max_iter = r.int32("solver.marker_max_iter", 50, 1, "fixed-point iteration limit");
   s.sim.markers.extrapolate =
       r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
                "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "
@@ -464,6 +500,8 @@ void read_output(Reader& r, Scene& s) {
       const auto v = e.value<std::string>();
       if (!v || (*v != "u" && *v != "v" && *v != "p" && *v != "phi"))
         r.fail("output.fields", "allowed field names: u, v, p, phi");
+      if (std::find(s.fields.begin(), s.fields.end(), *v) != s.fields.end())
+        r.fail("output.fields", "\"" + *v + "\" is listed twice");
       s.fields.push_back(*v);
     }
   }
@@ -471,6 +509,10 @@ void read_output(Reader& r, Scene& s) {
                      {"none", "poiseuille", "couette", "cavity", "membrane_equilibrium", "membrane_oscillation"},
                      "which exact or reference solution to measure against");
   s.reference_dir = r.text("observe.reference_dir", "reference", "directory of the Ghia et al. tables, relative to the scene file");
+  s.memory_limit_gb = r.number("limits.memory_gb", 0.0, ">= 0",
+                               "refuse a run whose memory estimate (sphib check) exceeds this many GB (0: the machine's "
+                               "memory, MemTotal or the cgroup's limit); raise it to run anyway",
+                               false, 0.0);
 }
 
 // [membrane] for one, [[membranes]] for several (documenting: the keys of [membrane] are listed).
@@ -514,6 +556,9 @@ void build_membranes(Reader& r, Scene& s) {
     setup.fixed = m.fixed;
     s.sim.membranes.push_back(setup);
   }
+  size_t second = 0;
+  if (const std::string why = membranes_cross(s.sim.membranes, nullptr, &second); !why.empty())
+    r.fail("membranes[" + std::to_string(second) + "]", why);
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
@@ -536,9 +581,9 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   r.reject_unknown();
   s.resolved = r.resolved;
 
-  if (s.max_steps == 0 && s.t_end / s.sim.fluid.dt > 1e9) r.fail("time.end", "needs more than 1e9 steps of time.dt");
-
+  if (const std::string why = steps_problem(s); !why.empty()) r.fail("time.end", why);
   build_membranes(r, s);
+  if (const std::string why = exact_cannot_apply(s); !why.empty()) r.fail("observe.exact", why);
   return s;
 }
 
@@ -576,13 +621,23 @@ Scene parse_scene(const std::string& text, const std::string& name, const std::v
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot read the scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  Scene s = parse_scene(ss.str(), path, overrides);
   namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw SceneError(path + ": is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot read the scene file");
+  // At most kMaxSceneBytes (+1 to notice more): /dev/zero or a wrong file is refused, not read into memory.
+  constexpr std::streamsize kMaxSceneBytes = 16 << 20;
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), kMaxSceneBytes + 1);
+  if (in.bad()) throw SceneError(path + ": cannot read the scene file");
+  if (in.gcount() > kMaxSceneBytes) throw SceneError(path + ": larger than 16 MB: not a scene file");
+  text.resize(static_cast<size_t>(in.gcount()));
+  Scene s = parse_scene(text, path, overrides);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
+  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
+  if (s.exact == "cavity" && !fs::is_regular_file(table, ec))
+    throw SceneError(path + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
   return s;
 }
 

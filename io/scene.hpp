@@ -43,6 +43,7 @@ struct Scene {
   long diagnostics_every = 0;    // steps between diagnostics rows (0: about 500 rows)
   std::vector<std::string> fields{"u", "v", "p", "phi"};
   std::string reference_dir;     // Ghia tables for the cavity
+  double memory_limit_gb = 0;    // refuse a run whose memory estimate exceeds this (0: the machine's memory)
   std::vector<std::pair<std::string, std::string>> resolved;  // every key = value as used (for attributes)
   std::vector<Observer> observers;                            // extra diagnostics (C++ scenes)
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace sphib {
 
@@ -42,6 +43,19 @@ bool Observers::done() const {
 
 void Observers::summarize(const Simulation& sim, nlohmann::json& summary) const {
   for (const auto& a : analyses_) a->summarize(sim, series_, summary);
+}
+
+nlohmann::json Observers::state() const {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& a : analyses_) j.push_back(a->save());
+  return j;
+}
+
+void Observers::restore(const nlohmann::json& state, const Series& series) {
+  if (series.columns != series_.columns || !state.is_array() || state.size() != analyses_.size())
+    throw std::invalid_argument("its diagnostics (columns or analyses) are not those of this scene");
+  series_.rows = series.rows;
+  for (size_t k = 0; k < analyses_.size(); ++k) analyses_[k]->restore(state[k]);
 }
 
 namespace {

@@ -39,6 +39,10 @@ class Analysis {
   virtual bool done() const { return false; }  // what the run waits for has happened (a steady state)
   // Figures of the final state (and of the series) for summary.json.
   virtual void summarize(const Simulation&, const Series&, nlohmann::json& /*summary*/) const {}
+  // What a restart must carry that the simulation's state does not (e.g. the area at t = 0): kept in
+  // checkpoints and given back to the same analysis of the restarted run.
+  virtual nlohmann::json save() const { return nullptr; }
+  virtual void restore(const nlohmann::json& /*saved*/) {}
 };
 
 // The analyses of one run, in the order of their columns, and the series they sampled.
@@ -54,6 +58,10 @@ class Observers {
   const std::vector<double>& sample(const Simulation& sim);  // a new row of the series
   bool done() const;
   void summarize(const Simulation& sim, nlohmann::json& summary) const;
+  // A restart: every analysis's save() in order, and their return with the series so far (std::invalid_argument
+  // if its columns are not these).
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state, const Series& series);
 
  private:
   std::vector<std::unique_ptr<Analysis>> analyses_;

@@ -59,6 +59,13 @@ class MembraneShapes final : public Analysis {
     if (m0.updates > 0) j["marker_iterations_mean"] = static_cast<double>(m0.iterations) / m0.updates;
     if (m0.updates > 0) j["marker_interpolations_mean"] = static_cast<double>(m0.interpolations) / m0.updates;
   }
+  // The areas at t = 0 and the errors already measured: a restarted run measures from the same start.
+  nlohmann::json save() const override { return {{"area0", area0_}, {"area_at", area_at_}}; }
+  void restore(const nlohmann::json& saved) override {
+    if (saved.is_null()) return;
+    area0_ = saved.at("area0").get<std::vector<double>>();
+    area_at_ = saved.at("area_at").get<std::map<int, double>>();
+  }
 
  private:
   mutable std::vector<MembraneDiagnostics> D_;  // workspace of the measurements

@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "app/check.hpp"
+#include "io/footprint.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "membrane/geometry.hpp"
@@ -264,8 +265,8 @@ struct PyScene {
 
 // ---- Runs ------------------------------------------------------------------------------------
 
-std::atomic<bool> g_stop{false};
-extern "C" void on_sigint(int) { g_stop.store(true); }
+std::atomic<int> g_stop{0};
+extern "C" void on_signal(int sig) { g_stop.store(sig); }
 
 // Re-raises the Python exception a callback raised (with the run's message as a note), else rethrows.
 [[noreturn]] void reraise(Context& ctx, const std::exception& e) {
@@ -287,27 +288,39 @@ py::dict run(const PyScene& ps, const std::string& out, bool log, const std::str
   opt.restart = restart;
   opt.stop = &g_stop;
   opt.before_run = [ctx](const Simulation& sim) { ctx->sim = &sim; };  // the particles the callbacks see
-  // Ctrl-C ends the run after the current step with complete output, then raises KeyboardInterrupt.
+  // Ctrl-C (SIGINT) and SIGTERM end the run after the current step with complete output; then
+  // SIGINT raises KeyboardInterrupt and SIGTERM is delivered again to the handler it would have met.
   const bool main_thread = py::module_::import("threading").attr("current_thread")().is(
       py::module_::import("threading").attr("main_thread")());
-  g_stop.store(false);
-  void (*previous)(int) = main_thread ? std::signal(SIGINT, on_sigint) : SIG_DFL;
+  g_stop.store(0);
   struct Restore {
     bool on;
-    void (*h)(int);
-    ~Restore() { if (on) std::signal(SIGINT, h); }
-  } restore{main_thread, previous};
+    void (*int_handler)(int) = SIG_DFL;
+    void (*term_handler)(int) = SIG_DFL;
+    void put_back() {
+      if (on) std::signal(SIGINT, int_handler), std::signal(SIGTERM, term_handler);
+      on = false;
+    }
+    ~Restore() { put_back(); }
+  } restore{main_thread};
+  if (main_thread) restore.int_handler = std::signal(SIGINT, on_signal), restore.term_handler = std::signal(SIGTERM, on_signal);
   nlohmann::json summary;
   try {
     summary = run_scene(scene, opt);
+  } catch (const StoppedBeforeStart&) {  // nothing written; the signal follows below
   } catch (const std::exception& e) {
     ctx->sim = nullptr;
     reraise(*ctx, e);
   }
   ctx->sim = nullptr;
-  if (g_stop.load()) {  // the output is complete; now the interrupt
+  restore.put_back();
+  if (g_stop.load() == SIGINT) {  // the output is complete; now the interrupt
     PyErr_SetNone(PyExc_KeyboardInterrupt);
     throw py::error_already_set();
+  }
+  if (g_stop.load()) {
+    std::raise(g_stop.load());
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   }
   return py::module_::import("json").attr("loads")(summary.dump());
 }
@@ -400,6 +413,7 @@ PYBIND11_MODULE(sphib, m) {
              auto s = std::make_unique<PySim>();
              s->ctx = std::make_shared<Context>();
              s->scene = ps.build(s->ctx);
+             refuse_if_too_large(s->scene);  // SceneError before any allocation
              try {
                s->owned = std::make_unique<Simulation>(s->scene.sim);
              } catch (const std::exception& e) {

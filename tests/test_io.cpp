@@ -431,3 +431,66 @@ TEST_F(IoTest, JsonAtomicRoundTripWithNonFiniteAsNull) {
   write_json_atomic(path, nlohmann::json{{"a", 1}});  // replaces an existing file
   EXPECT_EQ(nlohmann::json::parse(slurp(path))["a"], 1);
 }
+
+// A restart into its own directory continues the earlier file: its snapshots before the resume step
+// are kept, later ones dropped (written again), the attributes and series replaced, the XDMF lists
+// every snapshot; the earlier file stays as it was until close().
+TEST_F(IoTest, Hdf5WriterResumesAnEarlierFileOfTheSameRun) {
+  const std::string path = file("run.h5");
+  {
+    Hdf5Writer w(path, {{{"run_id", "r1"}, {"time.end", "0.3"}}, {}});
+    for (int k = 0; k < 4; ++k) SmallRun(0.1 * k).write(w, 10 * k, 0.1 * k);
+    w.write_series("diagnostics", {"t"}, {{0.0}, {0.3}});
+    w.close();
+  }
+  EXPECT_EQ(root_text_attribute(path, "run_id"), "r1");
+  EXPECT_TRUE(snapshots_readable(path));
+  const auto before = fs::file_size(path);
+  {
+    Hdf5Writer w(path, {{{"run_id", "r1"}, {"time.end", "0.5"}}, {}}, path, 20);  // the checkpoint of step 20
+    EXPECT_EQ(w.num_snapshots(), 2);                                              // steps 0 and 10 kept
+    EXPECT_EQ(fs::file_size(path), before);                                       // untouched until close
+    for (int k = 2; k < 6; ++k) SmallRun(0.1 * k).write(w, 10 * k, 0.1 * k);
+    w.write_series("diagnostics", {"t"}, {{0.0}, {0.5}});
+    w.close();
+  }
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  EXPECT_EQ(root_text_attribute(path, "time.end"), "0.5");
+  H5G_info_t gi;
+  const hid_t g = H5Gopen2(f, "snapshots", H5P_DEFAULT);
+  H5Gget_info(g, &gi);
+  EXPECT_EQ(gi.nlinks, 6u);
+  for (int k = 0; k < 6; ++k) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%06d", k);
+    int step = -1;
+    const hid_t a = H5Aopen_by_name(g, name, "step", H5P_DEFAULT, H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_INT, &step);
+    H5Aclose(a);
+    EXPECT_EQ(step, 10 * k) << name;
+  }
+  std::vector<hsize_t> dims;
+  EXPECT_EQ(read_dataset<double>(f, "/diagnostics/diagnostics", &dims)[1], 0.5);
+  H5Gclose(g);
+  H5Fclose(f);
+  EXPECT_EQ(count(slurp(file("run.xdmf")), "<Time Value="), 6);
+  EXPECT_EQ(count(slurp(file("run_membranes.xdmf")), "<Time Value="), 6);
+}
+
+// abandon() closes without completing: the .part stays, the final name is never written.
+TEST_F(IoTest, AbandonedWritersLeaveOnlyTheirPartFiles) {
+  {
+    Hdf5Writer w(file("a.h5"), small_attrs());
+    SmallRun(0.0).write(w, 0, 0.0);
+    w.abandon();
+    CsvWriter c(file("a.csv"), {"t"});
+    c.row({1.0});
+    c.abandon();
+  }
+  EXPECT_TRUE(fs::exists(file("a.h5.part")));
+  EXPECT_TRUE(fs::exists(file("a.csv.part")));
+  EXPECT_FALSE(fs::exists(file("a.h5")));
+  EXPECT_FALSE(fs::exists(file("a.csv")));
+  EXPECT_FALSE(fs::exists(file("a.xdmf")));
+}

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "io/run.hpp"
 #include "io/scene.hpp"
@@ -186,4 +187,32 @@ TEST(Scene, EveryCaseSmokeRuns) {
     fs::remove_all(opt.out_dir);
   }
   EXPECT_GE(n, 6);
+}
+
+// Every key the scene reads is resolved, given or not, in one canonical text: a key set explicitly to
+// its default (a low item of issue 17: a restart was refused for it) resolves as its absence, and an
+// integer given for a number key as that number.
+TEST(Scene, ResolvedKeysAreCanonicalWithOrWithoutDefaults) {
+  auto resolved = [](const Scene& s) { return std::map<std::string, std::string>(s.resolved.begin(), s.resolved.end()); };
+  const auto bare = resolved(parse_scene(kMinimal, "scene.toml"));
+  const auto set = resolved(parse_scene(kMinimal, "scene.toml",
+                                        {"solver.marker_eps=1e-12", "kernel.h_over_dx=1.2", "fluid.mu=1", "walls.top=[0, 0.0]",
+                                         "solver.poisson=\"auto\"", "time.max_steps=0", "domain.periodic_x=true"}));
+  EXPECT_EQ(bare, set);
+  EXPECT_EQ(bare.at("solver.marker_eps"), "1e-12");
+  EXPECT_EQ(bare.at("fluid.mu"), "1");
+  EXPECT_EQ(bare.at("walls.top"), "[0, 0]");
+  EXPECT_EQ(resolved(parse_scene(kMinimal, "scene.toml", {"fluid.mu=0.1"})).at("fluid.mu"), "0.1");
+}
+
+// Integers at the edge of their ranges: the largest values that fit are accepted where they are
+// harmless (time.end = 1e16 with time.max_steps, output.diagnostics_every past the run's length).
+TEST(Scene, IntegersAtTheirLimitsAndLongEndsWithAStepLimit) {
+  EXPECT_EQ(parse_scene(kMinimal, "scene.toml", {"solver.marker_max_iter=2147483647"}).sim.markers.max_iter, 2147483647);
+  EXPECT_NE(refusal(kMinimal, {"solver.marker_max_iter=2147483648"}).find("solver.marker_max_iter: value 2147483648 is out of range"),
+            std::string::npos);
+  const Scene s = parse_scene(kMinimal, "scene.toml", {"time.end=1e16", "time.max_steps=10", "output.diagnostics_every=9000000000"});
+  EXPECT_EQ(s.max_steps, 10);
+  EXPECT_EQ(s.diagnostics_every, 9000000000L);
+  EXPECT_NE(refusal(kMinimal, {"time.end=1e16"}).find("time.end: needs 1e+19 steps"), std::string::npos);
 }
