@@ -46,21 +46,15 @@ double coelho_dt_limit(double h, double c, double nu) {
   return std::min(0.25 * h / c, 0.125 * h * h / nu);  // C Eq. (19), acoustic and viscous terms
 }
 
+static const FluidParams& checked(const FluidParams& p) {
+  check_params(p);
+  return p;
+}
+
 WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
-    : prm_(params), opt_(options), lat_(make_lattice(params.domain, params.nx, params.ny)),
-      W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)) {
-  check_params(prm_);
-  const Domain& d = prm_.domain;
-  if (d.periodic_x && !(W_.support() < 0.5 * d.Lx())) {
-    std::ostringstream m;
-    m << "kernel support 2h = " << W_.support() << " must be below half the periodic length Lx = " << d.Lx();
-    throw std::invalid_argument(m.str());
-  }
-  if (d.periodic_y && !(W_.support() < 0.5 * d.Ly())) {
-    std::ostringstream m;
-    m << "kernel support 2h = " << W_.support() << " must be below half the periodic length Ly = " << d.Ly();
-    throw std::invalid_argument(m.str());
-  }
+    : prm_(checked(params)), opt_(options), lat_(make_lattice(params.domain, params.nx, params.ny)),
+      W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)), walls_(make_virtual_walls(lat_, W_.support())),
+      search_(prm_.domain, W_, lat_.size(), walls_.x) {
   eos_ = prm_.wcsph.eos == "tait" ? Eos::Tait : Eos::Morris;
   lj_ = prm_.wcsph.walls == "lennard_jones";
   c_ = wcsph_sound_speed(prm_);
@@ -80,29 +74,10 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   lj_r0_ = std::min(lat_.dx, lat_.dy);
 
   const auto t0 = Clock::now();
-  build_walls();
-  const int N = lat_.size(), M = static_cast<int>(xw_.rows());
+  const int N = lat_.size();
   x_ = lat_.x;
   u_ = u_hat_ = a_ = Mat2::Zero(N, 2);
   rho_ = p_ = V_ = pr_ = Vec::Zero(N);
-  all_.resize(N + M, 2);
-  if (M) all_.bottomRows(M) = xw_;
-  // Cells: along a walled axis the box grows by two supports (the wall rows reach one support
-  // and a spacing); the cell width is the largest division of the box not below 2h.
-  const bool periodic[2] = {d.periodic_x, d.periodic_y};
-  const double lo[2] = {d.x0, d.y0}, hi[2] = {d.x1, d.y1};
-  for (int a = 0; a < 2; ++a) {
-    const double grow = periodic[a] ? 0.0 : 2.0 * W_.support();
-    lo_[a] = lo[a] - grow;
-    const double L = hi[a] - lo[a] + 2.0 * grow;
-    nc_[a] = std::max(1, static_cast<int>(std::floor(L / W_.support() * (1.0 - 1e-12))));
-    cell_[a] = L / nc_[a];
-  }
-  cell_start_.assign(nc_[0] * nc_[1] + 1, 0);
-  cell_of_.resize(N + M);
-  cell_items_.resize(N + M);
-  cell_x_.resize(N + M);
-  cell_y_.resize(N + M);
   find_neighbours();
   setup_.emplace_back("neighbours", seconds_since(t0));
   summation_density();
@@ -116,149 +91,18 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   k_xsph_ = prof_.phase("XSPH (V Eq. 21)");
 }
 
-void WcsphFluid::build_walls() {
-  const Domain& d = prm_.domain;
-  const int nx = lat_.nx, ny = lat_.ny;
-  // rows of virtual particles beyond a wall: enough for a complete support 2h
-  const int rx = d.periodic_x ? 0 : static_cast<int>(std::ceil(W_.support() / lat_.dx));
-  const int ry = d.periodic_y ? 0 : static_cast<int>(std::ceil(W_.support() / lat_.dy));
-  const double ox = d.periodic_x ? 0.0 : 0.5, oy = d.periodic_y ? 0.0 : 0.5;  // Eq. (68) offsets
-  std::vector<double> xs, ys, us, vs;
-  wside_.clear();
-  wdist_.clear();
-  winner_.clear();
-  for (int j = -ry; j < ny + ry; ++j)
-    for (int i = -rx; i < nx + rx; ++i) {
-      const bool out_x = i < 0 || i >= nx, out_y = j < 0 || j >= ny;
-      if (!out_x && !out_y) continue;  // a fluid particle
-      const double x = d.x0 + (i + ox) * lat_.dx, y = d.y0 + (j + oy) * lat_.dy;
-      const Side sx = i < 0 ? Left : Right, sy = j < 0 ? Bottom : Top;
-      Eigen::Vector2d uw;
-      int side = -1;
-      double dist = 0;
-      if (out_x && out_y) {
-        uw = 0.5 * (d.wall_velocity[sx] + d.wall_velocity[sy]);  // corner block: mean of the two walls
-      } else if (out_x) {
-        side = sx;
-        uw = d.wall_velocity[sx];
-        dist = sx == Left ? d.x0 - x : x - d.x1;
-      } else {
-        side = sy;
-        uw = d.wall_velocity[sy];
-        dist = sy == Bottom ? d.y0 - y : y - d.y1;
-      }
-      const bool inner_x = i == -1 || i == nx, inner_y = j == -1 || j == ny;
-      xs.push_back(x);
-      ys.push_back(y);
-      us.push_back(uw.x());
-      vs.push_back(uw.y());
-      wside_.push_back(side);
-      wdist_.push_back(dist);
-      winner_.push_back((out_x && out_y) ? (inner_x && inner_y) : (out_x ? inner_x : inner_y));
-    }
-  const int M = static_cast<int>(xs.size());
-  xw_.resize(M, 2);
-  uw_.resize(M, 2);
-  for (int k = 0; k < M; ++k) {
-    xw_(k, 0) = xs[k];
-    xw_(k, 1) = ys[k];
-    uw_(k, 0) = us[k];
-    uw_(k, 1) = vs[k];
-  }
-}
-
 void WcsphFluid::find_neighbours() {
   x_eval_ = x_;
-  const Domain& d = prm_.domain;
-  const int N = lat_.size(), T = static_cast<int>(all_.rows());
-  const bool periodic[2] = {d.periodic_x, d.periodic_y};
-  const double period[2] = {d.Lx(), d.Ly()};
-  all_.topRows(N) = x_;
-  // Bin every particle (counting sort, stable in the index).
-  const int ncell = nc_[0] * nc_[1];
-  std::fill(cell_start_.begin(), cell_start_.end(), 0);
-  for (int p = 0; p < T; ++p) {
-    int k[2];
-    for (int a = 0; a < 2; ++a) {
-      k[a] = static_cast<int>(std::floor((all_(p, a) - lo_[a]) / cell_[a]));
-      if (periodic[a]) k[a] = ((k[a] % nc_[a]) + nc_[a]) % nc_[a];
-      else k[a] = std::min(std::max(k[a], 0), nc_[a] - 1);  // a particle outside: the edge cell
-    }
-    cell_of_[p] = k[0] + nc_[0] * k[1];
-    ++cell_start_[cell_of_[p] + 1];
-  }
-  for (int c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
-  for (int p = 0; p < T; ++p) cell_items_[cell_start_[cell_of_[p]]++] = p;
-  for (int c = ncell; c > 0; --c) cell_start_[c] = cell_start_[c - 1];  // back to the starts
-  cell_start_[0] = 0;
-  for (int k = 0; k < T; ++k) {  // positions in cell order: the pair loops stream through memory
-    cell_x_[k] = all_(cell_items_[k], 0);
-    cell_y_[k] = all_(cell_items_[k], 1);
-  }
-
-  Pairs& P = pairs_;
-  for (auto* v : {&P.i, &P.j}) v->clear();
-  for (auto* v : {&P.rx, &P.ry, &P.r, &P.W, &P.F}) v->clear();
-  const double r2max = W_.support() * W_.support();
-  // W and F = (1/r) dW/dr of kernel.hpp (V Eq. 15), from q = r/h without its divisions by h
-  const double inv_h = 1.0 / W_.h, w0 = W_.w0, w6 = W_.w0 / 6.0, f0 = W_.w0 * inv_h * inv_h;
-  long nbrs = 0;  // neighbours summed over the fluid particles
-  auto add = [&](int a, int b, double dx, double dy, double r2) {
-    int i = a, j = b;
-    if (a >= N) { i = b; j = a; dx = -dx; dy = -dy; }  // i is the fluid particle
-    const double r = std::sqrt(r2), q = r * inv_h, t = 2.0 - q;
-    P.i.push_back(i);
-    P.j.push_back(j);
-    P.rx.push_back(dx);  // x_i - x_j, minimum image
-    P.ry.push_back(dy);
-    P.r.push_back(r);
-    P.W.push_back(q < 1.0 ? w0 * (2.0 / 3.0 - q * q + 0.5 * q * q * q) : w6 * t * t * t);  // W_ij
-    P.F.push_back(q < 1.0 ? f0 * (-2.0 + 1.5 * q) : -f0 * 0.5 * t * t / q);                   // F_ij
-    nbrs += j < N ? 2 : 1;
-  };
-  // Half stencil: each cell with itself and four forward neighbours, so that every pair of cells
-  // is visited once; across a periodic side the neighbour's particles are shifted by the period.
-  // With 2h below half a period every pair has one image within 2h, so a cell met twice through
-  // different shifts (fewer than three cells along a periodic axis) still yields each pair once.
-  static const int kOff[5][2] = {{0, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-  for (int cy = 0; cy < nc_[1]; ++cy)
-    for (int cx = 0; cx < nc_[0]; ++cx) {
-      const int c = cx + nc_[0] * cy;
-      for (const auto& o : kOff) {
-        int t[2] = {cx + o[0], cy + o[1]};
-        double shift[2] = {0.0, 0.0};
-        bool inside = true;
-        for (int a = 0; a < 2; ++a) {
-          if (t[a] >= 0 && t[a] < nc_[a]) continue;
-          if (!periodic[a]) { inside = false; break; }
-          shift[a] = t[a] < 0 ? -period[a] : period[a];
-          t[a] = t[a] < 0 ? t[a] + nc_[a] : t[a] - nc_[a];
-        }
-        if (!inside) continue;
-        const int c2 = t[0] + nc_[0] * t[1];
-        const bool self = o[0] == 0 && o[1] == 0;  // the cell with itself: unordered pairs
-        for (int ka = cell_start_[c]; ka < cell_start_[c + 1]; ++ka) {
-          const int a = cell_items_[ka];
-          const double ax = cell_x_[ka] - shift[0], ay = cell_y_[ka] - shift[1];
-          for (int kb = self ? ka + 1 : cell_start_[c2]; kb < cell_start_[c2 + 1]; ++kb) {
-            const double dx = ax - cell_x_[kb], dy = ay - cell_y_[kb];
-            const double r2 = dx * dx + dy * dy;
-            if (r2 >= r2max) continue;
-            const int b = cell_items_[kb];
-            if (a < N || b < N) add(a, b, dx, dy, r2);  // not wall with wall
-          }
-        }
-      }
-    }
-  nbrs_last_ = nbrs;
-  nbrs_total_ += nbrs;
+  search_.find(x_, pairs_);
+  nbrs_last_ = search_.neighbours();
+  nbrs_total_ += nbrs_last_;
 }
 
 void WcsphFluid::summation_density() {
   const int N = lat_.size();
   const double gamma = prm_.wcsph.gamma;
   rho_.setConstant(W_.W(0.0));  // the particle itself
-  const Pairs& P = pairs_;
+  const ParticlePairs& P = pairs_;
   for (int k = 0; k < P.size(); ++k) {
     rho_[P.i[k]] += P.W[k];
     if (P.j[k] < N) rho_[P.j[k]] += P.W[k];
@@ -273,8 +117,7 @@ void WcsphFluid::summation_density() {
 
 void WcsphFluid::accelerations(const Mat2& F) {
   const int N = lat_.size();
-  const Domain& d = prm_.domain;
-  const Pairs& P = pairs_;
+  const ParticlePairs& P = pairs_;
   const double mu = prm_.mu, pr_wall = p_wall_ / (rho0_ * rho0_);
   a_ = F.array().colwise() / rho_.array();  // external force per unit volume / rho_i
   for (int k = 0; k < P.size(); ++k) {
@@ -290,21 +133,15 @@ void WcsphFluid::accelerations(const Mat2& F) {
       const int w = j - N;
       pr_j = pr_wall;
       rho_j = rho0_;
-      du = u_(i, 0) - uw_(w, 0);
-      dv = u_(i, 1) - uw_(w, 1);
-      if (opt_.morris_extrapolation && wside_[w] >= 0) {
-        // Morris et al. (1997): u_B = u_w - (d_B/d_A)(u_A - u_w)  =>  u_AB = beta (u_A - u_w).
-        // d_A is floored at the initial lattice distance (half a spacing): exact on the lattice,
-        // bounded for a particle that comes closer to the wall.
-        const int s = wside_[w];
-        const double dA = s == Left ? x_(i, 0) - d.x0 : s == Right ? d.x1 - x_(i, 0)
-                        : s == Bottom ? x_(i, 1) - d.y0 : d.y1 - x_(i, 1);
-        const double dA_min = 0.5 * (s == Left || s == Right ? lat_.dx : lat_.dy);
-        const double beta = std::min(opt_.beta_max, 1.0 + wdist_[w] / std::max(dA, dA_min));
+      du = u_(i, 0) - walls_.u(w, 0);
+      dv = u_(i, 1) - walls_.u(w, 1);
+      if (opt_.morris_extrapolation && walls_.side[w] >= 0) {
+        // Morris et al. (1997): u_B = u_w - (d_B/d_A)(u_A - u_w)  =>  u_AB = beta (u_A - u_w)
+        const double beta = morris_wall_factor(lat_, walls_.side[w], walls_.dist[w], x_(i, 0), x_(i, 1), opt_.beta_max);
         du *= beta;
         dv *= beta;
       }
-      if (lj_ && winner_[w] && P.r[k] < lj_r0_) {
+      if (lj_ && walls_.inner[w] && P.r[k] < lj_r0_) {
         // C Eq. (20): D [(r0/r)^12 - (r0/r)^4] x_ab / r^2, repulsive for r < r0
         const double q = lj_r0_ / P.r[k], q4 = q * q * q * q;
         const double f = lj_D_ * (q4 * q4 * q4 - q4) / (P.r[k] * P.r[k]);
@@ -328,7 +165,7 @@ void WcsphFluid::xsph_velocity() {
   const double eps = prm_.wcsph.xsph;
   if (eps == 0) { u_hat_ = u_; return; }
   const int N = lat_.size();
-  const Pairs& P = pairs_;
+  const ParticlePairs& P = pairs_;
   const double V_wall = m_ / rho0_;
   Mat2& s = a_;  // workspace: the XSPH sums (a_ is spent once u^{n+1} is known)
   s.setZero();
@@ -342,8 +179,8 @@ void WcsphFluid::xsph_velocity() {
       s(j, 0) -= V_[i] * dx;  // (m_i / rho_i) u_ji W_ji
       s(j, 1) -= V_[i] * dy;
     } else {
-      s(i, 0) += V_wall * (u_(i, 0) - uw_(j - N, 0)) * w;
-      s(i, 1) += V_wall * (u_(i, 1) - uw_(j - N, 1)) * w;
+      s(i, 0) += V_wall * (u_(i, 0) - walls_.u(j - N, 0)) * w;
+      s(i, 1) += V_wall * (u_(i, 1) - walls_.u(j - N, 1)) * w;
     }
   }
   u_hat_ = u_ - eps * s;  // V Eq. (21)
@@ -445,11 +282,11 @@ double WcsphFluid::max_abs_divergence() const {
   // (div u)_i = sum_j (m/rho_j) (u_i + u_j) . (x_i - x_j) F_ij  (Eq. 30 form), walls carry u_w
   const int N = lat_.size();
   const double V_wall = m_ / rho0_;
-  const Pairs& P = pairs_;
+  const ParticlePairs& P = pairs_;
   Vec d = Vec::Zero(N);
   for (int k = 0; k < P.size(); ++k) {
     const int i = P.i[k], j = P.j[k];
-    const double uj = j < N ? u_(j, 0) : uw_(j - N, 0), vj = j < N ? u_(j, 1) : uw_(j - N, 1);
+    const double uj = j < N ? u_(j, 0) : walls_.u(j - N, 0), vj = j < N ? u_(j, 1) : walls_.u(j - N, 1);
     const double t = ((u_(i, 0) + uj) * P.rx[k] + (u_(i, 1) + vj) * P.ry[k]) * P.F[k];
     d[i] += (j < N ? V_[j] : V_wall) * t;
     if (j < N) d[j] -= V_[i] * t;  // x_ji = -x_ij
@@ -463,7 +300,7 @@ std::vector<std::string> WcsphFluid::describe() const {
   {
     std::ostringstream m;
     m << "WCSPH (Morris et al. 1997; Vukcevic et al. 2012; Coelho et al.): " << lat_.nx << " x " << lat_.ny << " = "
-      << size() << " moving particles, " << xw_.rows() << " fixed virtual wall particles"
+      << size() << " moving particles, " << walls_.size() << " fixed virtual wall particles"
       << (opt_.morris_extrapolation ? " (Morris extrapolated velocity)" : " (wall velocity)")
       << (lj_ ? " + Lennard-Jones repulsion (C Eq. 20)" : "") << ", h = " << W_.h << " (" << prm_.h_over_dx
       << " (dx+dy)/2), " << static_cast<double>(nbrs_total_) / ((n_ + 1.0) * size())
@@ -502,7 +339,7 @@ std::vector<std::pair<std::string, double>> WcsphFluid::figures() const {
           {"density_variation", dvar_},
           {"sound_speed", c_},
           {"dt_limit_coelho", dt_limit_},
-          {"wall_particles", static_cast<double>(xw_.rows())},
+          {"wall_particles", static_cast<double>(walls_.size())},
           {"neighbours_per_particle", static_cast<double>(nbrs_last_) / size()},
           {"lattice_kernel_sum", lattice_kernel_sum()}};
 }

@@ -61,8 +61,10 @@
 
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/pair_search.hpp"
 #include "fluid/profile.hpp"
 #include "fluid/solver.hpp"
+#include "fluid/walls.hpp"
 
 namespace sphib {
 
@@ -127,11 +129,10 @@ class WcsphFluid final : public FluidSolver {
   double mass() const { return m_; }
   double density_variation() const { return dvar_; }          // max_i |rho_i/rho0 - 1| of the last step
   double max_density_variation() const { return dvar_max_; }  // the same, maximum over the run
-  const Mat2& wall_x() const { return xw_; }                  // virtual particles, M x 2
+  const Mat2& wall_x() const { return walls_.x; }             // virtual particles, M x 2
   double lattice_kernel_sum() const { return S_ * lat_.dx * lat_.dy; }  // S dx dy (1 for an exact quadrature)
 
  private:
-  void build_walls();
   void find_neighbours();     // pair lists at x_
   void summation_density();   // V Eq. (11), then the EOS
   void accelerations(const Mat2& F);
@@ -147,27 +148,9 @@ class WcsphFluid final : public FluidSolver {
   double c_ = 0, rho0_ = 0, m_ = 0, S_ = 0, p_wall_ = 0, dt_limit_ = 0, lj_D_ = 0, lj_r0_ = 0;
   bool lj_ = false;
 
-  // virtual wall particles (fixed): position, velocity, wall side (-1: corner block), distance to
-  // the wall line, innermost row (the C Eq. 20 particles)
-  Mat2 xw_, uw_;
-  std::vector<int> wside_;
-  std::vector<double> wdist_;
-  std::vector<char> winner_;
-
-  // Pairs closer than 2h, each once: i a fluid particle, j a fluid particle or (j >= N) the wall
-  // particle j - N, with x_i - x_j (minimum image), r, W_ij and F_ij = (1/r) dW/dr.
-  struct Pairs {
-    std::vector<int> i, j;
-    std::vector<double> rx, ry, r, W, F;
-    int size() const { return static_cast<int>(i.size()); }
-  } pairs_;
-  // Cell list over fluid and wall particles (cells at least 2h wide; along a walled axis the box
-  // grows to hold the wall rows): bins rebuilt every step, pairs found by a half stencil of cells.
-  Eigen::Vector2d lo_, cell_;
-  int nc_[2] = {1, 1};
-  Mat2 all_;
-  std::vector<int> cell_start_, cell_items_, cell_of_;
-  std::vector<double> cell_x_, cell_y_;  // positions in cell order
+  VirtualWalls walls_;   // fixed Morris virtual particles (fluid/walls.hpp)
+  PairSearch search_;    // cell list over the particles and the wall particles (fluid/pair_search.hpp)
+  ParticlePairs pairs_;  // pairs closer than 2h at x_eval_, each once; j >= N: the wall particle j - N
   long nbrs_last_ = 0, nbrs_total_ = 0;  // neighbours summed over the fluid particles: last search, all
 
   Mat2 x_, x_eval_, u_, u_hat_, a_;  // x_eval_: positions of the last neighbour search (x^{n-1/2})
