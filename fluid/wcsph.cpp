@@ -8,6 +8,10 @@
 
 namespace sphib {
 
+// wcsph_afanasiev.cpp: the parameters of A's classic SPH, and the particle count of a scene.
+void check_afanasiev_params(const FluidParams& p);
+int particle_count(const FluidParams& p, const Lattice& L);
+
 namespace {
 using Clock = std::chrono::steady_clock;
 
@@ -24,6 +28,7 @@ void check_params(const FluidParams& p) {
     throw std::invalid_argument("wcsph.eos: \"" + w.eos + "\" is not allowed (allowed: morris | tait)");
   if (w.walls != "virtual" && w.walls != "lennard_jones")
     throw std::invalid_argument("wcsph.walls: \"" + w.walls + "\" is not allowed (allowed: virtual | lennard_jones)");
+  check_afanasiev_params(p);
 }
 
 // S = sum_j W(x_0 - x_j) over the infinite lattice of spacings dx, dy (x_0 included).
@@ -38,8 +43,12 @@ double kernel_sum_on_lattice(const CubicSplineKernel& W, double dx, double dy) {
 }  // namespace
 
 double wcsph_sound_speed(const FluidParams& p) {
+  if (p.wcsph.c > 0) return p.wcsph.c;
+  // A Eq. (27): B = rho0 c^2 / gamma = 200 rho0 |g| H / gamma, H the fluid's initial height
+  const double H = fluid_height(p.free_surface.fill, p.domain, p.gravity);
+  if (H > 0) return std::sqrt(200.0 * p.gravity.norm() * H);
   // C Eq. (5): c^2 ~ U0^2 / delta; c = 10 U0 gives delta = |rho/rho0 - 1| ~ (U0/c)^2 ~ 1%.
-  return p.wcsph.c > 0 ? p.wcsph.c : 10.0 * p.wcsph.u_scale;
+  return 10.0 * p.wcsph.u_scale;
 }
 
 double coelho_dt_limit(double h, double c, double nu) {
@@ -54,7 +63,7 @@ static const FluidParams& checked(const FluidParams& p) {
 WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
     : prm_(checked(params)), opt_(options), lat_(make_lattice(params.domain, params.nx, params.ny)),
       W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)), walls_(make_virtual_walls(lat_, W_.support())),
-      search_(prm_.domain, W_, lat_.size(), walls_.x) {
+      search_(prm_.domain, W_, particle_count(params, lat_), walls_.x) {
   eos_ = prm_.wcsph.eos == "tait" ? Eos::Tait : Eos::Morris;
   lj_ = prm_.wcsph.walls == "lennard_jones";
   c_ = wcsph_sound_speed(prm_);
@@ -72,16 +81,29 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   p_wall_ = eos_pressure(eos_, rho0_, rho0_, c_, prm_.wcsph.gamma);
   lj_D_ = opt_.lj_D > 0 ? opt_.lj_D : prm_.wcsph.u_scale * prm_.wcsph.u_scale;
   lj_r0_ = std::min(lat_.dx, lat_.dy);
+  dvar_limit_ = has_free_surface(prm_.domain, prm_.free_surface) ? opt_.max_density_variation_free_surface
+                                                                  : opt_.max_density_variation;
+  const int M = walls_.size();
+  p_w_.setConstant(M, p_wall_);
+  pr_w_.setConstant(M, p_wall_ / (rho0_ * rho0_));
+  rho_w_.setConstant(M, rho0_);
+  rho_wc_.setConstant(M, rho0_);
 
   const auto t0 = Clock::now();
-  const int N = lat_.size();
-  x_ = lat_.x;
-  u_ = u_hat_ = a_ = Mat2::Zero(N, 2);
-  rho_ = p_ = V_ = pr_ = Vec::Zero(N);
-  find_neighbours();
-  setup_.emplace_back("neighbours", seconds_since(t0));
-  summation_density();
-  xsph_velocity();
+  pc_ = prm_.wcsph.integrator == "predictor_corrector";
+  if (pc_) {
+    init_afanasiev();  // A's particles, masses, hydrostatic density; the evaluation at t = 0
+    setup_.emplace_back("neighbours", seconds_since(t0));
+  } else {
+    N_ = lat_.size();
+    x_ = lat_.x;
+    u_ = u_hat_ = a_ = Mat2::Zero(N_, 2);
+    rho_ = p_ = V_ = pr_ = Vec::Zero(N_);
+    find_neighbours();
+    setup_.emplace_back("neighbours", seconds_since(t0));
+    summation_density();
+    xsph_velocity(u_);
+  }
   check_density();
 
   k_drift_ = prof_.phase("drift (V Eq. 22)");
@@ -89,6 +111,7 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   k_rho_ = prof_.phase("summation density + EOS (V Eq. 11, 20)");
   k_force_ = prof_.phase("accelerations (C Eq. 17)");
   k_xsph_ = prof_.phase("XSPH (V Eq. 21)");
+  if (surface_on_) k_surface_ = prof_.phase("free surface (Dilts / A Eq. 26)");
 }
 
 void WcsphFluid::find_neighbours() {
@@ -99,7 +122,7 @@ void WcsphFluid::find_neighbours() {
 }
 
 void WcsphFluid::summation_density() {
-  const int N = lat_.size();
+  const int N = N_;
   const double gamma = prm_.wcsph.gamma;
   rho_.setConstant(W_.W(0.0));  // the particle itself
   const ParticlePairs& P = pairs_;
@@ -116,10 +139,16 @@ void WcsphFluid::summation_density() {
 }
 
 void WcsphFluid::accelerations(const Mat2& F) {
-  const int N = lat_.size();
+  const int N = N_;
   const ParticlePairs& P = pairs_;
-  const double mu = prm_.mu, pr_wall = p_wall_ / (rho0_ * rho0_);
+  const double mu = prm_.mu;
+  // Monaghan (1992) artificial viscosity, alpha c h; A's continuity equation
+  const double av = prm_.wcsph.alpha * c_ * W_.h, eta2 = 0.01 * W_.h * W_.h;
+  const bool continuity = pc_;
   a_ = F.array().colwise() / rho_.array();  // external force per unit volume / rho_i
+  if (prm_.gravity.norm() != 0) a_.rowwise() += prm_.gravity.transpose();  // A Eq. (22)'s g
+  if (continuity) drho_.setZero(N);
+  if (continuity) drho_w_.setZero(walls_.size());
   for (int k = 0; k < P.size(); ++k) {
     const int i = P.i[k], j = P.j[k];
     const double rx = P.rx[k], ry = P.ry[k], Fk = P.F[k];  // grad_i W_ij = (x_i - x_j) F_ij
@@ -131,10 +160,23 @@ void WcsphFluid::accelerations(const Mat2& F) {
       dv = u_(i, 1) - u_(j, 1);
     } else {
       const int w = j - N;
-      pr_j = pr_wall;
-      rho_j = rho0_;
+      pr_j = pr_w_[w];
+      rho_j = rho_w_[w];
       du = u_(i, 0) - walls_.u(w, 0);
       dv = u_(i, 1) - walls_.u(w, 1);
+    }
+    double Pi = 0;  // Monaghan (1992): Pi_ij for approaching particles (u_ij . x_ij < 0)
+    if (continuity || av > 0) {
+      const double ux = du * rx + dv * ry;                         // u_ij . x_ij, the wall's own velocity
+      if (continuity) {
+        drho_[i] += m_ * ux * Fk;                                  // A Eqs. (2), (14): m u_ij . grad_i W_ij
+        if (j < N) drho_[j] += m_ * ux * Fk;                       // the same from j
+        else drho_w_[j - N] += m_ * ux * Fk;                       // the wall particle's (Crespo et al. 2007)
+      }
+      if (av > 0 && ux < 0) Pi = -av * (ux / (P.r[k] * P.r[k] + eta2)) / (0.5 * (rho_[i] + rho_j));
+    }
+    if (j >= N) {
+      const int w = j - N;
       if (opt_.morris_extrapolation && walls_.side[w] >= 0) {
         // Morris et al. (1997): u_B = u_w - (d_B/d_A)(u_A - u_w)  =>  u_AB = beta (u_A - u_w)
         const double beta = morris_wall_factor(lat_, walls_.side[w], walls_.dist[w], x_(i, 0), x_(i, 1), opt_.beta_max);
@@ -149,8 +191,9 @@ void WcsphFluid::accelerations(const Mat2& F) {
         a_(i, 1) += f * ry;
       }
     }
-    const double cp = -m_ * (pr_[i] + pr_j) * Fk;               // pressure, C Eq. (17) / V Eq. (12)
-    const double cv = m_ * 2.0 * mu / (rho_[i] * rho_j) * Fk;   // Morris viscosity, C Eq. (17)
+    const double cp = Pi == 0 ? -m_ * (pr_[i] + pr_j) * Fk          // pressure, C Eq. (17) / V Eq. (12) / A Eq. (13)
+                              : -m_ * (pr_[i] + pr_j + Pi) * Fk;    // + Monaghan (1992)
+    const double cv = m_ * 2.0 * mu / (rho_[i] * rho_j) * Fk;   // Morris viscosity, C Eq. (17), A Eq. (18)
     const double fx = cp * rx + cv * du, fy = cp * ry + cv * dv;
     a_(i, 0) += fx;
     a_(i, 1) += fy;
@@ -161,10 +204,10 @@ void WcsphFluid::accelerations(const Mat2& F) {
   }
 }
 
-void WcsphFluid::xsph_velocity() {
+void WcsphFluid::xsph_velocity(const Mat2& u) {
   const double eps = prm_.wcsph.xsph;
-  if (eps == 0) { u_hat_ = u_; return; }
-  const int N = lat_.size();
+  if (eps == 0) { u_hat_ = u; return; }
+  const int N = N_;
   const ParticlePairs& P = pairs_;
   const double V_wall = m_ / rho0_;
   Mat2& s = a_;  // workspace: the XSPH sums (a_ is spent once u^{n+1} is known)
@@ -173,17 +216,17 @@ void WcsphFluid::xsph_velocity() {
     const int i = P.i[k], j = P.j[k];
     const double w = P.W[k];
     if (j < N) {
-      const double dx = (u_(i, 0) - u_(j, 0)) * w, dy = (u_(i, 1) - u_(j, 1)) * w;  // u_ij W_ij
+      const double dx = (u(i, 0) - u(j, 0)) * w, dy = (u(i, 1) - u(j, 1)) * w;  // u_ij W_ij
       s(i, 0) += V_[j] * dx;  // (m_j / rho_j) u_ij W_ij
       s(i, 1) += V_[j] * dy;
       s(j, 0) -= V_[i] * dx;  // (m_i / rho_i) u_ji W_ji
       s(j, 1) -= V_[i] * dy;
     } else {
-      s(i, 0) += V_wall * (u_(i, 0) - walls_.u(j - N, 0)) * w;
-      s(i, 1) += V_wall * (u_(i, 1) - walls_.u(j - N, 1)) * w;
+      s(i, 0) += V_wall * (u(i, 0) - walls_.u(j - N, 0)) * w;  // wall particles: V = m / rho0
+      s(i, 1) += V_wall * (u(i, 1) - walls_.u(j - N, 1)) * w;
     }
   }
-  u_hat_ = u_ - eps * s;  // V Eq. (21)
+  u_hat_ = u - eps * s;  // V Eq. (21)
 }
 
 void WcsphFluid::drift(double tau) {
@@ -199,9 +242,14 @@ void WcsphFluid::drift(double tau) {
         if (c >= hi) c = lo;  // -tiny + period rounds to hi
       } else if (!(c > lo && c < hi)) {
         std::ostringstream m;
-        m << "WCSPH: particle " << i << " crossed the wall " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi)
-          << " (now at " << x_(i, 0) << ", " << x_(i, 1) << ") at t = " << t_ + tau
-          << ": the walls no longer hold the fluid (c too low for this flow, or time.dt too large)";
+        const Side side = a == 0 ? (c <= lo ? Left : Right) : (c <= lo ? Bottom : Top);
+        m << "WCSPH: particle " << i;
+        if (!std::isfinite(c)) m << " has a non-finite position";
+        else if (d.open[side]) m << " left the tank through its open " << side_name(side) << " side " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        else m << " crossed the wall " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        m << " (now at " << x_(i, 0) << ", " << x_(i, 1) << ") at t = " << t_ + tau;
+        if (std::isfinite(c) && !d.open[side]) m << ": the walls no longer hold the fluid (c too low for this flow, or time.dt too large)";
+        if (std::isfinite(c) && d.open[side]) m << " (a splash or a jet: make the tank larger)";
         throw std::runtime_error(m.str());
       }
     }
@@ -209,7 +257,7 @@ void WcsphFluid::drift(double tau) {
 }
 
 void WcsphFluid::check_density() {
-  const int N = lat_.size();
+  const int N = N_;
   int worst = 0;
   double dv = 0;
   for (int i = 0; i < N; ++i) {
@@ -218,10 +266,10 @@ void WcsphFluid::check_density() {
   }
   dvar_ = dv;
   if (dv > dvar_max_) { dvar_max_ = dv; t_dvar_max_ = t_; }
-  if (!(dv <= opt_.max_density_variation)) {
+  if (!(dv <= dvar_limit_)) {
     std::ostringstream m;
     m << "WCSPH: density variation |rho/rho0 - 1| = " << dv << " at particle " << worst << " (" << x_(worst, 0)
-      << ", " << x_(worst, 1) << ") exceeds " << opt_.max_density_variation << " at t = " << t_
+      << ", " << x_(worst, 1) << ") exceeds " << dvar_limit_ << " at t = " << t_
       << ": a blow-up (speed of sound c = " << c_ << " too low for this flow, or time.dt too large)";
     throw std::runtime_error(m.str());
   }
@@ -231,21 +279,24 @@ void WcsphFluid::set_velocity(const Mat2& u0) {
   ++revision_;
   if (u0.rows() != u_.rows() || u0.cols() != 2) throw std::invalid_argument("fluid: initial velocity has the wrong size");
   u_ = u0;
-  xsph_velocity();  // with the neighbours of the current positions
+  if (pc_) v_half_ = u0;  // A: v^{-1/2} = v^0, the first step kicks by dt/2
+  xsph_velocity(u_);  // with the neighbours of the current positions
 }
 
 void WcsphFluid::step(const Mat2& F) {
   ++revision_;
   const double dt = prm_.dt;
   if (F.rows() != u_.rows()) throw std::invalid_argument("WCSPH: force field has the wrong size");
-  // C Eq. (19), force term: dt <= 0.25 sqrt(h / |f|), f = F / rho0 the external acceleration
-  const double fmax = F.rowwise().norm().maxCoeff() / rho0_;
+  // C Eq. (19), force term: dt <= 0.25 sqrt(h / |f|), f = F / rho0 (+ g) the external acceleration
+  const double fmax = prm_.gravity.norm() == 0 ? F.rowwise().norm().maxCoeff() / rho0_
+                                                : ((F / rho0_).rowwise() + prm_.gravity.transpose()).rowwise().norm().maxCoeff();
   if (fmax > 0 && dt > 0.25 * std::sqrt(W_.h / fmax)) {
     std::ostringstream m;
     m << "time.dt = " << dt << " exceeds the force limit 0.25 sqrt(h/|f|) = " << 0.25 * std::sqrt(W_.h / fmax)
       << " of Coelho et al. Eq. (19) (|f| = max |F|/rho = " << fmax << ")";
     throw std::invalid_argument(m.str());
   }
+  if (pc_) return step_afanasiev(F);
   {
     ScopedTimer tm(prof_, k_drift_);
     drift(0.5 * dt);  // V Eq. (22): x^{n+1/2} = x^n + dt/2 v^n (XSPH velocity, V Eq. 21)
@@ -265,7 +316,7 @@ void WcsphFluid::step(const Mat2& F) {
   }
   {
     ScopedTimer tm(prof_, k_xsph_);
-    xsph_velocity();  // V Eq. (21) of v^{n+1}, neighbours of x^{n+1/2}
+    xsph_velocity(u_);  // V Eq. (21) of v^{n+1}, neighbours of x^{n+1/2}
   }
   {
     ScopedTimer tm(prof_, k_drift_);
@@ -280,7 +331,7 @@ double WcsphFluid::kinetic_energy() const { return 0.5 * m_ * u_.squaredNorm(); 
 
 double WcsphFluid::max_abs_divergence() const {
   // (div u)_i = sum_j (m/rho_j) (u_i + u_j) . (x_i - x_j) F_ij  (Eq. 30 form), walls carry u_w
-  const int N = lat_.size();
+  const int N = N_;
   const double V_wall = m_ / rho0_;
   const ParticlePairs& P = pairs_;
   Vec d = Vec::Zero(N);
@@ -299,8 +350,12 @@ std::vector<std::string> WcsphFluid::describe() const {
   std::vector<std::string> lines;
   {
     std::ostringstream m;
-    m << "WCSPH (Morris et al. 1997; Vukcevic et al. 2012; Coelho et al.): " << lat_.nx << " x " << lat_.ny << " = "
-      << size() << " moving particles, " << walls_.size() << " fixed virtual wall particles"
+    m << "WCSPH (Morris et al. 1997; Vukcevic et al. 2012; Coelho et al."
+      << (pc_ ? "; Afanasiev et al. 2011" : "") << "): ";
+    if (size() == lat_.size()) m << lat_.nx << " x " << lat_.ny << " = ";
+    m << size() << " moving particles";
+    if (size() != lat_.size()) m << " (the fluid region in a " << lat_.nx << " x " << lat_.ny << " lattice)";
+    m << ", " << walls_.size() << " fixed virtual wall particles"
       << (opt_.morris_extrapolation ? " (Morris extrapolated velocity)" : " (wall velocity)")
       << (lj_ ? " + Lennard-Jones repulsion (C Eq. 20)" : "") << ", h = " << W_.h << " (" << prm_.h_over_dx
       << " (dx+dy)/2), " << static_cast<double>(nbrs_total_) / ((n_ + 1.0) * size())
@@ -311,40 +366,59 @@ std::vector<std::string> WcsphFluid::describe() const {
     std::ostringstream m;
     m << "EOS ";
     if (eos_ == Eos::Morris) m << "p = c^2 rho (Morris, V Eq. 20; background pressure c^2 rho0 = " << p_wall_ << ")";
-    else m << "Tait (C Eq. 3), gamma = " << w.gamma;
-    m << ", c = " << c_
-      << (w.c > 0 ? " (wcsph.c)" : " (wcsph.c = 0: 10 u_scale, C Eq. 5 scaling for ~1% density variation)")
-      << ", rho0 = " << rho0_ << ", m = rho0 / sum_j W_ij = " << m_ << " (lattice kernel sum S dx dy = "
-      << lattice_kernel_sum() << ")";
+    else m << "Tait (C Eq. 3, A Eq. 27), gamma = " << w.gamma;
+    m << ", c = " << c_;
+    if (w.c > 0) m << " (wcsph.c)";
+    else if (pc_ && prm_.gravity.norm() > 0) m << " (wcsph.c = 0: B = 200 rho0 g H / gamma, A Eq. 27)";
+    else m << " (wcsph.c = 0: 10 u_scale, C Eq. 5 scaling for ~1% density variation)";
+    m << ", rho0 = " << rho0_;
+    if (pc_) m << ", m = rho0 V = " << m_ << " (continuity density, A Eqs. 2, 14)";
+    else m << ", m = rho0 / sum_j W_ij = " << m_ << " (lattice kernel sum S dx dy = " << lattice_kernel_sum() << ")";
     lines.push_back(m.str());
   }
   {
     std::ostringstream m;
-    m << "leapfrog V Eq. (22) (drift-kick-drift), XSPH eps = " << w.xsph << ", dt = " << prm_.dt
-      << " (C Eq. 19 limit " << dt_limit_ << ": 0.25 h/c = " << 0.25 * W_.h / c_
+    if (pc_) m << "predictor-corrector A Eqs. (19)-(21), artificial viscosity alpha = " << w.alpha
+               << " (Monaghan 1992), density smoothing A Eq. (29) every " << w.smooth_every << " steps, wall pressure "
+               << w.wall_pressure << ", XSPH eps = " << w.xsph;
+    else m << "leapfrog V Eq. (22) (drift-kick-drift), XSPH eps = " << w.xsph;
+    m << ", dt = " << prm_.dt << " (C Eq. 19 limit " << dt_limit_ << ": 0.25 h/c = " << 0.25 * W_.h / c_
       << ", 0.125 h^2/nu = " << 0.125 * W_.h * W_.h / nu() << ")";
+    lines.push_back(m.str());
+  }
+  if (surface_on_) {
+    std::ostringstream m;
+    m << "free surface: " << (detector_.method() == SurfaceDetection::Dilts ? "Dilts (2000), circles of radius " : "A Eq. (26), beta = ")
+      << (detector_.method() == SurfaceDetection::Dilts ? prm_.free_surface.dilts_radius : prm_.free_surface.beta)
+      << (detector_.method() == SurfaceDetection::Dilts ? " h" : "") << "; gravity (" << prm_.gravity.x() << ", "
+      << prm_.gravity.y() << "); open sides:";
+    for (int s = 0; s < 4; ++s)
+      if (prm_.domain.open[s]) m << " " << side_name(static_cast<Side>(s));
     lines.push_back(m.str());
   }
   {
     std::ostringstream m;
     m << "density variation max |rho/rho0 - 1| = " << dvar_max_ << " (at t = " << t_dvar_max_ << "), now "
-      << dvar_ << " (papers aim below 0.03; blow-up above " << opt_.max_density_variation << ")";
+      << dvar_ << " (papers aim below 0.03; blow-up above " << dvar_limit_ << ")";
     lines.push_back(m.str());
   }
   return lines;
 }
 
 std::vector<std::pair<std::string, double>> WcsphFluid::figures() const {
-  return {{"max_density_variation", dvar_max_},
+  std::vector<std::pair<std::string, double>> f{{"max_density_variation", dvar_max_},
           {"density_variation", dvar_},
           {"sound_speed", c_},
           {"dt_limit_coelho", dt_limit_},
           {"wall_particles", static_cast<double>(walls_.size())},
           {"neighbours_per_particle", static_cast<double>(nbrs_last_) / size()},
           {"lattice_kernel_sum", lattice_kernel_sum()}};
+  if (surface_on_) f.emplace_back("surface_particles", static_cast<double>(std::count(surface_.begin(), surface_.end(), 1)));
+  return f;
 }
 
 NamedArrays WcsphFluid::state() const {
+  if (pc_) return state_afanasiev();
   Eigen::MatrixXd clock(1, 5);
   clock << t_, static_cast<double>(n_), dvar_, dvar_max_, t_dvar_max_;
   return {{"x", x_}, {"x_eval", x_eval_}, {"u", u_}, {"u_hat", u_hat_}, {"clock", clock}};
@@ -352,6 +426,7 @@ NamedArrays WcsphFluid::state() const {
 
 void WcsphFluid::restore(const NamedArrays& state) {
   ++revision_;
+  if (pc_) return restore_afanasiev(state);
   const int N = size();
   x_ = state_entry(state, "x_eval", N, 2);
   find_neighbours();  // the neighbours and densities of the last evaluation, exactly
@@ -365,6 +440,11 @@ void WcsphFluid::restore(const NamedArrays& state) {
   dvar_ = clock(0, 2);
   dvar_max_ = clock(0, 3);
   t_dvar_max_ = clock(0, 4);
+}
+
+WallForces WcsphFluid::wall_forces() const {
+  if (wall_pressure_ == WallPressure::Rest) return FluidSolver::wall_forces();  // by interpolation
+  return wall_forces_from_particles(lat_, walls_, p_w_);                        // A Eq. (32)
 }
 
 double WcsphFluid::setup_seconds(const std::string& what) const {

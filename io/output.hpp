@@ -18,6 +18,7 @@ class RunOutput {
 
   void row(const std::vector<double>& values) { csv_.row(values); }
   bool due(long step) const;            // a snapshot or a checkpoint falls on this step
+  bool snapshot_due(long step) const;   // a snapshot (output.interval or output.times) falls on this step
   void write_due(const Simulation& sim);  // the snapshot and checkpoint due now
   void snapshot(const Simulation& sim);
   // The last good state (none after a fault: a faulty state is never written), the series, close.
@@ -30,7 +31,8 @@ class RunOutput {
   CsvWriter csv_;
   std::string checkpoint_path_;
   long snapshot_every_ = 0, checkpoint_every_ = 0;  // steps (0: only the first and last snapshot, the last checkpoint)
-  Vec u_, v_;  // velocity components as particle scalars
+  std::vector<long> snapshot_steps_;                 // output.times as steps
+  Vec u_, v_, surface_;  // velocity components and free-surface flags as particle scalars
 };
 
 }  // namespace sphib
