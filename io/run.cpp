@@ -27,7 +27,7 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
     const double depth = fill.shape == FluidRegion::Shape::Block ? fill.y1 - fill.y0 : d.Ly();
     o.add(exact_series(StartUpFlow::InclinedPlane, scene.sim.body_force.x(), depth));
   }
-  if (scene.exact == "droplet") o.add(droplet_axis());
+  if (scene.exact == "droplet") o.add(droplet_axis(sim));
   if (scene.exact == "dam_break") o.add(dam_break_front(sim, scene.reference_dir));
   if (scene.loads) o.add(wall_loads(sim));
   if (scene.steady_eps > 0) o.add(steady_state(scene.steady_eps));
