@@ -17,8 +17,10 @@
 #   capsule        the capsule in shear (build/capsule_shear), Ca = 0.05, 0.1, 0.2
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
-#   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6 (about 3 minutes)
-#   fs_inclined    Table 2: the inclined plane, N = 15^2 ... 60^2, error at t = 4 (about 15 minutes)
+#   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
+#   fs_inclined    Table 2: the inclined plane, N = 15^2 ... 60^2, error at t = 4
+#                  (both with dt at half Coelho's viscous bound 0.125 h^2/nu: the predictor-corrector
+#                  blows up between 0.85 and 0.99 of it, Poiseuille 30^2, h = 2.2 dx)
 #   fs_droplet     Table 3: the elliptic drop, N = 721 ... 7651 (n = 15 ... 50 rings), a at t = 0.8,
 #                  h/dx = 1.5 and 1.3
 #   fs_dam_break   Section 7: the dam break to t = 0.6 (5000 particles): front, loads, pictures
@@ -103,11 +105,11 @@ for s in "${sections[@]}"; do
       else build/capsule_shear --out $OUT/capsule_shear; fi ;;
     fs_poiseuille)
       $SWEEP --scene cases/poiseuille_afanasiev_wcsph.toml --out $OUT/fs_poiseuille --vary grid.nx=15,20,25,30,40,50,60 \
-        --derive grid.ny={grid.nx} --derive time.dt=0.6/{grid.nx}**2 --set output.interval=0 \
+        --derive grid.ny={grid.nx} --derive time.dt=0.3/{grid.nx}**2 --set output.interval=0 \
         --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step ;;
     fs_inclined)
       $SWEEP --scene cases/inclined_plane_wcsph.toml --out $OUT/fs_inclined --vary grid.nx=15,20,25,30,40,50,60 \
-        --derive grid.ny=2*{grid.nx} --derive time.dt=0.4/{grid.nx}**2 --set output.interval=0 \
+        --derive grid.ny=2*{grid.nx} --derive time.dt=0.25/{grid.nx}**2 --set output.interval=0 \
         --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step ;;
     fs_droplet)
       $SWEEP --scene cases/droplet_wcsph.toml --out $OUT/fs_droplet --vary grid.nx=93,123,183,243,303 \

@@ -419,9 +419,7 @@ std::vector<std::pair<std::string, double>> WcsphFluid::figures() const {
 
 NamedArrays WcsphFluid::state() const {
   if (pc_) return state_afanasiev();
-  Eigen::MatrixXd clock(1, 5);
-  clock << t_, static_cast<double>(n_), dvar_, dvar_max_, t_dvar_max_;
-  return {{"x", x_}, {"x_eval", x_eval_}, {"u", u_}, {"u_hat", u_hat_}, {"clock", clock}};
+  return {{"x", x_}, {"x_eval", x_eval_}, {"u", u_}, {"u_hat", u_hat_}, {"clock", clock()}};
 }
 
 void WcsphFluid::restore(const NamedArrays& state) {
@@ -434,12 +432,24 @@ void WcsphFluid::restore(const NamedArrays& state) {
   x_ = state_entry(state, "x", N, 2);
   u_ = state_entry(state, "u", N, 2);
   u_hat_ = state_entry(state, "u_hat", N, 2);
-  const Eigen::MatrixXd& clock = state_entry(state, "clock", 1, 5);
-  t_ = clock(0, 0);
-  n_ = static_cast<long>(clock(0, 1));
-  dvar_ = clock(0, 2);
-  dvar_max_ = clock(0, 3);
-  t_dvar_max_ = clock(0, 4);
+  restore_clock(state);
+}
+
+Eigen::MatrixXd WcsphFluid::clock() const {
+  Eigen::MatrixXd c(1, pc_ ? 6 : 5);
+  c.leftCols(5) << t_, static_cast<double>(n_), dvar_, dvar_max_, t_dvar_max_;
+  if (pc_) c(0, 5) = started_ ? 1.0 : 0.0;
+  return c;
+}
+
+void WcsphFluid::restore_clock(const NamedArrays& state) {
+  const Eigen::MatrixXd& c = state_entry(state, "clock", 1, pc_ ? 6 : 5);
+  t_ = c(0, 0);
+  n_ = static_cast<long>(c(0, 1));
+  dvar_ = c(0, 2);
+  dvar_max_ = c(0, 3);
+  t_dvar_max_ = c(0, 4);
+  if (pc_) started_ = c(0, 5) != 0;
 }
 
 WallForces WcsphFluid::wall_forces() const {

@@ -71,7 +71,10 @@
 //   v^{n+1/2} = v^{n-1/2} + dt a^n,  rho^{n+1/2} = rho^{n-1/2} + dt rhodot^n      A Eq. (20), corrector
 //   every wcsph.smooth_every steps rho^{n+1/2} <- sum_j m rho_j W_ij / sum_j m W_ij   A Eq. (29)
 //   r^{n+1} = r^n + dt xsph(v^{n+1/2})                                          A Eq. (21)
-// The first step kicks by dt/2 (v^{1/2} = v^0 + dt/2 a^0), the leapfrog's start. After a step, u()
+// The first step kicks by dt/2 (v^{1/2} = v^0 + dt/2 a^0), the leapfrog's start. Its viscous
+// stability is narrower than C Eq. (19)'s 0.125 h^2/nu, which the constructor still checks:
+// measured on the Poiseuille of A Section 6.1 (30^2, h = 2.2 dx), stable at 0.85 of it, blown up
+// (stopped by the run's guards) at 0.99; the cases take half. After a step, u()
 // is the next predictor v^{n+1}; p, rho and the volumes are those of the evaluation at r^n.
 // Artificial viscosity (Monaghan 1992, Annu. Rev. Astron. Astrophys. 30:543, Eq. 4.1 with beta = 0):
 // Pi_ij = -alpha c h mu_ij / rho_ij, mu_ij = u_ij . x_ij / (r^2 + 0.01 h^2) when u_ij . x_ij < 0, added
@@ -186,6 +189,8 @@ class WcsphFluid final : public FluidSolver {
   void smooth_density(Vec& rho) const;     // A Eq. (29)
   void step_afanasiev(const Mat2& F);      // A Eqs. (19)-(21)
   NamedArrays state_afanasiev() const;
+  Eigen::MatrixXd clock() const;                   // t, n, the density monitor (and A's first-step flag)
+  void restore_clock(const NamedArrays& state);
   void restore_afanasiev(const NamedArrays& state);
 
   FluidParams prm_;

@@ -154,11 +154,9 @@ void WcsphFluid::step_afanasiev(const Mat2& F) {
 }
 
 NamedArrays WcsphFluid::state_afanasiev() const {
-  Eigen::MatrixXd clock(1, 6);
-  clock << t_, static_cast<double>(n_), dvar_, dvar_max_, t_dvar_max_, started_ ? 1.0 : 0.0;
   return {{"x", x_},          {"x_eval", x_eval_},       {"rho_eval", rho_},   {"u", u_},
           {"v_half", v_half_}, {"rho_half", rho_half_}, {"rho_next", rho_next_}, {"rho_wall", rho_wc_},
-          {"clock", clock}};
+          {"clock", clock()}};
 }
 
 void WcsphFluid::restore_afanasiev(const NamedArrays& state) {
@@ -175,13 +173,7 @@ void WcsphFluid::restore_afanasiev(const NamedArrays& state) {
   v_half_ = state_entry(state, "v_half", N, 2);
   rho_half_ = state_entry(state, "rho_half", N, 1);
   rho_next_ = state_entry(state, "rho_next", N, 1);
-  const Eigen::MatrixXd& clock = state_entry(state, "clock", 1, 6);
-  t_ = clock(0, 0);
-  n_ = static_cast<long>(clock(0, 1));
-  dvar_ = clock(0, 2);
-  dvar_max_ = clock(0, 3);
-  t_dvar_max_ = clock(0, 4);
-  started_ = clock(0, 5) != 0;
+  restore_clock(state);
 }
 
 }  // namespace sphib

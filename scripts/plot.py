@@ -282,6 +282,19 @@ def plot_sections(s, radius, jump, out):
     return True
 
 
+def finish(fig, ax, out, xlabel, ylabel, title):
+    """Labels, grid and legend, then the PNG; returns its path."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return out
+
+
 def plot_series(cols, names, ylabel, title, out, logy=False):
     """Columns `names` (those present) against t; False if nothing to draw."""
     t = cols.get("t")
@@ -295,14 +308,7 @@ def plot_series(cols, names, ylabel, title, out, logy=False):
             ax.semilogy(t[y > 0], y[y > 0], label=n)
         else:
             ax.plot(t, y, label=n)
-    ax.set_xlabel("t")
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, out, "t", ylabel, title)
     return True
 
 
@@ -382,30 +388,14 @@ def plot_free_surface_series(h5, names, run_dir, cols):
         fig, ax = plt.subplots(figsize=(6.4, 4))
         for c in loads:
             ax.plot(t, cols[c], label=c.replace("load_", "") + " wall")
-        ax.set_xlabel("t")
-        ax.set_ylabel("load per unit depth (Eq. 31)")
-        ax.set_title("hydrodynamic loads: int (p(t) - p(0)) over each wall")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize="small")
-        fig.tight_layout()
-        fig.savefig(out, dpi=120)
-        plt.close(fig)
-        written.append(out)
+        written.append(finish(fig, ax, out, "t", "load per unit depth (Eq. 31)", "hydrodynamic loads: int (p(t) - p(0)) over each wall"))
     if t is not None and "droplet_a" in cols:
         out = os.path.join(run_dir, "droplet_axis.png")
         fig, ax = plt.subplots(figsize=(6.4, 4))
         ax.plot(t, cols["droplet_a_exact"], "k-", lw=1, label="RK4 of Eq. (42)")
         ax.plot(t[::max(1, len(t) // 40)], cols["droplet_a"][::max(1, len(t) // 40)], "o", ms=4,
                 label="SPH: (I_xx / I_yy)^(1/4)")
-        ax.set_xlabel("t")
-        ax.set_ylabel("semi-axis a")
-        ax.set_title("elliptic droplet (Afanasiev et al. Section 6.3)")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize="small")
-        fig.tight_layout()
-        fig.savefig(out, dpi=120)
-        plt.close(fig)
-        written.append(out)
+        written.append(finish(fig, ax, out, "t", "semi-axis a", "elliptic droplet (Afanasiev et al. Section 6.3)"))
     if t is not None and "front_x" in cols:
         fx = attr(h5, "fill.x", attr(h5, "domain.x", [0, 1]))
         a = float(fx[1]) - float(fx[0])
@@ -425,15 +415,7 @@ def plot_free_surface_series(h5, names, run_dir, cols):
                 ax.plot(d[:, 0], d[:, 1], marker, mfc="none", label=label)
         ax.set_xlim(0, 1.05 * float((t * np.sqrt(2 * g / a)).max()))
         ax.set_ylim(0.9, max(4.2, float(np.nanmax(cols["front_x"] / a)) + 0.2))
-        ax.set_xlabel("T = t sqrt(2g/a)")
-        ax.set_ylabel("Z = front / a")
-        ax.set_title("dam break: surge front")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize="small")
-        fig.tight_layout()
-        fig.savefig(out, dpi=120)
-        plt.close(fig)
-        written.append(out)
+        written.append(finish(fig, ax, out, "T = t sqrt(2g/a)", "Z = front / a", "dam break: surge front"))
     if names and attr(h5, "observe.exact") == "inclined_plane":
         s = Snapshot(h5["snapshots"][names[-1]])
         F = float(attr(h5, "fluid.body_force", [0, 0])[0]) / float(attr(h5, "fluid.rho", 1.0))
@@ -445,15 +427,7 @@ def plot_free_surface_series(h5, names, run_dir, cols):
         fig, ax = plt.subplots(figsize=(5, 4.5))
         ax.plot(F * (H - yy / 2) * yy / nu, yy, "k-", lw=1, label="Eq. (39), steady")
         ax.plot(s.scalars["u"], s.y - y0, ".", ms=2, label="SPH, t = %.3g" % s.t)
-        ax.set_xlabel("u")
-        ax.set_ylabel("y")
-        ax.set_title("flow down an inclined plane")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize="small")
-        fig.tight_layout()
-        fig.savefig(out, dpi=120)
-        plt.close(fig)
-        written.append(out)
+        written.append(finish(fig, ax, out, "u", "y", "flow down an inclined plane"))
     return written
 
 
