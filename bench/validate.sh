@@ -118,7 +118,7 @@ for s in "${sections[@]}"; do
         --report particles,droplet_axis_error,droplet_axis_error_extent,max_density_variation,seconds_per_step ;;
     fs_dam_break)
       $SWEEP --scene cases/dam_break_wcsph.toml --out $OUT/fs_dam_break --vary grid.nx=200 \
-        --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1.125in,front_deviation_martin_moyce_1952_a2.25in,load_left_min,load_right_max,load_right_max_t,max_density_variation,seconds_per_step
+        --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,load_left_min,load_right_max,load_right_max_t,max_density_variation,seconds_per_step
       /usr/bin/python3 scripts/plot.py $OUT/fs_dam_break/run_000 ;;
     fs_still)
       $SWEEP --scene cases/still_tank_wcsph.toml --out $OUT/fs_still \

@@ -33,6 +33,7 @@ PairSearch::PairSearch(const Domain& d, const CubicSplineKernel& W, int N, const
     cell_[a] = L / nc_[a];
   }
   cell_start_.assign(nc_[0] * nc_[1] + 1, 0);
+  moving_.assign(nc_[0] * nc_[1], 0);
   cell_of_.resize(N + M);
   cell_items_.resize(N + M);
   cell_x_.resize(N + M);
@@ -47,6 +48,7 @@ void PairSearch::find(const Mat2& x, ParticlePairs& P) {
   // Bin every particle (counting sort, stable in the index).
   const int ncell = nc_[0] * nc_[1];
   std::fill(cell_start_.begin(), cell_start_.end(), 0);
+  std::fill(moving_.begin(), moving_.end(), 0);
   for (int p = 0; p < T; ++p) {
     int k[2];
     for (int a = 0; a < 2; ++a) {
@@ -56,6 +58,7 @@ void PairSearch::find(const Mat2& x, ParticlePairs& P) {
     }
     cell_of_[p] = k[0] + nc_[0] * k[1];
     ++cell_start_[cell_of_[p] + 1];
+    if (p < N) ++moving_[cell_of_[p]];
   }
   for (int c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
   for (int p = 0; p < T; ++p) cell_items_[cell_start_[cell_of_[p]]++] = p;
@@ -109,7 +112,10 @@ void PairSearch::find(const Mat2& x, ParticlePairs& P) {
         for (int ka = cell_start_[c]; ka < cell_start_[c + 1]; ++ka) {
           const int a = cell_items_[ka];
           const double ax = cell_x_[ka] - shift[0], ay = cell_y_[ka] - shift[1];
-          for (int kb = self ? ka + 1 : cell_start_[c2]; kb < cell_start_[c2 + 1]; ++kb) {
+          // a cell lists its moving particles first (the sort is stable in the index): a fixed
+          // point meets only those (fixed with fixed is no pair)
+          const int kb_end = a < N ? cell_start_[c2 + 1] : cell_start_[c2] + moving_[c2];
+          for (int kb = self ? ka + 1 : cell_start_[c2]; kb < kb_end; ++kb) {
             const double dx = ax - cell_x_[kb], dy = ay - cell_y_[kb];
             const double r2 = dx * dx + dy * dy;
             if (r2 >= r2max) continue;

@@ -39,7 +39,7 @@ class PairSearch {
   Eigen::Vector2d lo_, cell_;
   int nc_[2] = {1, 1};
   Mat2 all_;  // moving particles, then the fixed points
-  std::vector<int> cell_start_, cell_items_, cell_of_;
+  std::vector<int> cell_start_, cell_items_, cell_of_, moving_;  // moving_: moving particles per cell
   std::vector<double> cell_x_, cell_y_;  // positions in cell order
   long nbrs_ = 0;
 };

@@ -87,7 +87,6 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   p_w_.setConstant(M, p_wall_);
   pr_w_.setConstant(M, p_wall_ / (rho0_ * rho0_));
   rho_w_.setConstant(M, rho0_);
-  rho_wc_.setConstant(M, rho0_);
 
   const auto t0 = Clock::now();
   pc_ = prm_.wcsph.integrator == "predictor_corrector";
@@ -148,7 +147,6 @@ void WcsphFluid::accelerations(const Mat2& F) {
   a_ = F.array().colwise() / rho_.array();  // external force per unit volume / rho_i
   if (prm_.gravity.norm() != 0) a_.rowwise() += prm_.gravity.transpose();  // A Eq. (22)'s g
   if (continuity) drho_.setZero(N);
-  if (continuity) drho_w_.setZero(walls_.size());
   for (int k = 0; k < P.size(); ++k) {
     const int i = P.i[k], j = P.j[k];
     const double rx = P.rx[k], ry = P.ry[k], Fk = P.F[k];  // grad_i W_ij = (x_i - x_j) F_ij
@@ -171,7 +169,6 @@ void WcsphFluid::accelerations(const Mat2& F) {
       if (continuity) {
         drho_[i] += m_ * ux * Fk;                                  // A Eqs. (2), (14): m u_ij . grad_i W_ij
         if (j < N) drho_[j] += m_ * ux * Fk;                       // the same from j
-        else drho_w_[j - N] += m_ * ux * Fk;                       // the wall particle's (Crespo et al. 2007)
       }
       if (av > 0 && ux < 0) Pi = -av * (ux / (P.r[k] * P.r[k] + eta2)) / (0.5 * (rho_[i] + rho_j));
     }

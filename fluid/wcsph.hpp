@@ -81,11 +81,13 @@
 // to the pressure term as -sum_j m Pi_ij grad_i W_ij (A: needed for stability in the dam break).
 // Wall particles carry the pressure of wcsph.wall_pressure (loads.hpp: rest, A Eq. 30, or A Eq. 30
 // normalised with a hydrostatic term) and the density of Tait's law at that pressure. With eq30 and
-// extrapolated that pressure is at least Tait's at the wall particle's own continuity density
-// (d rho_w/dt = sum_i m (u_w - u_i) . grad_w W_wi from rho0, never below rho0: the dynamic boundary
-// particles of Crespo, Gomez-Gesteira & Dalrymple 2007): a jet of free-surface particles (p = 0)
-// carries no pressure of its own, so A Eq. (30) alone lets it run through the wall; at rest the
-// floor is rho0 and changes nothing.
+// extrapolated that pressure is at least Tait's at the wall particle's summation density over the
+// wall particles and the fluid, sum_j m W_wj (walls.hpp's lattice: rho0 S dx dy ~ rho0 when the
+// fluid sits on the lattice beside the wall, so a wetted wall gets nothing from it; more only when
+// the fluid comes closer than the lattice spacing): a jet of free-surface particles (p = 0) carries
+// no pressure of its own, and with A Eq. (30) alone it runs through the wall. (The continuity
+// density of the dynamic boundary particles of Crespo et al. 2007, tried first, rises by the
+// fluid's share of the kernel sum wherever a dry wall is wetted: a spurious 10x floor load.)
 #include <cmath>
 #include <optional>
 #include <string>
@@ -215,8 +217,8 @@ class WcsphFluid final : public FluidSolver {
   Mat2 x_, x_eval_, u_, u_hat_, a_;  // x_eval_: positions of the last neighbour search (x^{n-1/2})
   Vec rho_, p_, V_, pr_;  // pr_ = p / rho^2
   // walls: pressure, p/rho^2 and density of each wall particle (rest: p(rho0), rho0); A's walls:
-  // their continuity density (no penetration) and its rate
-  Vec p_w_, pr_w_, rho_w_, work_w_, rho_wc_, drho_w_;
+  // the summation density of the wall particles among themselves, m (W(0) + sum_w' W_ww')
+  Vec p_w_, pr_w_, rho_w_, work_w_, rho_ww_;
   // A's predictor-corrector: v^{n-1/2}, rho^{n-1/2}, rhodot, the next predicted density
   Mat2 v_half_;
   Vec rho_half_, drho_, rho_next_;

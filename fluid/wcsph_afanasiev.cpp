@@ -63,6 +63,16 @@ void WcsphFluid::init_afanasiev() {
     rho_next_[i] = rho0_ * std::pow(1.0 + rho0_ * prm_.gravity.norm() * depth[i] / B_, 1.0 / prm_.wcsph.gamma);
   rho_half_ = rho_ = rho_next_;
   V_ = m_ / rho_.array();
+  {  // the wall particles among themselves (fixed): m (W(0) + sum_w' W_ww')
+    PairSearch among(prm_.domain, W_, walls_.size(), Mat2(0, 2));
+    ParticlePairs P;
+    among.find(walls_.x, P);
+    rho_ww_.setConstant(walls_.size(), m_ * W_.W(0.0));
+    for (int k = 0; k < P.size(); ++k) {
+      rho_ww_[P.i[k]] += m_ * P.W[k];
+      rho_ww_[P.j[k]] += m_ * P.W[k];
+    }
+  }
   find_neighbours();  // the state at t = 0: surface, pressures (the loads' p(0))
   if (surface_on_) detector_.detect(N_, pairs_, V_, m_ / rho0_, surface_);
   pressures();
@@ -78,10 +88,14 @@ void WcsphFluid::pressures() {
   }
   if (wall_pressure_ == WallPressure::Rest) return;
   wall_particle_pressure(wall_pressure_, N_, pairs_, V_, p_, rho_, prm_.gravity, p_w_, work_w_);  // A Eq. (30)
+  Vec& rho_sum = work_w_;  // the wall particles' summation density: themselves, then the fluid
+  rho_sum = rho_ww_;
+  for (int k = 0; k < pairs_.size(); ++k)
+    if (pairs_.j[k] >= N_) rho_sum[pairs_.j[k] - N_] += m_ * pairs_.W[k];
   for (int w = 0; w < walls_.size(); ++w) {
-    // no penetration: at least Tait's pressure at the wall particle's continuity density; no tension
-    // (a wall cannot pull the fluid, e.g. beside the free surface)
-    p_w_[w] = std::max({p_w_[w], eos_pressure(eos_, rho_wc_[w], rho0_, c_, gamma), 0.0});
+    // no penetration: at least Tait's pressure at that density; no tension (a wall cannot pull the
+    // fluid, e.g. beside the free surface)
+    p_w_[w] = std::max({p_w_[w], eos_pressure(eos_, std::max(rho_sum[w], rho0_), rho0_, c_, gamma), 0.0});
     // the density of Tait's law at the wall pressure (A Eq. 27 inverted)
     rho_w_[w] = rho0_ * std::pow(std::max(1.0 + p_w_[w] / B_, 1e-6), 1.0 / gamma);
     pr_w_[w] = p_w_[w] / (rho_w_[w] * rho_w_[w]);
@@ -134,7 +148,6 @@ void WcsphFluid::step_afanasiev(const Mat2& F) {
     const double kick = started_ ? dt : 0.5 * dt;  // the first step: v^{1/2} = v^0 + dt/2 a^0
     v_half_ += kick * a_;        // A Eq. (20): v^{n+1/2} = v^{n-1/2} + dt a^n
     rho_half_ += kick * drho_;   // A Eq. (20): rho^{n+1/2} = rho^{n-1/2} + dt rhodot^n
-    rho_wc_ = (rho_wc_ + dt * drho_w_).cwiseMax(rho0_);  // the walls' continuity density (Euler)
     started_ = true;
     if (prm_.wcsph.smooth_every > 0 && (n_ + 1) % prm_.wcsph.smooth_every == 0) smooth_density(rho_half_);  // A Eq. (29)
     u_ = v_half_ + 0.5 * dt * a_;          // A Eq. (19) of the next step: v^{n+1}
@@ -155,7 +168,7 @@ void WcsphFluid::step_afanasiev(const Mat2& F) {
 
 NamedArrays WcsphFluid::state_afanasiev() const {
   return {{"x", x_},          {"x_eval", x_eval_},       {"rho_eval", rho_},   {"u", u_},
-          {"v_half", v_half_}, {"rho_half", rho_half_}, {"rho_next", rho_next_}, {"rho_wall", rho_wc_},
+          {"v_half", v_half_}, {"rho_half", rho_half_}, {"rho_next", rho_next_},
           {"clock", clock()}};
 }
 
@@ -163,7 +176,6 @@ void WcsphFluid::restore_afanasiev(const NamedArrays& state) {
   const int N = N_;
   x_ = state_entry(state, "x_eval", N, 2);  // the last evaluation again: surface, pressures, volumes
   rho_ = state_entry(state, "rho_eval", N, 1);
-  rho_wc_ = state_entry(state, "rho_wall", walls_.size(), 1);
   V_ = m_ / rho_.array();
   find_neighbours();
   if (surface_on_) detector_.detect(N_, pairs_, V_, m_ / rho0_, surface_);

@@ -89,7 +89,8 @@ std::unique_ptr<Analysis> droplet_axis(const Simulation& sim, double t_error = 0
 // dam_break.cpp: front_x, the leading edge on the floor (the largest x + dx/2 of the particles
 // within two spacings of the bottom wall) from the left wall; with the surge-front experiments of
 // reference_dir/dam_break_front.csv (Z = x/a against T = t sqrt(2g/a), a the column's width) the
-// summary's front_deviation_<series> (rms of Z - Z_exp over the experiment's points up to Z = 3.5).
+// summary's front_deviation_<series> (rms of Z - Z_exp over the experiment's points up to Z = 3.5;
+// <series> the file's name with '.' as '_': martin_moyce_1952_a1_125in).
 // Throws std::runtime_error naming a reference file it cannot read.
 std::unique_ptr<Analysis> dam_break_front(const Simulation& sim, const std::string& reference_dir);
 

@@ -47,8 +47,10 @@ class DamBreakFront final : public Analysis {
         ++n;
       }
       if (n > 0) {
-        j["front_deviation_" + e.name] = std::sqrt(sum / n);  // rms of Z - Z_exp
-        j["front_points_" + e.name] = n;
+        std::string key = e.name;  // summary keys without dots (a dot reads as a nested key)
+        std::replace(key.begin(), key.end(), '.', '_');
+        j["front_deviation_" + key] = std::sqrt(sum / n);  // rms of Z - Z_exp
+        j["front_points_" + key] = n;
       }
     }
   }
