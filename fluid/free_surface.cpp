@@ -1,6 +1,7 @@
 #include "fluid/free_surface.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -172,31 +173,78 @@ void SurfaceDetector::divergence(int N, const ParticlePairs& P, const Vec& V, do
 }
 
 namespace {
-// The sector k (0..7) of the direction (x, y), sector k being the directions within 22.5 degrees of
-// k 45 degrees (centred on the lattice's eight nearest neighbours); a direction on the border of two
-// sectors may go to either.
-int sector(double x, double y) {
+// The pseudo-angle of the direction (x, y): a number in [0, 4) that grows with the angle from +x
+// counter-clockwise (the quadrant plus a ratio), so that arcs are compared without trigonometry;
+// opposite directions differ by 2.
+double pseudo_angle(double x, double y) {
+  if (y >= 0) return x >= 0 ? y / (x + y) : 1.0 + (-x) / (y - x);
+  return x < 0 ? 2.0 + (-y) / (-x - y) : 3.0 + x / (x - y);
+}
+
+// The arc of the circle of radius R around a particle covered by a neighbour at x_j - x_i = (vx, vy),
+// distance d < 2R: the directions within acos(d / 2R) of (vx, vy) (Dilts), as the pseudo-angles
+// [lo, hi] of its ends (hi may pass 4 when the arc crosses +x).
+std::pair<double, double> dilts_arc(double vx, double vy, double d, double R) {
+  const double c = d / (2.0 * R), s = std::sqrt(1.0 - c * c);  // cos, sin of the half-angle
+  const double lo = pseudo_angle(c * vx + s * vy, c * vy - s * vx);  // (vx, vy) turned by -alpha
+  double hi = pseudo_angle(c * vx - s * vy, c * vy + s * vx);        // and by +alpha
+  if (hi < lo) hi += 4.0;
+  return {lo, hi};
+}
+
+// The sectors [k/16, (k+1)/16] (64 sectors of the pseudo-angle) inside the open arc (lo, hi), as bits.
+std::uint64_t sectors_inside(double lo, double hi) {
+  const double a = lo * 16.0, b = hi * 16.0;  // >= 0: truncation is floor
+  const int k0 = static_cast<int>(a) + 1, kb = static_cast<int>(b), k1 = (kb < b ? kb + 1 : kb) - 2;
+  auto bits = [](int a, int b) {  // bits a..b, 0 <= a <= b <= 63
+    return (~std::uint64_t{0} >> (63 - (b - a))) << a;
+  };
+  if (k1 < k0) return 0;
+  if (k1 < 64) return bits(k0, k1);
+  if (k0 >= 64) return bits(k0 - 64, k1 - 64);
+  return bits(k0, 63) | bits(0, k1 - 64);
+}
+
+// The octant (0..7) of the direction (x, y), octant k holding the directions within 22.5 degrees
+// of k 45 degrees (the lattice's eight nearest neighbours at their centres); a direction on the
+// border of two octants may go to either.
+int octant(double x, double y) {
   const double c = 0.92387953251128674, s = 0.38268343236508978;  // cos, sin of 22.5 degrees
-  const double u = c * x + s * y, v = c * y - s * x;              // rotated by -22.5: sectors become octants
+  const double u = c * x + s * y, v = c * y - s * x;              // turned by -22.5 degrees
   if (v >= 0) return u > 0 ? (v < u ? 1 : 2) : (v > -u ? 3 : 4);
   return u < 0 ? (-v < -u ? 5 : 6) : (-v > u ? 7 : 0);
 }
 }  // namespace
 
 void SurfaceDetector::dilts(int N, const ParticlePairs& P, std::vector<char>& flags) {
-  // A quick sufficient test first: a neighbour closer than sqrt(2) R covers more than 45 degrees on
-  // either side of its direction (acos(d / 2R) > pi/4), so the whole 45-degree sector its direction
-  // lies in; a particle with such a neighbour in each of the eight sectors is covered. Only the
-  // others (the surface and a few disordered particles) get the exact test of their arcs.
-  const double two_R = 2.0 * R_, r_min = 1e-12 * R_, r_quick = std::sqrt(2.0) * R_;
-  octants_.assign(N, 0);
+  // Quick sufficient tests first: the 64 sectors of the circle that lie wholly inside some
+  // neighbour's arc; a particle whose sectors are all covered is covered. Only the others (the
+  // surface and a few disordered particles) get the exact test of their arcs. No trigonometry: the
+  // arcs' ends are the direction turned by +-acos(d / 2R), compared by pseudo-angle.
+  const double two_R = 2.0 * R_, r_min = 1e-12 * R_;
+  const std::uint64_t all = ~std::uint64_t{0};
+  // Cheaper still, first: a neighbour closer than sqrt(2) R covers more than 45 degrees on either
+  // side of its direction, so the whole octant around it; eight such octants cover the circle
+  // (a particle inside a regular lattice), marked as all sectors.
+  sectors_.assign(N, 0);
+  const double r_octant = std::sqrt(2.0) * R_;
   for (int k = 0; k < P.size(); ++k) {
-    if (P.r[k] >= r_quick || P.r[k] < r_min) continue;
-    const int o = sector(-P.rx[k], -P.ry[k]);  // direction from i to j
-    octants_[P.i[k]] |= static_cast<unsigned char>(1u << o);
-    if (P.j[k] < N) octants_[P.j[k]] |= static_cast<unsigned char>(1u << ((o + 4) % 8));  // from j to i
+    if (P.r[k] >= r_octant || P.r[k] < r_min) continue;
+    const int o = octant(-P.rx[k], -P.ry[k]);  // from i towards j
+    sectors_[P.i[k]] |= std::uint64_t{1} << o;
+    if (P.j[k] < N) sectors_[P.j[k]] |= std::uint64_t{1} << ((o + 4) % 8);
   }
-  auto exact = [&](int i) { return i < N && octants_[i] != 0xFF; };
+  for (auto& m : sectors_) m = m == 0xFF ? all : 0;
+  for (int k = 0; k < P.size(); ++k) {
+    if (P.r[k] >= two_R || P.r[k] < r_min) continue;
+    const int i = P.i[k], j = P.j[k];
+    const bool need_i = sectors_[i] != all, need_j = j < N && sectors_[j] != all;  // not yet covered
+    if (!need_i && !need_j) continue;
+    const auto [lo, hi] = dilts_arc(-P.rx[k], -P.ry[k], P.r[k], R_);  // i's circle, towards j
+    if (need_i) sectors_[i] |= sectors_inside(lo, hi);
+    if (need_j) sectors_[j] |= sectors_inside(lo + 2.0, hi + 2.0);  // j's circle, towards i
+  }
+  auto exact = [&](int i) { return i < N && sectors_[i] != all; };
   // The arcs of the particles the quick test left (both ends of a particle pair).
   first_.assign(N + 1, 0);
   for (int k = 0; k < P.size(); ++k) {
@@ -206,45 +254,40 @@ void SurfaceDetector::dilts(int N, const ParticlePairs& P, std::vector<char>& fl
   }
   for (int i = 0; i < N; ++i) first_[i + 1] += first_[i];
   fill_.assign(first_.begin(), first_.end() - 1);
-  centre_.resize(first_[N]);
-  half_.resize(first_[N]);
+  lo_.resize(first_[N]);
+  hi_.resize(first_[N]);
   for (int k = 0; k < P.size(); ++k) {
     if (P.r[k] >= two_R || P.r[k] < r_min || !(exact(P.i[k]) || exact(P.j[k]))) continue;
-    const double half = std::acos(P.r[k] / two_R);              // Dilts: covered within acos(d / 2R)
-    const double towards_j = std::atan2(-P.ry[k], -P.rx[k]);    // direction from i to j
+    const auto [lo, hi] = dilts_arc(-P.rx[k], -P.ry[k], P.r[k], R_);
     if (exact(P.i[k])) {
       const int a = fill_[P.i[k]]++;
-      centre_[a] = towards_j;
-      half_[a] = half;
+      lo_[a] = lo;
+      hi_[a] = hi;
     }
-    if (exact(P.j[k])) {
+    if (exact(P.j[k])) {  // the opposite direction: pseudo-angles + 2
       const int b = fill_[P.j[k]]++;
-      centre_[b] = towards_j + M_PI;  // from j to i
-      half_[b] = half;
+      lo_[b] = lo + 2.0 >= 4.0 ? lo - 2.0 : lo + 2.0;
+      hi_[b] = lo_[b] + (hi - lo);
     }
   }
   for (int i = 0; i < N; ++i) flags[i] = exact(i) && !circle_covered(first_[i], first_[i + 1]);
 }
 
 bool SurfaceDetector::circle_covered(int begin, int end) {
-  const double two_pi = 2.0 * M_PI, eps = 1e-9;
+  const double full = 4.0, eps = 1e-12;  // pseudo-angles
   arcs_.clear();
   for (int a = begin; a < end; ++a) {
-    if (half_[a] >= M_PI) return true;
-    double lo = std::fmod(centre_[a] - half_[a], two_pi);
-    if (lo < 0) lo += two_pi;
-    const double hi = lo + 2.0 * half_[a];
-    arcs_.emplace_back(lo, hi);
-    if (hi > two_pi) arcs_.emplace_back(lo - two_pi, hi - two_pi);  // the part past 2 pi, from 0
+    arcs_.emplace_back(lo_[a], hi_[a]);
+    if (hi_[a] > full) arcs_.emplace_back(lo_[a] - full, hi_[a] - full);  // the part past 4, from 0
   }
   std::sort(arcs_.begin(), arcs_.end());
   double covered = 0;  // [0, covered] is covered
   for (const auto& [lo, hi] : arcs_) {
     if (lo > covered + eps) return false;  // a gap
     covered = std::max(covered, hi);
-    if (covered >= two_pi - eps) return true;
+    if (covered >= full - eps) return true;
   }
-  return covered >= two_pi - eps;
+  return covered >= full - eps;
 }
 
 }  // namespace sphib

@@ -7,6 +7,7 @@
 //  - surface detection: A Eq. (26) (Lee et al. 2008) or Dilts' algorithm (Dilts 2000).
 // Free-surface particles get p = 0 (A Section 3.5): WCSPH sets their pressure, ISPH embeds the
 // Dirichlet condition in its Poisson matrix.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,7 +83,7 @@ double fluid_height(const FluidRegion& r, const Domain& d, const Eigen::Vector2d
 //    sum without the minus sign, which makes it -2 in the bulk; the divergence of position is meant.
 //  - Dilts (2000): particle i is on the surface when some arc of its circle of radius R is covered
 //    by no neighbour's circle of radius R; neighbour j at distance d < 2R covers the arc within
-//    acos(d / 2R) of its direction.
+//    acos(d / 2R) of its direction. Exact, without trigonometry (free_surface.cpp).
 class SurfaceDetector {
  public:
   SurfaceDetector(SurfaceDetection method, double beta, double radius);
@@ -95,14 +96,14 @@ class SurfaceDetector {
  private:
   void divergence(int N, const ParticlePairs& P, const Vec& V, double V_fixed, std::vector<char>& flags);
   void dilts(int N, const ParticlePairs& P, std::vector<char>& flags);
-  bool circle_covered(int begin, int end);  // the arcs [start_, stop_) of one particle cover the circle
+  bool circle_covered(int begin, int end);  // the arcs [begin, end) of one particle cover the circle
 
   SurfaceDetection method_;
   double beta_, R_;
   Vec div_r_;
-  std::vector<unsigned char> octants_;      // per particle: octants covered by a near neighbour (quick test)
+  std::vector<std::uint64_t> sectors_;      // per particle: the sectors inside some arc (quick test)
   std::vector<int> first_, fill_;           // per particle: its arcs in [first_[i], first_[i + 1])
-  std::vector<double> centre_, half_;       // arc centre angle and half-width
+  std::vector<double> lo_, hi_;             // arc ends, pseudo-angles (hi may pass 4)
   std::vector<std::pair<double, double>> arcs_;  // workspace: one particle's arcs as [lo, hi]
 };
 
