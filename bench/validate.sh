@@ -110,12 +110,15 @@ for s in "${sections[@]}"; do
     fs_inclined)
       $SWEEP --scene cases/inclined_plane_wcsph.toml --out $OUT/fs_inclined --vary grid.nx=15,20,25,30,40,50,60 \
         --derive grid.ny=2*{grid.nx} --derive time.dt=0.25/{grid.nx}**2 --set output.interval=0 \
-        --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step ;;
+        --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step
+      /usr/bin/python3 scripts/plot.py $OUT/fs_inclined/run_005 ;;  # N = 2500: the velocity profile
     fs_droplet)
       $SWEEP --scene cases/droplet_wcsph.toml --out $OUT/fs_droplet --vary grid.nx=93,123,183,243,303 \
         --vary kernel.h_over_dx=1.5,1.3 --derive grid.ny={grid.nx} --derive time.dt=0.0915/{grid.nx} \
         --set time.end=0.8 --set output.times=[] \
-        --report particles,droplet_axis_error,droplet_axis_error_extent,max_density_variation,seconds_per_step ;;
+        --report particles,droplet_axis_error,droplet_axis_error_extent,max_density_variation,seconds_per_step
+      [ -f $OUT/fs_droplet/case/summary.json ] || $SPHIB run cases/droplet_wcsph.toml --out $OUT/fs_droplet/case --quiet
+      /usr/bin/python3 scripts/plot.py $OUT/fs_droplet/case ;;
     fs_dam_break)
       $SWEEP --scene cases/dam_break_wcsph.toml --out $OUT/fs_dam_break --vary grid.nx=200 \
         --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,load_left_min,load_right_max,load_right_max_t,max_density_variation,seconds_per_step

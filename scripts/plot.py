@@ -165,6 +165,17 @@ def closed(X):
 # ---------------------------------------------------------------------------------------------
 # Plots
 
+def save_plane(fig, ax, out, title):
+    """An x-y picture at equal scales, written to out."""
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
 def plot_particles(s, out, box, walls):
     """Free surface: every particle a dot coloured by pressure (colours clipped to the 1st-99th
     percentiles: a weakly compressible pressure is noisy). The view: the tank's side where it has a
@@ -187,13 +198,7 @@ def plot_particles(s, out, box, walls):
         ax.scatter(x, y, s=size, linewidths=0)
     ax.set_xlim(lim[0], lim[1])
     ax.set_ylim(lim[2], lim[3])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title("t = %.4g (step %d): particles coloured by pressure" % (s.t, s.step))
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    save_plane(fig, ax, out, "t = %.4g (step %d): particles coloured by pressure" % (s.t, s.step))
 
 
 def plot_snapshot(s, out):
@@ -232,13 +237,7 @@ def plot_snapshot(s, out):
                 label="membrane %d" % k if len(s.membranes) > 1 else None)
     if len(s.membranes) > 1:
         ax.legend(loc="upper right", fontsize="small")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title("t = %.6g (step %d): pressure and velocity" % (s.t, s.step))
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    save_plane(fig, ax, out, "t = %.6g (step %d): pressure and velocity" % (s.t, s.step))
 
 
 def plot_sections(s, radius, jump, out):
@@ -413,7 +412,9 @@ def plot_free_surface_series(h5, names, run_dir, cols):
                     rows = [r for r in f.read().splitlines() if r and not r.startswith("#")][1:]
                 d = np.array([[float(c) for c in r.split(",")] for r in rows], ndmin=2)
                 ax.plot(d[:, 0], d[:, 1], marker, mfc="none", label=label)
-        ax.set_xlim(0, 1.05 * float((t * np.sqrt(2 * g / a)).max()))
+        T, Z = t * np.sqrt(2 * g / a), cols["front_x"] / a
+        T_wall = float(T[np.argmax(Z >= 0.99 * np.nanmax(Z))])  # the front meets the far wall
+        ax.set_xlim(0, min(float(T.max()), T_wall + 1.0))
         ax.set_ylim(0.9, max(4.2, float(np.nanmax(cols["front_x"] / a)) + 0.2))
         written.append(finish(fig, ax, out, "T = t sqrt(2g/a)", "Z = front / a", "dam break: surge front"))
     if names and attr(h5, "observe.exact") == "inclined_plane":
