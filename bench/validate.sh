@@ -16,6 +16,16 @@
 #   oscillation_pair the main job with each projection x interpolation pair (area at t = 1, 2, 10)
 #   capsule        the capsule in shear (build/capsule_shear), Ca = 0.05, 0.1, 0.2
 #   kernel_width   Couette (64 x 64, dt = 1e-3, t = 1) and Poiseuille errors against kernel.h_over_dx 0.51-1.2
+# Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
+# wcsph.integrator = predictor_corrector), at the paper's particle numbers:
+#   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
+#   fs_inclined    Table 2: the inclined plane, N = 15^2 ... 60^2, error at t = 4
+#                  (both with dt at half Coelho's viscous bound 0.125 h^2/nu: the predictor-corrector
+#                  blows up between 0.85 and 0.99 of it, Poiseuille 30^2, h = 2.2 dx)
+#   fs_droplet     Table 3: the elliptic drop, N = 721 ... 7651 (n = 15 ... 50 rings), a at t = 0.8,
+#                  h/dx = 1.5 and 1.3
+#   fs_dam_break   Section 7: the dam break to t = 0.6 (5000 particles): front, loads, pictures
+#   fs_still       the still tank: hydrostatic loads and spurious speeds, with and without A's p = 0
 # Without arguments: all but fig10 and sweep (the long ones).
 # PAIR=paper runs every scene with the paper's approximate projection and SPH interpolation
 # (fluid.projection = "approximate", coupling.interpolation = "sph") into bench_out/paper/; the
@@ -99,6 +109,30 @@ for s in "${sections[@]}"; do
     capsule)
       if [ "${PAIR:-}" = paper ]; then build/capsule_shear --out $OUT/capsule_shear --paper-pair
       else build/capsule_shear --out $OUT/capsule_shear; fi ;;
+    fs_poiseuille)
+      $SWEEP --scene cases/poiseuille_afanasiev_wcsph.toml --out $OUT/fs_poiseuille --vary grid.nx=15,20,25,30,40,50,60 \
+        --derive grid.ny={grid.nx} --derive time.dt=0.3/{grid.nx}**2 --set output.interval=0 \
+        --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step ;;
+    fs_inclined)
+      $SWEEP --scene cases/inclined_plane_wcsph.toml --out $OUT/fs_inclined --vary grid.nx=15,20,25,30,40,50,60 \
+        --derive grid.ny=2*{grid.nx} --derive time.dt=0.25/{grid.nx}**2 --set output.interval=0 \
+        --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step
+      /usr/bin/python3 scripts/plot.py $OUT/fs_inclined/run_005 ;;  # N = 2500: the velocity profile
+    fs_droplet)
+      $SWEEP --scene cases/droplet_wcsph.toml --out $OUT/fs_droplet --vary grid.nx=93,123,183,243,303 \
+        --vary kernel.h_over_dx=1.5,1.3 --derive grid.ny={grid.nx} --derive time.dt=0.0915/{grid.nx} \
+        --set time.end=0.8 --set output.times=[] \
+        --report particles,droplet_axis_error,droplet_axis_error_extent,max_density_variation,seconds_per_step
+      [ -f $OUT/fs_droplet/case/summary.json ] || $SPHIB run cases/droplet_wcsph.toml --out $OUT/fs_droplet/case --quiet
+      /usr/bin/python3 scripts/plot.py $OUT/fs_droplet/case ;;
+    fs_dam_break)
+      $SWEEP --scene cases/dam_break_wcsph.toml --out $OUT/fs_dam_break --vary grid.nx=200 \
+        --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,load_left_min,load_right_max,load_right_max_t,max_density_variation,seconds_per_step
+      /usr/bin/python3 scripts/plot.py $OUT/fs_dam_break/run_000 ;;
+    fs_still)
+      $SWEEP --scene cases/still_tank_wcsph.toml --out $OUT/fs_still \
+        --vary free_surface.detection=none,dilts --vary wcsph.alpha=0.1,0.3 \
+        --report force_left,force_bottom,load_left_min,load_left_max,max_speed,max_density_variation ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done

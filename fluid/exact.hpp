@@ -31,4 +31,31 @@ inline double couette_u(double y, double t, double nu, double U, double l) {
   return U * y / l + s;
 }
 
+// The elliptic droplet of Afanasiev, Makarchuk & Popov (2011), Section 6.3 (Ovsyannikov 1967): an
+// inviscid drop x^2/a^2 + a^2 y^2 <= 1 with u = (a'/a) x, v = -(a'/a) y (Eqs. 40-41), its semi-axis
+// a(t) along x from Eq. (42), a' = c, c' = 2 c^2 / (a^5 + a), with a(0) = c(0) = 1 (Eq. 43), by the
+// classical fourth-order Runge-Kutta method. advance_to takes equal steps of at most dt_max.
+struct DropletAxis {
+  double t = 0.0, a = 1.0, c = 1.0;
+  void advance_to(double t_end, double dt_max = 1e-4) {
+    if (!(t_end > t)) return;
+    const int n = static_cast<int>(std::ceil((t_end - t) / dt_max));
+    const double h = (t_end - t) / n;
+    auto rate = [](double a_, double c_, double& da, double& dc) {
+      da = c_;                                  // Eq. (42)
+      dc = 2.0 * c_ * c_ / (std::pow(a_, 5) + a_);
+    };
+    for (int k = 0; k < n; ++k) {
+      double a1, c1, a2, c2, a3, c3, a4, c4;
+      rate(a, c, a1, c1);
+      rate(a + 0.5 * h * a1, c + 0.5 * h * c1, a2, c2);
+      rate(a + 0.5 * h * a2, c + 0.5 * h * c2, a3, c3);
+      rate(a + h * a3, c + h * c3, a4, c4);
+      a += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+      c += h / 6.0 * (c1 + 2.0 * c2 + 2.0 * c3 + c4);
+    }
+    t = t_end;
+  }
+};
+
 }  // namespace sphib::exact

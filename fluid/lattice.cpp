@@ -4,6 +4,11 @@
 
 namespace sphib {
 
+const char* side_name(Side s) {
+  static const char* names[4] = {"left", "right", "bottom", "top"};
+  return names[s];
+}
+
 Lattice make_lattice(const Domain& d, int nx, int ny) {
   if (nx < 2 || ny < 2) throw std::invalid_argument("lattice: nx and ny must be at least 2");
   if (!(d.x1 > d.x0) || !(d.y1 > d.y0)) throw std::invalid_argument("lattice: empty domain");

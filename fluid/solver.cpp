@@ -44,7 +44,18 @@ void FluidSolver::restore(const NamedArrays&) {
   throw std::runtime_error("checkpoints are not available for method \"" + params().method + "\"");
 }
 
+WallForces FluidSolver::wall_forces() const {
+  return wall_forces_by_interpolation(params().domain, x(), volumes(), p(), kernel(), lattice().dx, lattice().dy);
+}
+
+std::optional<ParamProblem> free_surface_problem(const FluidParams& p) {
+  if (p.method == "wcsph") return wcsph_free_surface_problem(p);
+  // ISPH: its own checks here (they should start with the generic ones)
+  return free_surface_problem(p.method, p.domain, p.free_surface, p.gravity);
+}
+
 std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params) {
+  if (const auto e = free_surface_problem(params)) throw std::invalid_argument(e->key + ": " + e->what);
   if (params.method == "eulerian") return std::make_unique<EulerianFluid>(params);
   if (params.method == "lagrangian") return std::make_unique<LagrangianFluid>(params);
   if (params.method == "wcsph") return std::make_unique<WcsphFluid>(params);

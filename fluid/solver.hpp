@@ -12,8 +12,10 @@
 #include <utility>
 #include <vector>
 
+#include "fluid/free_surface.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/loads.hpp"
 #include "fluid/linear_solver.hpp"
 #include "fluid/profile.hpp"
 
@@ -34,6 +36,11 @@ struct WcsphParams {
   double xsph = 0.0;             // XSPH epsilon (0: off)
   std::string walls = "virtual"; // virtual (Morris fixed wall particles) | lennard_jones (Coelho Eq. 20)
   double u_scale = 1.0;          // expected maximum speed, for c when c = 0
+  // Classic SPH of Afanasiev et al. (2011) ["A"] (free surfaces; wcsph.hpp):
+  std::string integrator = "leapfrog";  // leapfrog (V Eq. 22, summation density) | predictor_corrector (A Eqs. 19-21, continuity density A Eqs. 2, 14)
+  double alpha = 0.0;                   // artificial viscosity of Monaghan (1992) (0: off)
+  int smooth_every = 0;                 // density smoothing A Eq. (29) every so many steps (0: off)
+  std::string wall_pressure = "rest";   // rest (p(rho0)) | eq30 (A Eq. 30) | extrapolated (A Eq. 30 normalised + hydrostatic term)
 };
 
 // The Poisson operator of the projection (Eq. 32). Exact: D G, the divergence of the gradient the
@@ -55,6 +62,11 @@ struct FluidParams {
   SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
   LagrangianParams lagrangian;
   WcsphParams wcsph;
+  // Free surfaces (free_surface.hpp; methods for which supports_free_surface holds): the fluid's
+  // initial region and surface detection, and gravity, an acceleration the method applies itself
+  // (it sets the hydrostatic initial state, A Eqs. 27-28).
+  FreeSurfaceParams free_surface;
+  Eigen::Vector2d gravity = Eigen::Vector2d::Zero();
 };
 
 // A discrete stream function of the velocity: u = U + (d psi/dy, -d psi/dx), with psi at the
@@ -87,7 +99,7 @@ class FluidSolver {
   virtual void set_velocity(const Mat2& u0) = 0;  // initial condition
 
   virtual const FluidParams& params() const = 0;
-  virtual const Lattice& lattice() const = 0;  // the initial lattice (domain, nx, ny, dx, dy)
+  virtual const Lattice& lattice() const = 0;  // the lattice of the domain (nx, ny, dx, dy); its sites are the particles unless a free surface fills only part of it
   virtual const CubicSplineKernel& kernel() const = 0;
   virtual bool particles_move() const = 0;
   virtual const Mat2& x() const = 0;        // current particle positions, N x 2
@@ -121,12 +133,20 @@ class FluidSolver {
   // best of `reps` (0: the method measures none).
   virtual double floor_seconds(int /*reps*/ = 20) const { return 0.0; }
 
+  // Free surfaces (free_surface.hpp): the particles the last surface detection marked (1) or not
+  // (0); nullptr for a method or scene without a free surface.
+  virtual const std::vector<char>* surface() const { return nullptr; }
+  // The pressure integral over each wall, int_Gamma p dGamma (loads.hpp; A Eqs. 31-32), NaN for a
+  // side without a wall. Default: the Shepard interpolation of p() at the wall lines (methods with
+  // image walls); methods with wall particles of their own pressure sum those (A Eq. 32).
+  virtual WallForces wall_forces() const;
+
   // Everything that determines the following steps (for checkpoints), and its restoration into a
   // solver built from the same parameters. Methods without checkpoints throw std::runtime_error.
   virtual NamedArrays state() const;
   virtual void restore(const NamedArrays& state);
 
-  int size() const { return lattice().size(); }
+  int size() const { return static_cast<int>(x().rows()); }
   double h() const { return kernel().h; }
   double nu() const { return params().mu / params().rho; }
   // Changes with every change of the state (step, set_velocity, restore): callers that keep
@@ -136,6 +156,10 @@ class FluidSolver {
  protected:
   long revision_ = 0;
 };
+
+// What is wrong with the free-surface keys for params.method (free_surface_problem and the
+// method's own), as (scene key, message); nothing if all is well. make_fluid refuses the same.
+std::optional<ParamProblem> free_surface_problem(const FluidParams& params);
 
 // The solver of params.method.
 std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params);

@@ -43,7 +43,8 @@
 // variation ~ (u/c)^2 ~ 1%). The time step is the scene's; the constructor refuses a dt above the
 // limit of C Eq. (19), min(0.25 h/c, 0.125 h^2/nu), and step() the force term 0.25 sqrt(h/|f|).
 // The density variation max_i |rho_i/rho0 - 1| is monitored every step; above
-// WcsphOptions::max_density_variation (10%) the step throws std::runtime_error (a blow-up), and so
+// WcsphOptions::max_density_variation (10%; 25% with a free surface) the step throws
+// std::runtime_error (a blow-up), and so
 // does a particle that crosses a wall.
 //
 // Which EOS: with the symmetric pressure term a uniform pressure p0 does not cancel on a sheared or
@@ -53,16 +54,52 @@
 //
 // Neighbours: a cell list over fluid and wall particles (cells at least 2h wide), rebuilt every
 // step; each pair within 2h is found once (half stencil of cells) and every pair sum is
-// accumulated on both particles.
+// accumulated on both particles (pair_search.hpp; the walls are walls.hpp's).
+//
+// Classic SPH with a free surface: Afanasiev, Makarchuk & Popov (2011) ["A"], Sections 3.4-3.7
+// (wcsph_afanasiev.cpp), integrator = "predictor_corrector". The particles are the fluid region of
+// free_surface.hpp (a block, a circle, the tank; sides may be open) with masses m = rho0 V (V the
+// particle volume of the region's arrangement); the density follows the continuity equation,
+// A Eqs. (2), (14), d rho_i/dt = sum_j m (u_i - u_j) . grad_i W_ij (walls with their velocity),
+// from the hydrostatic density of A Eq. (28), rho* = rho0 (1 + rho0 |g| depth / B)^(1/gamma), with
+// Tait's p = B ((rho/rho0)^gamma - 1), A Eq. (27), B = rho0 c^2 / gamma; wcsph.c = 0 with gravity
+// takes A's B = 200 rho0 |g| H / gamma (c^2 = 200 |g| H, H the fluid's initial height). One step,
+// A Eqs. (19)-(21), with ONE evaluation of the rates at r^n:
+//   v^n = v^{n-1/2} + dt/2 a^{n-1},  rho^n = rho^{n-1/2} + dt/2 rhodot^{n-1}   A Eq. (19), predictor
+//   neighbours at r^n; free-surface particles (Dilts or A Eq. 26) get p = 0, the others Tait's p
+//   a^n = pressure + Morris viscosity (as above) + artificial viscosity + g + F/rho; rhodot^n
+//   v^{n+1/2} = v^{n-1/2} + dt a^n,  rho^{n+1/2} = rho^{n-1/2} + dt rhodot^n      A Eq. (20), corrector
+//   every wcsph.smooth_every steps rho^{n+1/2} <- sum_j m rho_j W_ij / sum_j m W_ij   A Eq. (29)
+//   r^{n+1} = r^n + dt xsph(v^{n+1/2})                                          A Eq. (21)
+// The first step kicks by dt/2 (v^{1/2} = v^0 + dt/2 a^0), the leapfrog's start. Its viscous
+// stability is narrower than C Eq. (19)'s 0.125 h^2/nu, which the constructor still checks:
+// measured on the Poiseuille of A Section 6.1 (30^2, h = 2.2 dx), stable at 0.85 of it, blown up
+// (stopped by the run's guards) at 0.99; the cases take half. After a step, u()
+// is the next predictor v^{n+1}; p, rho and the volumes are those of the evaluation at r^n.
+// Artificial viscosity (Monaghan 1992, Annu. Rev. Astron. Astrophys. 30:543, Eq. 4.1 with beta = 0):
+// Pi_ij = -alpha c h mu_ij / rho_ij, mu_ij = u_ij . x_ij / (r^2 + 0.01 h^2) when u_ij . x_ij < 0, added
+// to the pressure term as -sum_j m Pi_ij grad_i W_ij (A: needed for stability in the dam break).
+// Wall particles carry the pressure of wcsph.wall_pressure (loads.hpp: rest, A Eq. 30, or A Eq. 30
+// normalised with a hydrostatic term) and the density of Tait's law at that pressure. With eq30 and
+// extrapolated that pressure is at least Tait's at the wall particle's summation density over the
+// wall particles and the fluid, sum_j m W_wj (walls.hpp's lattice: rho0 S dx dy ~ rho0 when the
+// fluid sits on the lattice beside the wall, so a wetted wall gets nothing from it; more only when
+// the fluid comes closer than the lattice spacing): a jet of free-surface particles (p = 0) carries
+// no pressure of its own, and with A Eq. (30) alone it runs through the wall. (The continuity
+// density of the dynamic boundary particles of Crespo et al. 2007, tried first, rises by the
+// fluid's share of the kernel sum wherever a dry wall is wetted: a spurious 10x floor load.)
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/pair_search.hpp"
 #include "fluid/profile.hpp"
 #include "fluid/solver.hpp"
+#include "fluid/walls.hpp"
 
 namespace sphib {
 
@@ -75,6 +112,9 @@ struct WcsphOptions {
   bool morris_extrapolation = true;
   double beta_max = INFINITY;  // Morris et al. cap beta at 1.5
   double max_density_variation = 0.10;  // blow-up threshold of |rho/rho0 - 1|
+  // the same with a free surface, where a jet hitting a wall at speed u compresses the fluid by
+  // (1 + gamma u / c)^(1/gamma) - 1 (the water hammer p = rho0 c u of A Eq. 27): 8% at u = c/4
+  double max_density_variation_free_surface = 0.25;
   double lj_D = 0.0;                    // C Eq. (20) strength D (0: u_scale^2)
 };
 
@@ -84,6 +124,10 @@ inline double eos_pressure(Eos eos, double rho, double rho0, double c, double ga
   if (eos == Eos::Morris) return c * c * rho;                                         // C Eq. (4)
   return rho0 * c * c / gamma * (std::pow(rho / rho0, gamma) - 1.0);                  // C Eq. (3)
 }
+
+// What is wrong with the free-surface and classic-SPH keys of a WCSPH scene (A: predictor-corrector,
+// Tait), including free_surface_problem's, as (key, message); nothing if all is well.
+std::optional<ParamProblem> wcsph_free_surface_problem(const FluidParams& params);
 
 // The speed of sound the solver uses for these parameters (see the header comment).
 double wcsph_sound_speed(const FluidParams& params);
@@ -127,17 +171,29 @@ class WcsphFluid final : public FluidSolver {
   double mass() const { return m_; }
   double density_variation() const { return dvar_; }          // max_i |rho_i/rho0 - 1| of the last step
   double max_density_variation() const { return dvar_max_; }  // the same, maximum over the run
-  const Mat2& wall_x() const { return xw_; }                  // virtual particles, M x 2
+  const Mat2& wall_x() const { return walls_.x; }             // virtual particles, M x 2
+  const Vec& wall_p() const { return p_w_; }                  // their pressure (wcsph.wall_pressure)
   double lattice_kernel_sum() const { return S_ * lat_.dx * lat_.dy; }  // S dx dy (1 for an exact quadrature)
+  const std::vector<char>* surface() const override { return surface_on_ ? &surface_ : nullptr; }
+  WallForces wall_forces() const override;  // A Eq. (32) over the wall particles, or by interpolation (rest)
 
  private:
-  void build_walls();
   void find_neighbours();     // pair lists at x_
   void summation_density();   // V Eq. (11), then the EOS
-  void accelerations(const Mat2& F);
-  void xsph_velocity();       // V Eq. (21): u_hat_ from u_
+  void accelerations(const Mat2& F);  // a_ (and drho_ with the continuity equation)
+  void xsph_velocity(const Mat2& u);  // V Eq. (21): u_hat_ from u
   void drift(double tau);     // x += tau u_hat, periodic wrap, walls checked
   void check_density();
+  // Classic SPH with a free surface (wcsph_afanasiev.cpp)
+  void init_afanasiev();                   // particles, masses, hydrostatic density (A Eq. 28)
+  void evaluate(const Mat2& F);            // at x_ with u_, rho_: neighbours, surface, pressures, rates
+  void pressures();                        // A Eq. (27), p = 0 on the free surface, wall particles
+  void smooth_density(Vec& rho) const;     // A Eq. (29)
+  void step_afanasiev(const Mat2& F);      // A Eqs. (19)-(21)
+  NamedArrays state_afanasiev() const;
+  Eigen::MatrixXd clock() const;                   // t, n, the density monitor (and A's first-step flag)
+  void restore_clock(const NamedArrays& state);
+  void restore_afanasiev(const NamedArrays& state);
 
   FluidParams prm_;
   WcsphOptions opt_;
@@ -146,38 +202,35 @@ class WcsphFluid final : public FluidSolver {
   Eos eos_ = Eos::Morris;
   double c_ = 0, rho0_ = 0, m_ = 0, S_ = 0, p_wall_ = 0, dt_limit_ = 0, lj_D_ = 0, lj_r0_ = 0;
   bool lj_ = false;
+  bool pc_ = false;          // the predictor-corrector of A with the continuity equation
+  bool surface_on_ = false;  // a free surface is detected
+  double dvar_limit_ = 0.1;  // the blow-up threshold in use
+  int N_ = 0;                // particles
+  double B_ = 0;             // Tait's B = rho0 c^2 / gamma
+  WallPressure wall_pressure_ = WallPressure::Rest;
 
-  // virtual wall particles (fixed): position, velocity, wall side (-1: corner block), distance to
-  // the wall line, innermost row (the C Eq. 20 particles)
-  Mat2 xw_, uw_;
-  std::vector<int> wside_;
-  std::vector<double> wdist_;
-  std::vector<char> winner_;
-
-  // Pairs closer than 2h, each once: i a fluid particle, j a fluid particle or (j >= N) the wall
-  // particle j - N, with x_i - x_j (minimum image), r, W_ij and F_ij = (1/r) dW/dr.
-  struct Pairs {
-    std::vector<int> i, j;
-    std::vector<double> rx, ry, r, W, F;
-    int size() const { return static_cast<int>(i.size()); }
-  } pairs_;
-  // Cell list over fluid and wall particles (cells at least 2h wide; along a walled axis the box
-  // grows to hold the wall rows): bins rebuilt every step, pairs found by a half stencil of cells.
-  Eigen::Vector2d lo_, cell_;
-  int nc_[2] = {1, 1};
-  Mat2 all_;
-  std::vector<int> cell_start_, cell_items_, cell_of_;
-  std::vector<double> cell_x_, cell_y_;  // positions in cell order
+  VirtualWalls walls_;   // fixed Morris virtual particles (fluid/walls.hpp)
+  PairSearch search_;    // cell list over the particles and the wall particles (fluid/pair_search.hpp)
+  ParticlePairs pairs_;  // pairs closer than 2h at x_eval_, each once; j >= N: the wall particle j - N
   long nbrs_last_ = 0, nbrs_total_ = 0;  // neighbours summed over the fluid particles: last search, all
 
   Mat2 x_, x_eval_, u_, u_hat_, a_;  // x_eval_: positions of the last neighbour search (x^{n-1/2})
   Vec rho_, p_, V_, pr_;  // pr_ = p / rho^2
+  // walls: pressure, p/rho^2 and density of each wall particle (rest: p(rho0), rho0); A's walls:
+  // the summation density of the wall particles among themselves, m (W(0) + sum_w' W_ww')
+  Vec p_w_, pr_w_, rho_w_, work_w_, rho_ww_;
+  // A's predictor-corrector: v^{n-1/2}, rho^{n-1/2}, rhodot, the next predicted density
+  Mat2 v_half_;
+  Vec rho_half_, drho_, rho_next_;
+  bool started_ = false;
+  SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
+  std::vector<char> surface_;
   double t_ = 0, dvar_ = 0, dvar_max_ = 0, t_dvar_max_ = 0;
   long n_ = 0;
   std::vector<std::pair<std::string, double>> setup_;
 
   mutable Profile prof_;
-  int k_drift_, k_neigh_, k_rho_, k_force_, k_xsph_;
+  int k_drift_, k_neigh_, k_rho_, k_force_, k_xsph_, k_surface_ = -1;
 };
 
 }  // namespace sphib

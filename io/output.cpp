@@ -57,18 +57,24 @@ RunOutput::RunOutput(const Scene& scene, const Simulation& sim, const Observers&
       checkpoint_every_(steps_per(scene.checkpoint_interval, sim.fluid().params().dt)),
       u_(sim.fluid().size()),
       v_(sim.fluid().size()) {
+  for (double t : scene.output_times) snapshot_steps_.push_back(std::lround(t / sim.fluid().params().dt));
   for (const auto& r : observers.series().rows) csv_.row(r);  // a restart's series so far
 }
 
 RunOutput::~RunOutput() { abandon(); }
 
 bool RunOutput::due(long step) const {
-  return (snapshot_every_ && step % snapshot_every_ == 0) || (checkpoint_every_ && step % checkpoint_every_ == 0);
+  return snapshot_due(step) || (checkpoint_every_ && step % checkpoint_every_ == 0);
+}
+
+bool RunOutput::snapshot_due(long step) const {
+  return (snapshot_every_ && step % snapshot_every_ == 0) ||
+         std::find(snapshot_steps_.begin(), snapshot_steps_.end(), step) != snapshot_steps_.end();
 }
 
 void RunOutput::write_due(const Simulation& sim) {  // the restart point first: it matters more
   if (checkpoint_every_ && sim.steps() % checkpoint_every_ == 0) checkpoint(sim);
-  if (snapshot_every_ && sim.steps() % snapshot_every_ == 0) snapshot(sim);
+  if (snapshot_due(sim.steps())) snapshot(sim);
 }
 
 void RunOutput::checkpoint(const Simulation& sim) {
@@ -86,6 +92,12 @@ void RunOutput::snapshot(const Simulation& sim) {
     if (f == "v") fields.emplace_back("v", &v_);
     if (f == "p") fields.emplace_back("p", &fl.p());
     if (f == "phi") fields.emplace_back("phi", &fl.phi());
+    if (f == "surface") {  // 1 on the free surface (0 everywhere without one)
+      const std::vector<char>* flags = fl.surface();
+      surface_ = Vec::Zero(fl.size());
+      for (int i = 0; flags && i < fl.size(); ++i) surface_[i] = (*flags)[i];
+      fields.emplace_back("surface", &surface_);
+    }
   }
   std::vector<MembraneSnapshot> ms;
   for (const auto& m : sim.membranes()) ms.push_back({&m.m.X, &m.f, &m.T});

@@ -28,7 +28,8 @@ class RunOutput {
   ~RunOutput();  // neither finished nor abandoned (an exception on its way out): abandons
 
   void row(const std::vector<double>& values) { csv_.row(values); }
-  bool due(long step) const;              // a snapshot or a checkpoint falls on this step
+  bool due(long step) const;            // a snapshot or a checkpoint falls on this step
+  bool snapshot_due(long step) const;   // a snapshot (output.interval or output.times) falls on this step
   void write_due(const Simulation& sim);  // the snapshot and checkpoint due now
   void snapshot(const Simulation& sim);
   void checkpoint(const Simulation& sim);  // dir/checkpoint.h5 with the observers' series and state
@@ -51,7 +52,8 @@ class RunOutput {
   double checkpoint_time_ = -1;
   long snapshot_every_ = 0, checkpoint_every_ = 0;  // steps (0: only the first and last snapshot, the last checkpoint)
   bool done_ = false;
-  Vec u_, v_;  // velocity components as particle scalars
+  std::vector<long> snapshot_steps_;                 // output.times as steps
+  Vec u_, v_, surface_;  // velocity components and free-surface flags as particle scalars
 };
 
 }  // namespace sphib

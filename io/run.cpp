@@ -30,6 +30,15 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
   o.add(flow_figures());
   if (scene.exact == "poiseuille") o.add(exact_series(StartUpFlow::Poiseuille, scene.sim.body_force.x()));
   if (scene.exact == "couette") o.add(exact_series(StartUpFlow::Couette, 0.0));
+  if (scene.exact == "inclined_plane") {  // the layer's depth: the fill block's height
+    const FluidRegion& fill = scene.sim.fluid.free_surface.fill;
+    const Domain& d = scene.sim.fluid.domain;
+    const double depth = fill.shape == FluidRegion::Shape::Block ? fill.y1 - fill.y0 : d.Ly();
+    o.add(exact_series(StartUpFlow::InclinedPlane, scene.sim.body_force.x(), depth));
+  }
+  if (scene.exact == "droplet") o.add(droplet_axis(sim));
+  if (scene.exact == "dam_break") o.add(dam_break_front(sim, scene.reference_dir));
+  if (scene.loads) o.add(wall_loads(sim));
   if (scene.steady_eps > 0) o.add(steady_state(scene.steady_eps));
   const bool membranes = !scene.membranes.empty();
   if (scene.exact == "membrane_equilibrium" && membranes) {

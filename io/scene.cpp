@@ -398,12 +398,26 @@ void read_domain(Reader& r, Scene& s) {
   f.domain.periodic_x = r.boolean("domain.periodic_x", true, "periodic in x (else no-slip walls at x0 and x1)");
   f.domain.periodic_y = r.boolean("domain.periodic_y", false, "periodic in y (else no-slip walls at y0 and y1)");
   const char* sides[4] = {"left", "right", "bottom", "top"};
+  if (const toml::node* op = r.raw("domain.open", "array of strings",
+                                   "sides open to free space, from left, right, bottom, top: no wall there (free-surface "
+                                   "methods; a particle crossing one stops the run)")) {
+    const toml::array* a = op->as_array();
+    if (!a) r.fail("domain.open", "must be an array of side names (left, right, bottom, top)");
+    for (const auto& e : *a) {
+      const auto v = e.value<std::string>();
+      const int k = v ? static_cast<int>(std::find(sides, sides + 4, *v) - sides) : 4;
+      if (k == 4) r.fail("domain.open", "allowed side names: left, right, bottom, top");
+      if (f.domain.is_periodic(static_cast<Side>(k)))
+        r.fail("domain.open", std::string("the ") + sides[k] + " side is periodic (domain.periodic_" + (k < 2 ? "x" : "y") + ")");
+      f.domain.open[k] = true;
+    }
+  }
   for (int k = 0; k < 4; ++k) {
     const std::string key = std::string("walls.") + sides[k];
     const bool given = r.has(key);
     f.domain.wall_velocity[k] = r.pair(key, Eigen::Vector2d::Zero(), std::string("velocity of the ") + sides[k] + " wall");
     if (given && !f.domain.is_wall(static_cast<Side>(k)))
-      r.fail(key, "a wall velocity is given on a periodic side");
+      r.fail(key, f.domain.open[k] ? "a wall velocity is given on an open side" : "a wall velocity is given on a periodic side");
     if (const std::string why = wall_moves_normally(f.domain, k); !why.empty()) r.fail(key, why);
   }
 }
@@ -423,6 +437,10 @@ void read_fluid(Reader& r, Scene& s) {
   f.rho = r.positive("fluid.rho", 1.0, "density rho", true);
   f.mu = r.positive("fluid.mu", 1.0, "dynamic viscosity mu", true);
   s.sim.body_force = r.pair("fluid.body_force", Eigen::Vector2d::Zero(), "body force per unit volume [Fx, Fy]");
+  f.gravity = r.pair("fluid.gravity", Eigen::Vector2d::Zero(),
+                     "gravity, an acceleration [gx, gy] (free-surface methods: wcsph): with a partly filled tank it sets the "
+                     "hydrostatic initial density (Afanasiev et al. Eq. 28) and B (Eq. 27); it may not point along a periodic "
+                     "axis or at an open side");
   f.convection = r.boolean("fluid.convection", true, "Navier-Stokes (true) or Stokes (false: no convection operator)");
   f.method = s.method;
   const std::string projection = r.choice(
@@ -448,6 +466,61 @@ void read_fluid(Reader& r, Scene& s) {
   f.wcsph.walls = r.choice("wcsph.walls", "virtual", {"virtual", "lennard_jones"},
                            "WCSPH walls: Morris virtual particles or the Lennard-Jones repulsion of Coelho et al.");
   f.wcsph.u_scale = r.positive("wcsph.u_scale", 1.0, "expected maximum speed (sets c when wcsph.c = 0)");
+  f.wcsph.integrator = r.choice("wcsph.integrator", "leapfrog", {"leapfrog", "predictor_corrector"},
+                                "WCSPH time stepping: leapfrog (Vukcevic Eq. 22, summation density) or predictor_corrector "
+                                "(Afanasiev et al. Eqs. 19-21, continuity density; needed for a free surface)");
+  f.wcsph.alpha = r.number("wcsph.alpha", 0.0, ">= 0", "artificial viscosity alpha of Monaghan (1992) (0: off)", false, 0.0);
+  f.wcsph.smooth_every = static_cast<int>(r.integer(
+      "wcsph.smooth_every", 0, 0, "density smoothing (Afanasiev et al. Eq. 29) every so many steps (predictor_corrector; 0: off)"));
+  f.wcsph.wall_pressure = r.choice("wcsph.wall_pressure", "rest", {"rest", "eq30", "extrapolated"},
+                                   "pressure of the wall particles (predictor_corrector): rest (p(rho0)), eq30 (Afanasiev et al. "
+                                   "Eq. 30), extrapolated (Eq. 30 normalised, with the hydrostatic term of Adami et al. 2012)");
+}
+
+// The fluid's initial region and its free surface (fluid/free_surface.hpp).
+void read_free_surface(Reader& r, Scene& s) {
+  FluidParams& f = s.sim.fluid;
+  FluidRegion& fill = f.free_surface.fill;
+  const std::string shape = r.choice("fill.shape", "domain", {"domain", "block", "circle"},
+                                     "where the fluid is at t = 0: the whole domain, a block (fill.x, fill.y) or a circle "
+                                     "(fill.centre, fill.radius); a block or circle leaves a free surface (free-surface methods)");
+  fill.shape = shape == "block" ? FluidRegion::Shape::Block : shape == "circle" ? FluidRegion::Shape::Circle : FluidRegion::Shape::Domain;
+  const Eigen::Vector2d fx = r.pair("fill.x", {f.domain.x0, f.domain.x1}, "the block's x extent [x0, x1] (default: the domain's)");
+  const Eigen::Vector2d fy = r.pair("fill.y", {f.domain.y0, f.domain.y1}, "the block's y extent [y0, y1] (default: the domain's)");
+  fill.x0 = fx[0], fill.x1 = fx[1], fill.y0 = fy[0], fill.y1 = fy[1];
+  fill.centre = r.pair("fill.centre", Eigen::Vector2d::Zero(), "the circle's centre");
+  fill.radius = r.positive("fill.radius", 0.5, "the circle's radius", !r.documenting && shape == "circle");
+  fill.arrangement = r.choice("fill.arrangement", "lattice", {"lattice", "rings"},
+                              "particles: the lattice sites inside the region, or (circles) a centre particle and rings "
+                              "k = 1..n of 6k particles at radius k dx (dx = dy), 1 + 3n(n+1) particles") == "rings"
+                         ? FluidRegion::Arrangement::Rings
+                         : FluidRegion::Arrangement::Lattice;
+  if (const toml::node* g = r.raw("fill.velocity_gradient", "[[number, number], [number, number]]",
+                                  "initial velocity u0 = G x (rows of G), e.g. the droplet's [[1, 0], [0, -1]]")) {
+    const toml::array* a = g->as_array();
+    Eigen::Matrix2d G;
+    if (!a || a->size() != 2) r.fail("fill.velocity_gradient", "must be two rows [[a, b], [c, d]]");
+    for (int i = 0; i < 2; ++i) {
+      const toml::array* row = a->get(i)->as_array();
+      if (!row || row->size() != 2) r.fail("fill.velocity_gradient", "must be two rows [[a, b], [c, d]]");
+      for (int j = 0; j < 2; ++j) {
+        const auto v = row->get(j)->value<double>();
+        if (!v || !std::isfinite(*v)) r.fail("fill.velocity_gradient", "must hold four finite numbers");
+        G(i, j) = *v;
+      }
+    }
+    s.sim.initial_velocity = [G](double x, double y) -> Eigen::Vector2d { return G * Eigen::Vector2d(x, y); };
+  }
+  FreeSurfaceParams& fs = f.free_surface;
+  fs.detection = r.choice("free_surface.detection", "auto", {"auto", "dilts", "divergence", "none"},
+                          "free-surface particles (p = 0): dilts (Dilts 2000), divergence (Afanasiev et al. Eq. 26: div r < "
+                          "2 beta); auto: the paper's choice for the method (wcsph: dilts), none without a free surface");
+  fs.beta = r.number("free_surface.beta", 0.75, "(0, 1)", "Eq. (26)'s beta (the paper's best: 0.75 with h/dx = 1.1)", false,
+                     0.0, true, 1.0);
+  if (fs.beta == 1.0) r.fail("free_surface.beta", "value 1 is out of range (allowed: (0, 1))");
+  fs.dilts_radius = r.number("free_surface.dilts_radius", 1.0, "(0, 1]",
+                             "Dilts' circle radius over h (a neighbour closer than twice it covers an arc of the circle)",
+                             false, 0.0, true, 1.0);
 }
 
 // The time step, the run's length and the linear solvers.
@@ -492,22 +565,36 @@ void read_output(Reader& r, Scene& s) {
   s.checkpoint_interval = r.number("output.checkpoint_interval", 0.0, ">= 0",
                                    "time between checkpoints, DIR/checkpoint.h5 (0: only at the end)", false, 0.0);
   s.diagnostics_every = r.integer("output.diagnostics_every", 0, 0, "steps between diagnostics rows (0: about 500 rows per run)");
-  if (const toml::node* fl = r.raw("output.fields", "array of strings", "particle fields in snapshots, from u, v, p, phi")) {
+  if (const toml::node* ts = r.raw("output.times", "array of numbers", "snapshot times besides output.interval's (each at the step nearest it)")) {
+    const toml::array* a = ts->as_array();
+    if (!a) r.fail("output.times", "must be an array of numbers");
+    for (const auto& e : *a) {
+      const auto v = e.value<double>();
+      if (!v || !std::isfinite(*v) || *v < 0) r.fail("output.times", "each time must be a finite number >= 0");
+      s.output_times.push_back(*v);
+    }
+  }
+  if (const toml::node* fl = r.raw("output.fields", "array of strings", "particle fields in snapshots, from u, v, p, phi, surface (1 on the free surface)")) {
     const toml::array* a = fl->as_array();
     if (!a) r.fail("output.fields", "must be an array of strings");
     s.fields.clear();
     for (const auto& e : *a) {
       const auto v = e.value<std::string>();
-      if (!v || (*v != "u" && *v != "v" && *v != "p" && *v != "phi"))
-        r.fail("output.fields", "allowed field names: u, v, p, phi");
+      if (!v || (*v != "u" && *v != "v" && *v != "p" && *v != "phi" && *v != "surface"))
+        r.fail("output.fields", "allowed field names: u, v, p, phi, surface");
       if (std::find(s.fields.begin(), s.fields.end(), *v) != s.fields.end())
         r.fail("output.fields", "\"" + *v + "\" is listed twice");
       s.fields.push_back(*v);
     }
   }
   s.exact = r.choice("observe.exact", "none",
-                     {"none", "poiseuille", "couette", "cavity", "membrane_equilibrium", "membrane_oscillation"},
-                     "which exact or reference solution to measure against");
+                     {"none", "poiseuille", "couette", "cavity", "membrane_equilibrium", "membrane_oscillation",
+                      "inclined_plane", "droplet", "dam_break"},
+                     "which exact or reference solution to measure against (inclined_plane, droplet, dam_break: "
+                     "Afanasiev et al. Sections 6.2, 6.3, 7)");
+  s.loads = r.boolean("observe.loads", false,
+                      "the pressure force on every wall and its change since t = 0, the load of Afanasiev et al. Eq. (31): "
+                      "columns force_<wall>, load_<wall>");
   s.reference_dir = r.text("observe.reference_dir", "reference", "directory of the Ghia et al. tables, relative to the scene file");
   s.memory_limit_gb = r.number("limits.memory_gb", 0.0, ">= 0",
                                "refuse a run whose memory estimate (sphib check) exceeds this many GB (0: the machine's "
@@ -569,17 +656,23 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   Scene s;
   s.path = name;
   s.title = r.text("title", "", "a one-line description");
+  // A new method (ISPH: "isph") is added here, to make_fluid and, with a free surface, to
+  // supports_free_surface (fluid/free_surface.cpp).
   s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph"},
                       "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
                       "wcsph (weakly compressible SPH)");
   read_domain(r, s);
   read_fluid(r, s);
+  read_free_surface(r, s);
   read_time_and_solvers(r, s);
   read_output(r, s);
   read_membranes(r, s, docs_out != nullptr);
   if (docs_out) { *docs_out = r.docs; return s; }
   r.reject_unknown();
   s.resolved = r.resolved;
+  if (const auto e = free_surface_problem(s.sim.fluid)) r.fail(e->key, e->what);
+  if (!s.membranes.empty() && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
+    r.fail(r.has("membrane") ? "membrane" : "membranes", "membranes in a free-surface scene are not supported");
 
   if (const std::string why = steps_problem(s); !why.empty()) r.fail("time.end", why);
   build_membranes(r, s);

@@ -32,13 +32,15 @@ struct MembraneScene {
 // What to simulate and observe: read from a scene file (load_scene) or built in C++.
 struct Scene {
   std::string path, title, method = "eulerian";
-  std::string exact = "none";  // none | poiseuille | couette | cavity | membrane_equilibrium | membrane_oscillation
+  std::string exact = "none";  // none | poiseuille | couette | cavity | membrane_equilibrium | membrane_oscillation | inclined_plane | droplet | dam_break
+  bool loads = false;          // force_<wall>, load_<wall> columns (observe/loads.cpp)
   SimulationParams sim;
   std::vector<MembraneScene> membranes;
   double t_end = 1.0;
   long max_steps = 0;        // 0: no limit
   double steady_eps = 0.0;   // > 0: stop at steady state, Eqs. (81)-(82)
   double output_interval = 0.0;  // time between HDF5 snapshots (0: first and last only)
+  std::vector<double> output_times;  // further snapshot times
   double checkpoint_interval = 0.0;  // time between checkpoints (0: only at the end)
   long diagnostics_every = 0;    // steps between diagnostics rows (0: about 500 rows)
   std::vector<std::string> fields{"u", "v", "p", "phi"};

@@ -73,10 +73,34 @@ class Observers {
 // flow.cpp: t, step, kinetic_energy, max_div_u, max_speed.
 std::unique_ptr<Analysis> flow_figures();
 
-// exact_series.cpp: rms_error, Eq. (69), against the start-up series of Poiseuille (Eq. 44; body
-// force F along x) or Couette flow (the walls' x velocities).
-enum class StartUpFlow { Poiseuille, Couette };
-std::unique_ptr<Analysis> exact_series(StartUpFlow flow, double F);
+// exact_series.cpp: rms_error, Eq. (69), and the relative profile_error against the start-up series
+// of Poiseuille (Eq. 44; body force F per unit volume along x), Couette flow (the walls' x
+// velocities) or the inclined plane of Afanasiev et al. Section 6.2 (a layer of depth `depth` on
+// the bottom wall, free surface on top, F along x).
+enum class StartUpFlow { Poiseuille, Couette, InclinedPlane };
+std::unique_ptr<Analysis> exact_series(StartUpFlow flow, double F, double depth = 0.0);
+
+// loads.cpp: for every wall, force_<wall> = int p dGamma (FluidSolver::wall_forces) and
+// load_<wall> = force_<wall>(t) - force_<wall>(0), the load of Afanasiev et al. Eqs. (31)-(32)
+// (t = 0: the first sample, the restart time for a restarted run); the summary adds each load's
+// extremes and their times.
+std::unique_ptr<Analysis> wall_loads(const Simulation& sim);
+
+// droplet.cpp: the elliptic drop of Afanasiev et al. Section 6.3: droplet_a, its semi-axis along x
+// measured as (I_xx / I_yy)^(1/4) from the particles' centred second moments (exact for the affine
+// flow of Eq. 40 from any initial set with I_xx = I_yy), against droplet_a_exact (RK4 of Eq. 42,
+// fluid/exact.hpp); droplet_axis_error = |a - a_exact| / a_exact at t = t_error (0.8, Table 3), and
+// droplet_axis_error_extent the same for a measured as the largest |x - x_c| over the outermost
+// particle's initial radius.
+std::unique_ptr<Analysis> droplet_axis(const Simulation& sim, double t_error = 0.8);
+
+// dam_break.cpp: front_x, the leading edge on the floor (the largest x + dx/2 of the particles
+// within two spacings of the bottom wall) from the left wall; with the surge-front experiments of
+// reference_dir/dam_break_front.csv (Z = x/a against T = t sqrt(2g/a), a the column's width) the
+// summary's front_deviation_<series> (rms of Z - Z_exp over the experiment's points up to Z = 3.5;
+// <series> the file's name with '.' as '_': martin_moyce_1952_a1_125in).
+// Throws std::runtime_error naming a reference file it cannot read.
+std::unique_ptr<Analysis> dam_break_front(const Simulation& sim, const std::string& reference_dir);
 
 // steady.cpp: du_rms, dp_rms (Eqs. 81-82); done once both are below eps dt.
 std::unique_ptr<Analysis> steady_state(double eps);

@@ -9,37 +9,11 @@
 
 #include "coupling/interpolate.hpp"
 #include "observe/analysis.hpp"
+#include "observe/table.hpp"
 
 namespace sphib {
 
 namespace {
-
-// A reference table: a header row, then rows of numbers ('#' lines are comments).
-struct Table {
-  std::vector<std::string> cols;
-  std::vector<std::vector<double>> rows;
-  int col(const std::string& name) const {
-    const auto it = std::find(cols.begin(), cols.end(), name);
-    return it == cols.end() ? -1 : static_cast<int>(it - cols.begin());
-  }
-};
-
-Table read_table(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cavity: cannot read the reference table " + path);
-  Table t;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::stringstream ss(line);
-    std::vector<std::string> cells;
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    if (t.cols.empty()) { t.cols = cells; continue; }
-    std::vector<double> r;
-    for (const auto& c : cells) r.push_back(std::stod(c));
-    t.rows.push_back(r);
-  }
-  return t;
-}
 
 // Largest and rms absolute value.
 std::pair<double, double> max_rms(const std::vector<double>& d) {
@@ -52,8 +26,8 @@ class GhiaCentrelines final : public Analysis {
  public:
   GhiaCentrelines(const Simulation& sim, const std::string& reference_dir, std::string out_dir)
       : out_dir_(std::move(out_dir)),
-        u_(read_table(reference_dir + "/ghia1982_u_vertical_centreline.csv")),
-        v_(read_table(reference_dir + "/ghia1982_v_horizontal_centreline.csv")) {
+        u_(read_table(reference_dir + "/ghia1982_u_vertical_centreline.csv", "cavity")),
+        v_(read_table(reference_dir + "/ghia1982_v_horizontal_centreline.csv", "cavity")) {
     const FluidParams& fp = sim.fluid().params();
     Re_ = fp.rho * fp.domain.wall_velocity[Top].x() * fp.domain.Lx() / fp.mu;
     const std::string re = std::to_string(static_cast<long>(std::lround(Re_)));

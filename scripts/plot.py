@@ -7,8 +7,15 @@
 
 HDF5 layout read here (written by io/hdf5_writer): /snapshots/NNNNNN with attributes time, step,
 datasets x, y and particle scalars, subgroups membrane_k with X (nb x 2); root attributes hold
-the run parameters (e.g. derived.membrane_radius).
+the run parameters (e.g. derived.membrane_radius, and every scene key as TOML text).
+
+Free-surface runs (a partly filled tank or open sides) draw their particles as dots coloured by
+pressure (snapshot_*.png, every time of output.times among them), and, when their series have
+them: the wall loads (loads.png, Afanasiev et al. Eq. 31), the droplet's semi-axis against the RK4
+solution (droplet_axis.png), the dam-break front against the experiments of cases/reference
+(dam_break_front.png), the inclined plane's velocity profile against Eq. (39) (velocity_profile.png).
 """
+import ast
 import argparse
 import csv
 import json
@@ -89,6 +96,22 @@ class Snapshot:
             self.membranes.append(group[k]["X"][()])
 
 
+def attr(h5, key, default=None):
+    """A scene key from the root attributes (TOML text) as a Python value."""
+    if key not in h5.attrs:
+        return default
+    v = h5.attrs[key]
+    v = v.decode() if isinstance(v, bytes) else str(v)
+    try:
+        return ast.literal_eval(v.replace("true", "True").replace("false", "False"))
+    except (ValueError, SyntaxError):
+        return v
+
+
+def free_surface_run(h5):
+    return attr(h5, "fill.shape", "domain") != "domain" or bool(attr(h5, "domain.open", []))
+
+
 def snapshot_names(h5):
     if "snapshots" not in h5:
         return []
@@ -142,6 +165,42 @@ def closed(X):
 # ---------------------------------------------------------------------------------------------
 # Plots
 
+def save_plane(fig, ax, out, title):
+    """An x-y picture at equal scales, written to out."""
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def plot_particles(s, out, box, walls):
+    """Free surface: every particle a dot coloured by pressure (colours clipped to the 1st-99th
+    percentiles: a weakly compressible pressure is noisy). The view: the tank's side where it has a
+    wall (walls: left, right, bottom, top booleans), else the particles with a margin."""
+    x, y = s.x, s.y
+    d = spacing(x, y)
+    lim = [box[0] if walls[0] else x.min() - 3 * d, box[1] if walls[1] else x.max() + 3 * d,
+           box[2] if walls[2] else y.min() - 3 * d, box[3] if walls[3] else y.max() + 3 * d]
+    if not walls[3]:
+        lim[3] = min(box[3], y.max() + max(3 * d, 0.15 * (y.max() - lim[2])))
+    w, hgt = lim[1] - lim[0], lim[3] - lim[2]
+    fig, ax = plt.subplots(figsize=(7.0, min(9.0, max(2.5, 6.0 * hgt / w + 1.0))))
+    p = s.scalars.get("p")
+    size = (72.0 * 6.0 * d / w) ** 2 * 0.7  # dots about one particle spacing across
+    if p is not None:
+        lo, hi = np.percentile(p, [1, 99])
+        im = ax.scatter(x, y, c=p, s=size, cmap="viridis", vmin=lo, vmax=hi, linewidths=0)
+        fig.colorbar(im, ax=ax, label="p")
+    else:
+        ax.scatter(x, y, s=size, linewidths=0)
+    ax.set_xlim(lim[0], lim[1])
+    ax.set_ylim(lim[2], lim[3])
+    save_plane(fig, ax, out, "t = %.4g (step %d): particles coloured by pressure" % (s.t, s.step))
+
+
 def plot_snapshot(s, out):
     fig, ax = plt.subplots(figsize=(6.4, 5.6))
     x, y = s.x, s.y
@@ -178,13 +237,7 @@ def plot_snapshot(s, out):
                 label="membrane %d" % k if len(s.membranes) > 1 else None)
     if len(s.membranes) > 1:
         ax.legend(loc="upper right", fontsize="small")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title("t = %.6g (step %d): pressure and velocity" % (s.t, s.step))
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    save_plane(fig, ax, out, "t = %.6g (step %d): pressure and velocity" % (s.t, s.step))
 
 
 def plot_sections(s, radius, jump, out):
@@ -228,6 +281,19 @@ def plot_sections(s, radius, jump, out):
     return True
 
 
+def finish(fig, ax, out, xlabel, ylabel, title):
+    """Labels, grid and legend, then the PNG; returns its path."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return out
+
+
 def plot_series(cols, names, ylabel, title, out, logy=False):
     """Columns `names` (those present) against t; False if nothing to draw."""
     t = cols.get("t")
@@ -241,14 +307,7 @@ def plot_series(cols, names, ylabel, title, out, logy=False):
             ax.semilogy(t[y > 0], y[y > 0], label=n)
         else:
             ax.plot(t, y, label=n)
-    ax.set_xlabel("t")
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    finish(fig, ax, out, "t", ylabel, title)
     return True
 
 
@@ -264,12 +323,27 @@ def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS):
         names = snapshot_names(h5)
         if not names:
             print("plot.py: %s has no snapshots" % h5_path, file=sys.stderr)
-        for i in pick_evenly(len(names), n_snapshots):
+        free = free_surface_run(h5)
+        box = [float(v) for v in attr(h5, "domain.x", [0, 1]) + attr(h5, "domain.y", [0, 1])]
+        opened = attr(h5, "domain.open", [])
+        px, py = attr(h5, "domain.periodic_x", True), attr(h5, "domain.periodic_y", False)
+        walls = [not px and "left" not in opened, not px and "right" not in opened,
+                 not py and "bottom" not in opened, not py and "top" not in opened]
+        walls = [w or (k < 2 and px) for k, w in enumerate(walls)]  # periodic in x: the whole period
+        chosen = set(pick_evenly(len(names), n_snapshots))
+        if names and attr(h5, "output.times"):  # the snapshots nearest output.times
+            times = np.array([float(h5["snapshots"][n].attrs.get("time", np.nan)) for n in names])
+            chosen |= {int(np.nanargmin(np.abs(times - t))) for t in attr(h5, "output.times")}
+        for i in sorted(chosen):
             s = Snapshot(h5["snapshots"][names[i]])
             out = os.path.join(run_dir, "snapshot_%s.png" % s.name)
-            plot_snapshot(s, out)
+            if free:
+                plot_particles(s, out, box, walls)
+            else:
+                plot_snapshot(s, out)
             written.append(out)
-        if names:
+        written += plot_free_surface_series(h5, names, run_dir, read_csv(csv_path))
+        if names and not free:
             last = Snapshot(h5["snapshots"][names[-1]])
             jump = summary.get("pressure_jump_exact")
             jump = float(jump) if isinstance(jump, (int, float)) and math.isfinite(jump) else None
@@ -288,6 +362,73 @@ def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS):
         out = os.path.join(run_dir, fname)
         if plot_series(cols, names, ylabel, title, out, logy):
             written.append(out)
+    return written
+
+
+def reference_dir(h5):
+    """cases/reference of the run's scene (observe.reference_dir beside the scene file), else the
+    one beside this script."""
+    scene = attr(h5, "scene", "")
+    ref = attr(h5, "observe.reference_dir", "reference")
+    for d in (os.path.join(os.path.dirname(str(scene)), ref),
+              os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cases", "reference")):
+        if os.path.isdir(d):
+            return d
+    return None
+
+
+def plot_free_surface_series(h5, names, run_dir, cols):
+    """Loads, droplet axis, dam-break front, inclined-plane profile: those the run has."""
+    written = []
+    t = cols.get("t")
+    loads = [c for c in cols if c.startswith("load_")]
+    if t is not None and loads:
+        out = os.path.join(run_dir, "loads.png")
+        fig, ax = plt.subplots(figsize=(6.4, 4))
+        for c in loads:
+            ax.plot(t, cols[c], label=c.replace("load_", "") + " wall")
+        written.append(finish(fig, ax, out, "t", "load per unit depth (Eq. 31)", "hydrodynamic loads: int (p(t) - p(0)) over each wall"))
+    if t is not None and "droplet_a" in cols:
+        out = os.path.join(run_dir, "droplet_axis.png")
+        fig, ax = plt.subplots(figsize=(6.4, 4))
+        ax.plot(t, cols["droplet_a_exact"], "k-", lw=1, label="RK4 of Eq. (42)")
+        ax.plot(t[::max(1, len(t) // 40)], cols["droplet_a"][::max(1, len(t) // 40)], "o", ms=4,
+                label="SPH: (I_xx / I_yy)^(1/4)")
+        written.append(finish(fig, ax, out, "t", "semi-axis a", "elliptic droplet (Afanasiev et al. Section 6.3)"))
+    if t is not None and "front_x" in cols:
+        fx = attr(h5, "fill.x", attr(h5, "domain.x", [0, 1]))
+        a = float(fx[1]) - float(fx[0])
+        g = float(np.hypot(*attr(h5, "fluid.gravity", [0.0, -9.81])))
+        out = os.path.join(run_dir, "dam_break_front.png")
+        fig, ax = plt.subplots(figsize=(6.4, 4))
+        ax.plot(t * np.sqrt(2 * g / a), cols["front_x"] / a, "-", label="SPH")
+        ref = reference_dir(h5)
+        for name, marker, label in (("martin_moyce_1952_a1.125in", "o", "Martin & Moyce (1952), a = 1.125 in"),
+                                    ("martin_moyce_1952_a2.25in", "s", "Martin & Moyce (1952), a = 2.25 in"),
+                                    ("koshizuka_oka_1996", "^", "Koshizuka & Oka (1996)")):
+            path = ref and os.path.join(ref, "dam_break_front_%s.csv" % name)
+            if path and os.path.isfile(path):
+                with open(path) as f:
+                    rows = [r for r in f.read().splitlines() if r and not r.startswith("#")][1:]
+                d = np.array([[float(c) for c in r.split(",")] for r in rows], ndmin=2)
+                ax.plot(d[:, 0], d[:, 1], marker, mfc="none", label=label)
+        T, Z = t * np.sqrt(2 * g / a), cols["front_x"] / a
+        T_wall = float(T[np.argmax(Z >= 0.99 * np.nanmax(Z))])  # the front meets the far wall
+        ax.set_xlim(0, min(float(T.max()), T_wall + 1.0))
+        ax.set_ylim(0.9, max(4.2, float(np.nanmax(cols["front_x"] / a)) + 0.2))
+        written.append(finish(fig, ax, out, "T = t sqrt(2g/a)", "Z = front / a", "dam break: surge front"))
+    if names and attr(h5, "observe.exact") == "inclined_plane":
+        s = Snapshot(h5["snapshots"][names[-1]])
+        F = float(attr(h5, "fluid.body_force", [0, 0])[0]) / float(attr(h5, "fluid.rho", 1.0))
+        nu = float(attr(h5, "fluid.mu", 1.0)) / float(attr(h5, "fluid.rho", 1.0))
+        H = float(np.diff(attr(h5, "fill.y", attr(h5, "domain.y", [0, 1])))[0])
+        y0 = float(attr(h5, "domain.y", [0, 1])[0])
+        yy = np.linspace(0, H, 200)
+        out = os.path.join(run_dir, "velocity_profile.png")
+        fig, ax = plt.subplots(figsize=(5, 4.5))
+        ax.plot(F * (H - yy / 2) * yy / nu, yy, "k-", lw=1, label="Eq. (39), steady")
+        ax.plot(s.scalars["u"], s.y - y0, ".", ms=2, label="SPH, t = %.3g" % s.t)
+        written.append(finish(fig, ax, out, "u", "y", "flow down an inclined plane"))
     return written
 
 

@@ -8,6 +8,7 @@
 
 #include "io/run.hpp"
 #include "io/scene.hpp"
+#include "scene_refusal.hpp"
 
 using namespace sphib;
 
@@ -25,15 +26,7 @@ dt = 0.001
 end = 0.01
 )";
 
-// The message of the SceneError thrown by parsing `text`, or "" if it parsed.
-std::string refusal(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_scene(text, "scene.toml", sets);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::refusal;
 
 }  // namespace
 
