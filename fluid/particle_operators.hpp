@@ -3,25 +3,43 @@
 // (LPSPH, ISPH), straight into compressed rows: one pattern from the pair list for every operator
 // (A: particle i, its neighbours and the parents of its image neighbours; B: i and its image
 // neighbours; explicit zeros kept, so that the fused products of products.hpp apply and a pattern
-// that does not change keeps the factorisations' symbolic analysis), then each operator's values by
-// scattering the pair terms into it. The values equal build_operators' for the same pairs.
+// that does not change keeps the factorisations' symbolic analysis), then the values of all six
+// operators in one pass over the pairs. The values equal build_operators' for the same pairs.
+//
+// With a Verlet list (neighbours.hpp) the pairs are candidates that may lie beyond the reach 2h; they
+// stay in the pattern with zero coefficients (the kernel vanishes there), so that the pattern is
+// made only when the list is built again and a step computes the values alone (no allocation).
 #include <vector>
 
 #include "fluid/operators.hpp"
 
 namespace sphib {
 
+// The two systems of a projection step, assembled with the operators when given (their pattern):
+// A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
+// (Eq. 32).
+struct ProjectionSystems {
+  double a_cn = 0;
+  SpMat* A_cn = nullptr;
+  SpMat* A_phi = nullptr;
+};
+
 class ParticleOperators {
  public:
-  // op at the particles of P (N of them, uniform volume V) and the images im.
-  void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, Operators& op);
+  using Systems = ProjectionSystems;
+  // op at the particles of P (N of them, uniform volume V) and the images im; pairs at r >= reach
+  // contribute zeros. `new_pattern`: P's pairs (or im) changed since the last call, else only their
+  // geometry did and op (and the systems) keep their pattern.
+  void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
+                bool new_pattern, Operators& op, const Systems& sys = {});
+  // The position of the diagonal entry of row i in the values of op's A matrices.
+  const std::vector<int>& diagonal() const { return diag_; }
 
  private:
   void make_pattern(const PairList& P, const Images& im, int N);
-  void scatter(const PairList& P, const Images& im, int N, ImageRule rule, const std::vector<double>& a,
-               bool difference, SpMat& A, SpMat* B) const;
+  void shape(Operators& op, int N, int M, const Systems& sys) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
-  std::vector<double> lap_, gx_, gy_;                                 // pair coefficients
+  std::vector<char> row_images_;                                      // row i has image pairs
 };
 
 }  // namespace sphib
