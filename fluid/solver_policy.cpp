@@ -18,25 +18,29 @@ std::unique_ptr<LinearSolver> direct(const std::string& system, const SpMat& A, 
 
 bool lagged(SolverKind kind) { return kind == SolverKind::PcgFft || kind == SolverKind::PcgCholmod; }
 
-// Moving particles: CG preconditioned by the lattice's FFT solver (kind Auto or PcgFft, where it
-// applies) or by a lagged CHOLMOD factor (solver_policy.hpp). `key` names the scene key for errors.
-std::unique_ptr<LinearSolver> lagged_solver(const std::string& system, const std::string& key, const SpMat& A,
-                                            SolverKind kind, const LatticeReference& near, NullSpaceHooks null) {
-  std::string why = "no lattice given";
+// Moving particles: the FFT solver of the system on the initial lattice (the preconditioner of
+// pcg_fft) where `kind` allows it and it applies, else nullptr with the reason in `why`; a refusal
+// when pcg_fft was asked for.
+std::unique_ptr<LinearSolver> lattice_preconditioner(const std::string& system, const std::string& key, bool singular,
+                                                     SolverKind kind, const LatticeReference& near, std::string& why) {
   std::unique_ptr<LinearSolver> start;
+  why = "no lattice given";
   if (kind != SolverKind::PcgCholmod && near.lattice && near.A)
-    start = make_fft_solver(system + " on the lattice", *near.A, *near.lattice, null.singular(), &why);
+    start = make_fft_solver(system + " on the lattice", *near.A, *near.lattice, singular, &why);
   if (kind == SolverKind::PcgFft && !start) throw std::invalid_argument(key + " = \"pcg_fft\" does not apply: " + why);
+  return start;
+}
+
+// Moving particles: CG preconditioned by `start` (pcg_fft) or, when it is null, by a lagged CHOLMOD
+// factor (pcg_cholmod); `note` says why (auto).
+std::unique_ptr<LinearSolver> lagged_solver(const std::string& system, const SpMat& A, std::unique_ptr<LinearSolver> start,
+                                            NullSpaceHooks null, const std::string& note) {
   LaggedPcgOptions opt;
-  opt.rtol = 1e-12;
+  opt.rtol = 1e-14;
   opt.refresh_iterations = 8;
   auto factorise = [](const std::string& s, const SpMat& D) { return direct(s, D, SolverKind::Auto, Refactor::EveryStep); };
-  const bool fft = static_cast<bool>(start);
   auto solver = lagged_pcg(system, A, std::move(start), factorise, std::move(null), opt);
-  if (kind == SolverKind::Auto)
-    solver->annotate(fft ? " (auto: moving particles near a lattice with an FFT solver)"
-                         : " (auto: moving particles; no FFT lattice solver: " + why + ")",
-                     0.0);
+  if (!note.empty()) solver->annotate(note, 0.0);
   return solver;
 }
 
@@ -60,21 +64,28 @@ std::unique_ptr<LinearSolver> lattice_solver(const std::string& system, const st
 std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
                                                     const Lattice* fixed, Refactor refactor,
                                                     const LatticeReference& near) {
-  const std::string system = "Crank-Nicolson";
+  const std::string system = "Crank-Nicolson", key = "solver.crank_nicolson";
   std::string why;
   if (lagged(kind) && refactor == Refactor::Once)
-    throw std::invalid_argument("solver.crank_nicolson: pcg_fft and pcg_cholmod are for moving particles");
-  if (auto s = lattice_solver(system, "solver.crank_nicolson", A, false, kind, fixed, why)) return s;
+    throw std::invalid_argument(key + ": pcg_fft and pcg_cholmod are for moving particles");
+  if (auto s = lattice_solver(system, key, A, false, kind, fixed, why)) return s;
   const double b = 2.0 * a * lap.diagonal().cwiseAbs().maxCoeff();  // Gershgorin bound (see the header)
-  if (lagged(kind) || (kind == SolverKind::Auto && refactor == Refactor::EveryStep && b > 0.5 && is_symmetric(A)))
-    return lagged_solver(system, "solver.crank_nicolson", A, kind, near, {});
-  auto s = direct(system, A, kind == SolverKind::Auto && b <= 0.5 ? SolverKind::Pcg : kind, refactor);
-  if (kind == SolverKind::Auto) {
-    std::ostringstream note;
-    note << " (auto: no FFT solver: " << why << "; Gershgorin bound nu dt max|lap_ii| = " << b
-         << (b <= 0.5 ? " <= 0.5)" : " > 0.5)");
-    s->annotate(note.str(), 0.0);
+  std::ostringstream note;
+  note << " (auto: " << (refactor == Refactor::EveryStep ? "moving particles; " : "") << "no FFT solver: ";
+  const bool moving = kind == SolverKind::Auto && refactor == Refactor::EveryStep && is_symmetric(A);
+  if (lagged(kind) || moving) {
+    auto start = lattice_preconditioner(system, key, false, kind, near, why);
+    note << why << "; Gershgorin bound nu dt max|lap_ii| = " << b << (b <= 40 ? " <= 40)" : " > 40)");
+    if (lagged(kind) || start) {
+      const std::string fft_note = kind == SolverKind::Auto ? " (auto: moving particles near a lattice with an FFT solver)" : "";
+      return lagged_solver(system, A, std::move(start), {}, fft_note);
+    }
+    if (b > 40) return lagged_solver(system, A, nullptr, {}, note.str());
+  } else {
+    note << why << "; Gershgorin bound nu dt max|lap_ii| = " << b << (b <= 0.5 ? " <= 0.5)" : " > 0.5)");
   }
+  auto s = direct(system, A, kind == SolverKind::Auto && (moving || b <= 0.5) ? SolverKind::Pcg : kind, refactor);
+  if (kind == SolverKind::Auto) s->annotate(note.str(), 0.0);
   return s;
 }
 
@@ -98,7 +109,11 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
         for (int p : g.pins()) v[p] = 0.0;
       };
     }
-    r.solver = lagged_solver(system, "solver.poisson", A, kind, near, std::move(null));
+    auto start = lattice_preconditioner(system, "solver.poisson", null.singular(), kind, near, why);
+    const std::string note = kind != SolverKind::Auto ? ""
+                             : start ? " (auto: moving particles near a lattice with an FFT solver)"
+                                     : " (auto: moving particles; no FFT lattice solver: " + why + ")";
+    r.solver = lagged_solver(system, A, std::move(start), std::move(null), note);
     r.unpinned = true;
     return r;
   }
