@@ -1,6 +1,7 @@
 #include "fluid/lagrangian.hpp"
 
 #include <algorithm>
+#include <cstdlib>  // TEMP
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -22,7 +23,7 @@ void check_params(const FluidParams& p) {
 }  // namespace
 
 // The Verlet skin (neighbours.hpp), a fraction of the support 2h: see the header.
-constexpr double kSkinOverSupport = 0.1;
+const double kSkinOverSupport = std::getenv("LPSPH_SKIN") ? std::atof(std::getenv("LPSPH_SKIN")) : 0.1;  // TEMP
 
 LagrangianFluid::LagrangianFluid(const FluidParams& params)
     : ProjectionFluid(params), x_(lat_.x), x_star_(lat_.x),
@@ -48,14 +49,15 @@ void LagrangianFluid::check_kernel_sums(double t) {
   // Breakdown (Section 5.2.2, Fig. 18): S_i = V (W(0) + sum_j W_ij), images included.
   // Only the pairs closer than the reach count (the Verlet candidates beyond it have W = 0).
   const double reach = verlet_.reach();
+  const CubicSplineKernel W = W_;  // a local copy: the stores to S_ cannot alias h and w0 (hoisted)
   int worst = 0;
   long active = 0;
   for (int i = 0; i < N; ++i) {
-    double w = W_.W(0.0);
+    double w = W.W(0.0);
     int n = 0;
     for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k)
       if (pairs_.r[k] < reach) {
-        w += W_.W(pairs_.r[k]);
+        w += W.W(pairs_.r[k]);
         ++n;
       }
     active += n;
@@ -83,8 +85,8 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
   // is 2h less 1e-12 relative: pairs at exactly 2h (lattice distances when 2h/dx is an integer, e.g.
   // h = 3 dx) have W = F = 0 but would enter and leave with the round-off of every move.
   const bool built = verlet_.update(x_star_, im_, pairs_, jump);
-  s.neighbours = seconds_since(t0);
   check_kernel_sums(t);
+  s.neighbours = seconds_since(t0);
 
   // Operators at the new positions (Eqs. 27-34), as build_operators makes them; the pattern only
   // after a build of the list.

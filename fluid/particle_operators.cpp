@@ -4,93 +4,127 @@
 
 namespace sphib {
 
+// The value arrays a step writes: the six operators' A (same pattern), the three B, the systems.
+struct ParticleOperators::Values {
+  double *lu, *gxu, *gyu, *lp, *gxp, *gyp;  // lap_u.A, grad_ux.A, grad_uy.A, lap_phi, grad_phix, grad_phiy
+  double *lb, *gxb, *gyb;                   // lap_u.B, grad_ux.B, grad_uy.B
+  double *cn, *ph;                          // I - a lap_u (Eq. 28), -lap_phi (Eq. 32); null: not asked for
+  double na;                                // -a
+};
+
+namespace {
+
+
+// The pair terms of one pair: Laplacian (Eqs. 28, 31) 2 V F_ij on f_i - f_j; gradient (Eqs. 27, 30)
+// V (x_i - x_j) F_ij on f_i + f_j. Zero beyond the reach (a Verlet candidate beyond 2h).
+struct PairTerms {
+  double lap = 0, gx = 0, gy = 0;
+  PairTerms(const PairList& P, int k, const KernelF& W, double V, double reach) {
+    if (P.r[k] < reach) {
+      const double F = W(P.r[k]);  // (1/r) dW/dr
+      lap = 2.0 * V * F;
+      gx = V * P.rx[k] * F;
+      gy = V * P.ry[k] * F;
+    }
+  }
+};
+
+}  // namespace
+
 void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
                                  double reach, bool new_pattern, Operators& op, const Systems& sys) {
   if (new_pattern || static_cast<int>(diag_.size()) != N) {
     make_pattern(P, im, N);
     shape(op, N, im.size(), sys);
   }
-  double *lu = op.lap_u.A.valuePtr(), *gxu = op.grad_ux.A.valuePtr(), *gyu = op.grad_uy.A.valuePtr();
-  double *lp = op.lap_phi.valuePtr(), *gxp = op.grad_phix.valuePtr(), *gyp = op.grad_phiy.valuePtr();
-  double *lb = op.lap_u.B.valuePtr(), *gxb = op.grad_ux.B.valuePtr(), *gyb = op.grad_uy.B.valuePtr();
-  double* cn = sys.A_cn ? sys.A_cn->valuePtr() : nullptr;
-  double* ph = sys.A_phi ? sys.A_phi->valuePtr() : nullptr;
-  const double na = -sys.a_cn;
-  // One pass over the pairs: each pair's coefficients into every operator, in the order of the
-  // separate scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum
-  // carries its bits:
-  //   Laplacian (Eqs. 28, 31): f_i - f_j with 2 V F_ij; gradient (Eqs. 27, 30): f_i + f_j with
-  //   V (x_i - x_j) F_ij; an image j carries f_j = sign f_parent + c_j (velocity; sign +1 for phi).
-  // A row without images has one pair per column: each entry is written once (the diagonal summed
-  // in registers). A row with images may meet a column twice (a neighbour and an image's parent, or
-  // i and its own image): zeroed, then summed in place.
+  Values v{op.lap_u.A.valuePtr(), op.grad_ux.A.valuePtr(), op.grad_uy.A.valuePtr(),
+           op.lap_phi.valuePtr(), op.grad_phix.valuePtr(), op.grad_phiy.valuePtr(),
+           op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
+           sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn};
+  const KernelF Wl(W);
+  // One pass over the pairs: each pair's terms into every operator, in the order of the separate
+  // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
+  // its bits; an image j carries f_j = sign f_parent + c_j (velocity; sign +1 for phi).
   int b = 0;  // B's entries are the image pairs, in order
   for (int i = 0; i < N; ++i) {
-    const int di = diag_[i], k0 = P.offset[i], k1 = P.offset[i + 1];
     if (!row_images_[i]) {
-      double dl = 0, dgx = 0, dgy = 0;
-      for (int k = k0; k < k1; ++k) {
-        const int s = slot_[k];
-        double l = 0, gx = 0, gy = 0;  // a Verlet candidate beyond 2h has zero coefficients
-        if (P.r[k] < reach) {
-          const double F = W.F(P.r[k]);  // (1/r) dW/dr
-          const double lap = 2.0 * V * F;
-          gx = V * P.rx[k] * F;
-          gy = V * P.ry[k] * F;
-          l = -1.0 * lap;
-          dl += lap;
-          dgx += gx;
-          dgy += gy;
-        }
-        lu[s] = lp[s] = l;
-        gxu[s] = gxp[s] = gx;
-        gyu[s] = gyp[s] = gy;
-      }
-      lu[di] = lp[di] = dl;
-      gxu[di] = gxp[di] = dgx;
-      gyu[di] = gyp[di] = dgy;
+      if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
+      else row_plain<false>(P, i, Wl, V, reach, v);
     } else {
-      for (double* v : {lu, gxu, gyu, lp, gxp, gyp}) std::fill(v + outer_[i], v + outer_[i + 1], 0.0);
-      for (int k = k0; k < k1; ++k) {
-        const int j = P.j[k];
-        const bool image = j >= N;
-        double lap = 0, gx = 0, gy = 0;
-        if (P.r[k] < reach) {
-          const double F = W.F(P.r[k]);
-          lap = 2.0 * V * F;
-          gx = V * P.rx[k] * F;
-          gy = V * P.ry[k] * F;
-          const int s = slot_[k];
-          const double sign = image ? im.v_sign[j - N] : 1.0;
-          lu[di] += lap;
-          lu[s] += -1.0 * sign * lap;
-          gxu[di] += gx;
-          gxu[s] += 1.0 * sign * gx;
-          gyu[di] += gy;
-          gyu[s] += 1.0 * sign * gy;
-          lp[di] += lap;
-          lp[s] += -1.0 * lap;
-          gxp[di] += gx;
-          gxp[s] += 1.0 * gx;
-          gyp[di] += gy;
-          gyp[s] += 1.0 * gy;
-        }
-        if (image) {
-          lb[b] = lap != 0 ? -1.0 * lap : 0.0;
-          gxb[b] = gx;
-          gyb[b] = gy;
-          ++b;
-        }
-      }
+      row_with_images(P, im, i, N, Wl, V, reach, v, b);
     }
-    // The systems of the step, as crank_nicolson_matrix() and -lap_phi make them: I - a lap (Eq. 28),
-    // -lap phi (Eq. 32).
-    for (int k = outer_[i]; k < outer_[i + 1]; ++k) {
-      if (cn) cn[k] = na * lu[k];
-      if (ph) ph[k] = -lp[k];
-    }
-    if (cn) cn[di] += 1.0;
   }
+}
+
+// A row without images has one pair per column: each entry is written once, the diagonal summed in
+// registers.
+template <bool kSystems>
+void ParticleOperators::row_plain(const PairList& P, int i, const KernelF& W, double V, double reach,
+                                  const Values& v) const {
+  double dl = 0, dgx = 0, dgy = 0;
+  for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+    const PairTerms t(P, k, W, V, reach);
+    const int s = slot_[k];
+    const double l = t.lap != 0 ? -1.0 * t.lap : 0.0;
+    dl += t.lap;
+    dgx += t.gx;
+    dgy += t.gy;
+    v.lu[s] = v.lp[s] = l;
+    v.gxu[s] = v.gxp[s] = t.gx;
+    v.gyu[s] = v.gyp[s] = t.gy;
+    if (kSystems) {
+      v.cn[s] = v.na * l;  // as crank_nicolson_matrix(): -a lap, then + 1 on the diagonal
+      v.ph[s] = -l;
+    }
+  }
+  const int d = diag_[i];
+  v.lu[d] = v.lp[d] = dl;
+  v.gxu[d] = v.gxp[d] = dgx;
+  v.gyu[d] = v.gyp[d] = dgy;
+  if (kSystems) {
+    v.cn[d] = v.na * dl + 1.0;
+    v.ph[d] = -dl;
+  }
+}
+
+// A row with images may meet a column twice (a neighbour and an image's parent, or i and its own
+// image): zeroed, then summed in place.
+void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelF& W,
+                                        double V, double reach, const Values& v, int& b) const {
+  const int d = diag_[i], o0 = outer_[i], o1 = outer_[i + 1];
+  for (double* a : {v.lu, v.gxu, v.gyu, v.lp, v.gxp, v.gyp}) std::fill(a + o0, a + o1, 0.0);
+  for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+    const int j = P.j[k];
+    const bool image = j >= N;
+    const PairTerms t(P, k, W, V, reach);
+    if (t.lap != 0) {
+      const int s = slot_[k];
+      const double sign = image ? im.v_sign[j - N] : 1.0;
+      v.lu[d] += t.lap;
+      v.lu[s] += -1.0 * sign * t.lap;
+      v.gxu[d] += t.gx;
+      v.gxu[s] += 1.0 * sign * t.gx;
+      v.gyu[d] += t.gy;
+      v.gyu[s] += 1.0 * sign * t.gy;
+      v.lp[d] += t.lap;
+      v.lp[s] += -1.0 * t.lap;
+      v.gxp[d] += t.gx;
+      v.gxp[s] += 1.0 * t.gx;
+      v.gyp[d] += t.gy;
+      v.gyp[s] += 1.0 * t.gy;
+    }
+    if (image) {
+      v.lb[b] = t.lap != 0 ? -1.0 * t.lap : 0.0;
+      v.gxb[b] = t.gx;
+      v.gyb[b] = t.gy;
+      ++b;
+    }
+  }
+  for (int k = o0; k < o1; ++k) {  // the systems, as crank_nicolson_matrix() and -lap_phi make them
+    if (v.cn) v.cn[k] = v.na * v.lu[k];
+    if (v.ph) v.ph[k] = -v.lp[k];
+  }
+  if (v.cn) v.cn[d] += 1.0;
 }
 
 void ParticleOperators::shape(Operators& op, int N, int M, const Systems& sys) const {

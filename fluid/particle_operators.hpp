@@ -15,6 +15,21 @@
 
 namespace sphib {
 
+// KernelF(r) = CubicSplineKernel::F(r) bit for bit (kernel.hpp, (1/r) dW/dr of Eq. 19), with the
+// factor w0 / h^2 computed once: inside the kernel's branches the compiler may not hoist that
+// division, and it was a third of the assembly's time (perf, 64^2). Tested equal to W.F bit for bit
+// (tests/test_lagrangian.cpp).
+struct KernelF {
+  double h, c;  // c = w0 / (h h), as kernel.hpp computes it
+  explicit KernelF(const CubicSplineKernel& W) : h(W.h), c(W.w0 / (W.h * W.h)) {}
+  double operator()(double r) const {
+    const double q = r / h;
+    if (q < 1.0) return c * (-2.0 + 1.5 * q);
+    if (q < 2.0) { const double t = 2.0 - q; return -c * 0.5 * t * t / q; }
+    return 0.0;
+  }
+};
+
 // The two systems of a projection step, assembled with the operators when given (their pattern):
 // A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
 // (Eq. 32).
@@ -36,8 +51,13 @@ class ParticleOperators {
   const std::vector<int>& diagonal() const { return diag_; }
 
  private:
+  struct Values;  // the value arrays a step writes (particle_operators.cpp)
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
+  template <bool kSystems>
+  void row_plain(const PairList& P, int i, const KernelF& W, double V, double reach, const Values& v) const;
+  void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelF& W, double V,
+                       double reach, const Values& v, int& b) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
   std::vector<char> row_images_;                                      // row i has image pairs
 };
