@@ -43,59 +43,65 @@ LagrangianFluid::LagrangianFluid(const FluidParams& params)
   add_setup("factorisation", s.factorisation_cn + s.factorisation_poisson);
 }
 
+// Breakdown (Section 5.2.2, Fig. 18): the kernel sums S_i = V (W(0) + sum_j W_ij), images included
+// and only the pairs closer than the reach (the Verlet candidates beyond it have W = 0), come from the
+// assembly's pass (ParticleOperators::assemble). Below the threshold the geometry goes back to the
+// last positions that passed, so that nothing the state depends on has changed, and the step throws.
 void LagrangianFluid::check_kernel_sums(double t) {
-  const int N = lat_.size();
-  const double V = lat_.volume;
-  // Breakdown (Section 5.2.2, Fig. 18): S_i = V (W(0) + sum_j W_ij), images included.
-  // Only the pairs closer than the reach count (the Verlet candidates beyond it have W = 0).
-  const double reach = verlet_.reach();
-  const CubicSplineKernel W = W_;  // a local copy: the stores to S_ cannot alias h and w0 (hoisted)
-  int worst = 0;
-  long active = 0;
-  for (int i = 0; i < N; ++i) {
-    double w = W.W(0.0);
-    int n = 0;
-    for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k)
-      if (pairs_.r[k] < reach) {
-        w += W.W(pairs_.r[k]);
-        ++n;
-      }
-    active += n;
-    S_[i] = V * w;
-    if (S_[i] < S_[worst]) worst = i;
+  Eigen::Index worst = 0;
+  const double S_min = S_.minCoeff(&worst);
+  S_low_ = std::min(S_low_, S_min);
+  if (S_min >= prm_.lagrangian.min_kernel_sum) {
+    x_star_good_ = x_star_;
+    return;
   }
-  active_pairs_ = active;
-  S_low_ = std::min(S_low_, S_[worst]);
-  if (S_[worst] < prm_.lagrangian.min_kernel_sum) {
-    std::ostringstream m;
-    m.precision(8);
-    m << "LPSPH breakdown at t = " << t << ": particle " << worst << " at (" << x_star_(worst, 0)
-      << ", " << x_star_(worst, 1) << ") has kernel sum " << S_[worst] << " < " << prm_.lagrangian.min_kernel_sum
-      << " (" << neighbours_within(worst) << " neighbours within 2h, " << neighbours_per_particle()
-      << " on average; particles driven apart; Section 5.2.2, Fig. 18)";
-    throw std::runtime_error(m.str());
+  std::ostringstream m;
+  m.precision(8);
+  m << "LPSPH breakdown at t = " << t << ": particle " << worst << " at (" << x_star_(worst, 0) << ", "
+    << x_star_(worst, 1) << ") has kernel sum " << S_min << " < " << prm_.lagrangian.min_kernel_sum << " ("
+    << neighbours_within(static_cast<int>(worst)) << " neighbours within 2h, " << neighbours_per_particle()
+    << " on average; particles driven apart; Section 5.2.2, Fig. 18)";
+  if (x_star_good_.rows() == x_star_.rows()) {  // (kernel_sums() keeps the failing sums)
+    x_star_ = x_star_good_;
+    geometry(false, false, nullptr);
   }
+  throw std::runtime_error(m.str());
 }
 
-LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
-  RebuildSeconds s;
+// Images and pairs at x_star_ (the Verlet list), the operators, the two systems and the kernel sums
+// (when asked) in one pass, and the core's derived data; returns whether the list was built.
+bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s) {
   auto t0 = Profile::Clock::now();
   // Images of the current particles (Section 3.3) and the pairs by the Verlet list (neighbours.hpp):
   // built by cell list, O(N), when the particles have moved by about the skin, else moved. The reach
   // is 2h less 1e-12 relative: pairs at exactly 2h (lattice distances when 2h/dx is an integer, e.g.
   // h = 3 dx) have W = F = 0 but would enter and leave with the round-off of every move.
   const bool built = verlet_.update(x_star_, im_, pairs_, jump);
-  check_kernel_sums(t);
-  s.neighbours = seconds_since(t0);
-
-  // Operators at the new positions (Eqs. 27-34), as build_operators makes them; the pattern only
-  // after a build of the list.
+  if (s) s->neighbours = seconds_since(t0);
   t0 = Profile::Clock::now();
-  // With them the two systems of the step: I - a lap (Eq. 28) and the Poisson matrix -lap phi
-  // (Eq. 32: the symmetric semi-definite -lap phi = -(rho/dt) div u*).
-  assembly_.assemble(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), built, op_, {a_cn(), &A_cn_, &A_phi_});
-  operators_changed();
-  s.assembly = seconds_since(t0);
+  // Operators at the new positions (Eqs. 27-34), as build_operators makes them, the pattern only
+  // after a build of the list; with them the two systems of the step, I - a lap (Eq. 28) and the
+  // Poisson matrix -lap phi (Eq. 32: the symmetric semi-definite -lap phi = -(rho/dt) div u*).
+  assembly_.assemble(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), built, op_, {a_cn(), &A_cn_, &A_phi_},
+                     sums ? S_.data() : nullptr);
+  // The core's derived data (projection_core.hpp): after a build of the list all of it; between
+  // builds the images, their walls and the patterns are the same, and only the wall part of the
+  // Laplacian, B c^n (Eq. 42 with c^n = 2 u_b), follows the values (zero for walls at rest).
+  if (built || lap_wall_.rows() != lat_.size()) {
+    operators_changed();
+  } else if (c_wall_.size() && c_wall_.cwiseAbs().maxCoeff() > 0) {
+    lap_wall_.setZero();
+    add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
+  }
+  if (s) s->assembly = seconds_since(t0);
+  return built;
+}
+
+LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
+  RebuildSeconds s;
+  geometry(jump, true, &s);
+  check_kernel_sums(t);
+  auto t0 = Profile::Clock::now();
 
   // The solvers (solver_policy.hpp): made by the constructor's rebuild, at the lattice points, so that
   // the matrices there are the lattice reference of an FFT preconditioner; refactorised every step.
@@ -119,6 +125,12 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
   }
   s.factorisation_poisson = seconds_since(t0);
   return s;
+}
+
+double LagrangianFluid::neighbours_per_particle() const {
+  long n = 0;
+  for (int i = 0; i < size(); ++i) n += neighbours_within(i);
+  return static_cast<double>(n) / size();
 }
 
 int LagrangianFluid::neighbours_within(int i) const {

@@ -10,6 +10,8 @@ struct ParticleOperators::Values {
   double *lb, *gxb, *gyb;                   // lap_u.B, grad_ux.B, grad_uy.B
   double *cn, *ph;                          // I - a lap_u (Eq. 28), -lap_phi (Eq. 32); null: not asked for
   double na;                                // -a
+  double* S;                                // kernel sums (null: not asked for); V, W(0)
+  double V, w_0;
 };
 
 namespace {
@@ -18,10 +20,12 @@ namespace {
 // The pair terms of one pair: Laplacian (Eqs. 28, 31) 2 V F_ij on f_i - f_j; gradient (Eqs. 27, 30)
 // V (x_i - x_j) F_ij on f_i + f_j. Zero beyond the reach (a Verlet candidate beyond 2h).
 struct PairTerms {
-  double lap = 0, gx = 0, gy = 0;
-  PairTerms(const PairList& P, int k, const KernelF& W, double V, double reach) {
+  double lap = 0, gx = 0, gy = 0, w = 0;  // w = W_ij (for the kernel sum)
+  bool active = false;                    // closer than the reach
+  PairTerms(const PairList& P, int k, const KernelWF& W, double V, double reach) {
     if (P.r[k] < reach) {
-      const double F = W(P.r[k]);  // (1/r) dW/dr
+      active = true;
+      const double F = W.F(P.r[k], &w);  // (1/r) dW/dr
       lap = 2.0 * V * F;
       gx = V * P.rx[k] * F;
       gy = V * P.ry[k] * F;
@@ -32,7 +36,8 @@ struct PairTerms {
 }  // namespace
 
 void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
-                                 double reach, bool new_pattern, Operators& op, const Systems& sys) {
+                                 double reach, bool new_pattern, Operators& op, const Systems& sys,
+                                 double* kernel_sums) {
   if (new_pattern || static_cast<int>(diag_.size()) != N) {
     make_pattern(P, im, N);
     shape(op, N, im.size(), sys);
@@ -40,8 +45,9 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
   Values v{op.lap_u.A.valuePtr(), op.grad_ux.A.valuePtr(), op.grad_uy.A.valuePtr(),
            op.lap_phi.valuePtr(), op.grad_phix.valuePtr(), op.grad_phiy.valuePtr(),
            op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
-           sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn};
-  const KernelF Wl(W);
+           sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn,
+           kernel_sums, V, W.W(0.0)};
+  const KernelWF Wl(W);
   // One pass over the pairs: each pair's terms into every operator, in the order of the separate
   // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
   // its bits; an image j carries f_j = sign f_parent + c_j (velocity; sign +1 for phi).
@@ -59,13 +65,14 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
 // A row without images has one pair per column: each entry is written once, the diagonal summed in
 // registers.
 template <bool kSystems>
-void ParticleOperators::row_plain(const PairList& P, int i, const KernelF& W, double V, double reach,
+void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
-  double dl = 0, dgx = 0, dgy = 0;
+  double dl = 0, dgx = 0, dgy = 0, sw = v.w_0;  // sw: W(0) + sum_j W_ij, in pair order
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const PairTerms t(P, k, W, V, reach);
+    if (t.active) sw += t.w;
     const int s = slot_[k];
-    const double l = t.lap != 0 ? -1.0 * t.lap : 0.0;
+    const double l = t.active ? -1.0 * t.lap : 0.0;
     dl += t.lap;
     dgx += t.gx;
     dgy += t.gy;
@@ -85,19 +92,22 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelF& W, do
     v.cn[d] = v.na * dl + 1.0;
     v.ph[d] = -dl;
   }
+  if (v.S) v.S[i] = v.V * sw;
 }
 
 // A row with images may meet a column twice (a neighbour and an image's parent, or i and its own
 // image): zeroed, then summed in place.
-void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelF& W,
+void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W,
                                         double V, double reach, const Values& v, int& b) const {
   const int d = diag_[i], o0 = outer_[i], o1 = outer_[i + 1];
   for (double* a : {v.lu, v.gxu, v.gyu, v.lp, v.gxp, v.gyp}) std::fill(a + o0, a + o1, 0.0);
+  double sw = v.w_0;
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const int j = P.j[k];
     const bool image = j >= N;
     const PairTerms t(P, k, W, V, reach);
-    if (t.lap != 0) {
+    if (t.active) {
+      sw += t.w;
       const int s = slot_[k];
       const double sign = image ? im.v_sign[j - N] : 1.0;
       v.lu[d] += t.lap;
@@ -114,7 +124,7 @@ void ParticleOperators::row_with_images(const PairList& P, const Images& im, int
       v.gyp[s] += 1.0 * t.gy;
     }
     if (image) {
-      v.lb[b] = t.lap != 0 ? -1.0 * t.lap : 0.0;
+      v.lb[b] = t.active ? -1.0 * t.lap : 0.0;
       v.gxb[b] = t.gx;
       v.gyb[b] = t.gy;
       ++b;
@@ -125,6 +135,7 @@ void ParticleOperators::row_with_images(const PairList& P, const Images& im, int
     if (v.ph) v.ph[k] = -v.lp[k];
   }
   if (v.cn) v.cn[d] += 1.0;
+  if (v.S) v.S[i] = v.V * sw;
 }
 
 void ParticleOperators::shape(Operators& op, int N, int M, const Systems& sys) const {

@@ -15,17 +15,26 @@
 
 namespace sphib {
 
-// KernelF(r) = CubicSplineKernel::F(r) bit for bit (kernel.hpp, (1/r) dW/dr of Eq. 19), with the
-// factor w0 / h^2 computed once: inside the kernel's branches the compiler may not hoist that
-// division, and it was a third of the assembly's time (perf, 64^2). Tested equal to W.F bit for bit
+// The kernel of Eq. (19) for a pass over pairs: W(r) and F(r) = (1/r) dW/dr together, bit for bit
+// CubicSplineKernel's W and F (kernel.hpp), from one q = r / h and with the factor w0 / h^2 computed
+// once: inside the kernel's branches the compiler may not hoist that division, and it was a third
+// of the assembly's time (perf, 64^2). Tested equal to W.W and W.F bit for bit
 // (tests/test_lagrangian.cpp).
-struct KernelF {
-  double h, c;  // c = w0 / (h h), as kernel.hpp computes it
-  explicit KernelF(const CubicSplineKernel& W) : h(W.h), c(W.w0 / (W.h * W.h)) {}
-  double operator()(double r) const {
+struct KernelWF {
+  double h, w0, c;  // c = w0 / (h h), as kernel.hpp computes it
+  explicit KernelWF(const CubicSplineKernel& W) : h(W.h), w0(W.w0), c(W.w0 / (W.h * W.h)) {}
+  double F(double r, double* w = nullptr) const {  // also W(r) into *w when asked
     const double q = r / h;
-    if (q < 1.0) return c * (-2.0 + 1.5 * q);
-    if (q < 2.0) { const double t = 2.0 - q; return -c * 0.5 * t * t / q; }
+    if (q < 1.0) {
+      if (w) *w = w0 * (2.0 / 3.0 - q * q + 0.5 * q * q * q);
+      return c * (-2.0 + 1.5 * q);
+    }
+    if (q < 2.0) {
+      const double t = 2.0 - q;
+      if (w) *w = w0 * t * t * t / 6.0;
+      return -c * 0.5 * t * t / q;
+    }
+    if (w) *w = 0.0;
     return 0.0;
   }
 };
@@ -44,9 +53,11 @@ class ParticleOperators {
   using Systems = ProjectionSystems;
   // op at the particles of P (N of them, uniform volume V) and the images im; pairs at r >= reach
   // contribute zeros. `new_pattern`: P's pairs (or im) changed since the last call, else only their
-  // geometry did and op (and the systems) keep their pattern.
+  // geometry did and op (and the systems) keep their pattern. `kernel_sums` (N, when given): the
+  // kernel sums S_i = V (W(0) + sum_j W_ij) over the same pairs (LPSPH's breakdown check, Section
+  // 5.2.2), summed in pair order.
   void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
-                bool new_pattern, Operators& op, const Systems& sys = {});
+                bool new_pattern, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr);
   // The position of the diagonal entry of row i in the values of op's A matrices.
   const std::vector<int>& diagonal() const { return diag_; }
 
@@ -55,8 +66,8 @@ class ParticleOperators {
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
   template <bool kSystems>
-  void row_plain(const PairList& P, int i, const KernelF& W, double V, double reach, const Values& v) const;
-  void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelF& W, double V,
+  void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
+  void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
                        double reach, const Values& v, int& b) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
   std::vector<char> row_images_;                                      // row i has image pairs
