@@ -99,10 +99,10 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
     NullSpaceHooks null;
     if (g.dimension() > 0) {
       const int n = static_cast<int>(A.rows());
-      null.project = [g, n](double* v) {
-        Vec f = Eigen::Map<Vec>(v, n);
+      null.project = [g, f = Vec(n)](double* v) mutable {  // f: the gauge's workspace (no allocation)
+        f = Eigen::Map<Vec>(v, f.size());
         g.project(f);
-        Eigen::Map<Vec>(v, n) = f;
+        Eigen::Map<Vec>(v, f.size()) = f;
       };
       null.definite = [g](const SpMat& M) { return g.pinned(M, false); };
       null.pin_rhs = [g](double* v) {
