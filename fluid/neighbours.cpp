@@ -123,20 +123,34 @@ void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double supp
   }
 }
 
-VerletList::VerletList(const Domain& d, double reach, double skin) : d_(d), reach_(reach), skin_(std::max(0.0, skin)) {
+VerletList::VerletList(const Domain& d, double reach, double skin_min, double skin_max)
+    : d_(d), reach_(reach), skin_min_(std::max(0.0, skin_min)), skin_max_(std::max(skin_min_, skin_max)) {
   // Room for the skin: minimum image needs reach + skin <= half a period, one image layer per wall
   // needs 2 (reach + skin) <= the distance between opposite walls (make_images).
-  for (double L : {d.Lx(), d.Ly()}) skin_ = std::min(skin_, std::max(0.0, 0.5 * L - reach));
+  for (double L : {d.Lx(), d.Ly()}) skin_max_ = std::min(skin_max_, std::max(0.0, 0.5 * L - reach));
+  skin_min_ = std::min(skin_min_, skin_max_);
+  skin_ = skin_min_;
 }
 
 bool VerletList::update(const Mat2& x, Images& im, PairList& P, bool force) {
-  if (force || builds_ == 0 || x.rows() != x_build_.rows() || needs_build(x)) {
-    build(x, im, P);
-    return true;
+  const bool first = builds_ == 0 || x.rows() != x_build_.rows();
+  double spread = 0;
+  if (!force && !first && !needs_build(x, spread)) {
+    move(x, im, P);
+    ++updates_;
+    ++since_build_;
+    return false;
   }
-  move(x, im, P);
-  ++updates_;
-  return false;
+  // The next skin from the relative speed since the last build, v = spread / steps (not after a
+  // forced build: a jump of the positions is no speed): the skin that balances a build against the
+  // steps' extra candidates, sqrt(kBuildCost v reach) (see the header).
+  if (!force && !first) {
+    const double v = spread / (since_build_ + 1);
+    skin_ = std::clamp(std::sqrt(kBuildCost * v * reach_), skin_min_, skin_max_);
+  }
+  build(x, im, P);
+  since_build_ = 0;
+  return true;
 }
 
 // The walls (bits 1 << Side) within `range` of a particle at (x, y), and bit 16 for a corner, as
@@ -154,16 +168,17 @@ int VerletList::walls_near(double x, double y, double range) const {
 // bounds every |d_i - d_j|: a uniform translation does not build, a shear once the layers have slid
 // by the skin (less a margin for the rounding of r). And a particle now within reach of a wall it
 // has no image across (it came from farther than reach + skin) needs one.
-bool VerletList::needs_build(const Mat2& x) const {
+bool VerletList::needs_build(const Mat2& x, double& spread) const {
   double lo[2] = {0, 0}, hi[2] = {0, 0};
   auto add = [&](double dx, double dy) {
     lo[0] = std::min(lo[0], dx); hi[0] = std::max(hi[0], dx);
     lo[1] = std::min(lo[1], dy); hi[1] = std::max(hi[1], dy);
   };
   const int N = static_cast<int>(x.rows());
+  bool image_missing = false;
   for (int i = 0; i < N; ++i) {
     const int has = walls_[i];
-    if (walls_near(x(i, 0), x(i, 1), reach_) & ~has) return true;
+    image_missing = image_missing || (walls_near(x(i, 0), x(i, 1), reach_) & ~has);
     double dx = x(i, 0) - x_build_(i, 0), dy = x(i, 1) - x_build_(i, 1);
     if (d_.periodic_x) dx -= d_.Lx() * std::round(dx / d_.Lx());  // minimum image
     if (d_.periodic_y) dy -= d_.Ly() * std::round(dy / d_.Ly());
@@ -173,7 +188,8 @@ bool VerletList::needs_build(const Mat2& x) const {
     if (has & (1 << Bottom | 1 << Top)) add(dx, -dy);  // across y = const
     if (has & 16) add(-dx, -dy);                       // the corner image
   }
-  return std::hypot(hi[0] - lo[0], hi[1] - lo[1]) >= skin_ - 1e-9 * (reach_ + skin_);
+  spread = std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+  return image_missing || spread >= skin_ - 1e-9 * (reach_ + skin_);
 }
 
 int VerletList::images_within_reach(const Images& im, const Mat2& x) const {

@@ -143,9 +143,15 @@ void find_pairs(const Domain& domain, const Mat2& x, const Mat2& image_x, double
 // there), so that a pattern made from the list stays the same between builds.
 class VerletList {
  public:
-  // skin >= 0 (0: a build every step); it is reduced where a periodic period or the walls leave less
-  // room (reach + skin <= half a period; 2 (reach + skin) <= the distance between opposite walls).
-  VerletList(const Domain& d, double reach, double skin);
+  // The skin lies in [skin_min, skin_max] (reduced where a periodic period or the walls leave less
+  // room: reach + skin <= half a period, 2 (reach + skin) <= the distance between opposite walls;
+  // 0: a build every step). It starts at skin_min and is chosen again at every build from the
+  // relative speed v of the particles since the last one (the box diagonal over the steps):
+  // skin = sqrt(kBuildCost v reach), which minimises (builds per step) x (a build's cost) + (extra
+  // candidates per step) x (their cost) when a build costs about kBuildCost / 2 steps' worth of the
+  // candidates within reach (see kBuildCost). skin_min = skin_max: a fixed skin.
+  VerletList(const Domain& d, double reach, double skin_min, double skin_max);
+  VerletList(const Domain& d, double reach, double skin) : VerletList(d, reach, skin, skin) {}
 
   // The particles at x (N x 2, in the domain: wrapped along periodic axes): the images im and the
   // candidate pairs P (rx, ry, r) moved there, or built again (force: always); returns whether it
@@ -163,11 +169,13 @@ class VerletList {
  private:
   void build(const Mat2& x, Images& im, PairList& P);
   void move(const Mat2& x, Images& im, PairList& P) const;
-  bool needs_build(const Mat2& x) const;
+  bool needs_build(const Mat2& x, double& spread) const;  // spread: the diagonal of the displacement box
   int walls_near(double x, double y, double range) const;
 
   Domain d_;
-  double reach_, skin_;
+  static constexpr double kBuildCost = 2.0;  // measured insensitive: fluid/lagrangian.cpp
+  double reach_, skin_min_, skin_max_, skin_;
+  long since_build_ = 0;  // moves since the last build
   Mat2 x_build_;
   std::vector<int> walls_;            // per particle: the walls it has images across (walls_near)
   std::vector<signed char> mx_, my_;  // per image: mirrored across x = x0 (-1), x1 (+1), or not (0); y alike

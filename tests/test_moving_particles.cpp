@@ -91,18 +91,20 @@ TEST(MovingParticles, KernelWFIsTheKernelBitForBit) {
 
 // 400 random particles (uniform: clusters and holes) in three layouts (channel, closed box, doubly
 // periodic, the box not at the origin) move 300 steps in a swirl plus a shear plus a random jitter,
-// wrapped across periodic seams and kept off the walls. After every step the list's pairs closer
-// than the reach are exactly those of a fresh cell-list search (find_pairs on make_images at the
-// reach): the same neighbours (images by parent and wall) and bit for bit the same x_i - x_j and r.
-// Between builds the candidates and the images (the pattern) do not change. Measured: 36 / 36 / 35
-// builds in 300 steps (skin 0.02, a step moves a particle by up to ~0.001); tolerance: the
-// list must be reused (fewer than 100 builds) and built again at least 10 times (the flow does
-// carry particles across the skin).
+// wrapped across periodic seams and kept off the walls. After every step the pairs closer than the
+// reach of two lists, one with a fixed skin (0.02) and one adaptive (in [0.002, 0.05]), are exactly
+// those of a fresh cell-list search (find_pairs on make_images at the reach): the same neighbours
+// (images by parent and wall) and bit for bit the same x_i - x_j and r. Between builds the
+// candidates and the images (the pattern) do not change. Measured builds in 300 steps (a step moves
+// a particle by up to ~0.001): fixed 36 / 36 / 35, adaptive 33 / 33 / 33 (its skin settles at
+// 0.022: sqrt(2 v reach), v ~ 0.0024 per step the spread of the displacements, jitter included);
+// tolerance: reused (fewer than 100 builds), and built again at least 10 times (the flow carries
+// particles across the skin).
 TEST(MovingParticles, VerletListEqualsAFreshSearchAfterManyMoves) {
   std::mt19937 gen(17);
   std::normal_distribution<double> jitter(0.0, 2e-4);
   struct Layout { bool px, py; };
-  const double reach = 0.1, skin = 0.02;
+  const double reach = 0.1;
   for (Layout lay : {Layout{true, false}, Layout{false, false}, Layout{true, true}}) {
     Domain d;
     d.x0 = -0.3; d.x1 = 0.7; d.y0 = 1.0; d.y1 = 2.0;
@@ -110,10 +112,10 @@ TEST(MovingParticles, VerletListEqualsAFreshSearchAfterManyMoves) {
     d.periodic_y = lay.py;
     const int N = 400;
     Mat2 x = random_particles(d, N, 0.01, gen);
-    VerletList list(d, reach, skin);
-    Images im;
-    PairList P;
-    std::vector<int> j_built, parent_built;
+    VerletList lists[2] = {VerletList(d, reach, 0.02), VerletList(d, reach, 0.002, 0.05)};
+    Images im[2];
+    PairList P[2];
+    std::vector<int> j_built[2], parent_built[2];
     for (int step = 0; step <= 300; ++step) {
       if (step > 0) {
         for (int i = 0; i < N; ++i) {
@@ -126,24 +128,53 @@ TEST(MovingParticles, VerletListEqualsAFreshSearchAfterManyMoves) {
           if (!d.periodic_y) x(i, 1) = std::clamp(x(i, 1), d.y0 + 1e-3, d.y1 - 1e-3);
         }
       }
-      const bool built = list.update(x, im, P);
-      if (built) {
-        j_built = P.j;
-        parent_built = im.parent;
-      } else {
-        ASSERT_EQ(P.j, j_built) << "the candidates changed between builds, step " << step;
-        ASSERT_EQ(im.parent, parent_built) << "the images changed between builds, step " << step;
-      }
       const Images fresh_im = make_images(d, x, reach);
       PairList fresh;
       find_pairs(d, x, fresh_im.x, reach, fresh);
-      for (int i = 0; i < N; ++i)
-        ASSERT_EQ(within(P, im, N, i, reach), within(fresh, fresh_im, N, i, reach))
-            << "particle " << i << " step " << step << " periodic " << lay.px << lay.py;
+      for (int l = 0; l < 2; ++l) {
+        if (lists[l].update(x, im[l], P[l])) {
+          j_built[l] = P[l].j;
+          parent_built[l] = im[l].parent;
+        } else {
+          ASSERT_EQ(P[l].j, j_built[l]) << "the candidates changed between builds, step " << step;
+          ASSERT_EQ(im[l].parent, parent_built[l]) << "the images changed between builds, step " << step;
+        }
+        for (int i = 0; i < N; ++i)
+          ASSERT_EQ(within(P[l], im[l], N, i, reach), within(fresh, fresh_im, N, i, reach))
+              << "list " << l << " particle " << i << " step " << step << " periodic " << lay.px << lay.py;
+      }
     }
-    EXPECT_EQ(list.builds() + list.updates(), 301);
-    EXPECT_LT(list.builds(), 100) << "periodic " << lay.px << lay.py;
-    EXPECT_GE(list.builds(), 10) << "periodic " << lay.px << lay.py;
+    for (const VerletList& list : lists) {
+      EXPECT_EQ(list.builds() + list.updates(), 301);
+      EXPECT_LT(list.builds(), 100) << "periodic " << lay.px << lay.py;
+      EXPECT_GE(list.builds(), 10) << "periodic " << lay.px << lay.py;
+    }
+  }
+}
+
+// The adaptive skin: particles sheared at a steady rate (a channel, the rows sliding: x += g y per
+// step) move apart at the relative speed v = g (y_max - y_min) and settle on the skin
+// sqrt(2 v reach) of VerletList's rule, within its bounds [0.002, 0.05]: g = 1e-5 gives the lower
+// bound, g = 4e-4 (v = 3.6e-4) 0.0085 (measured 0.0085, the spread over whole steps), g = 0.02 the
+// upper bound. Tolerance 5%.
+TEST(MovingParticles, VerletSkinFollowsTheRelativeSpeed) {
+  std::mt19937 gen(8);
+  const double reach = 0.1;
+  for (double g : {1e-5, 4e-4, 0.02}) {
+    Domain d;
+    d.periodic_x = true;
+    d.periodic_y = false;
+    Mat2 x = random_particles(d, 300, 0.05, gen);
+    const double v = g * (x.col(1).maxCoeff() - x.col(1).minCoeff());
+    VerletList list(d, reach, 0.002, 0.05);
+    Images im;
+    PairList P;
+    for (int step = 0; step < 400; ++step) {
+      for (int i = 0; i < x.rows(); ++i) x(i, 0) = x(i, 0) + g * x(i, 1) - std::floor(x(i, 0) + g * x(i, 1));
+      list.update(x, im, P);
+    }
+    const double expected = std::clamp(std::sqrt(2.0 * v * reach), 0.002, 0.05);
+    EXPECT_NEAR(list.skin(), expected, 0.05 * expected) << "g = " << g;
   }
 }
 
