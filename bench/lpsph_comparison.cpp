@@ -175,7 +175,7 @@ std::string poiseuille_csv(const std::vector<PoiseuillePair>& rs) {
       << csv_num(r.e.rms) << ',' << csv_num(r.e.cpu_setup) << ',' << csv_num(r.e.cpu_loop) << ',' << csv_num(r.e.t_loop)
       << ",\"" << l.status << "\"," << csv_num(l.rms) << ',' << csv_num(l.cpu_setup) << ',' << csv_num(l.cpu_loop) << ','
       << csv_num(l.t_loop) << ',' << csv_num(l.phase("neighbours")) << ',' << csv_num(l.phase("operators")) << ','
-      << csv_num(l.phase("factorise")) << ',' << csv_num(l.phase("solve Crank")) << ',' << csv_num(l.phase("solve Poisson"))
+      << csv_num(l.phase("new matrix")) << ',' << csv_num(l.phase("solve Crank")) << ',' << csv_num(l.phase("solve Poisson"))
       << ',' << csv_num(l.nb) << ',' << l.builds << ",\"" << l.method_cn << "\"," << csv_num(l.it_cn) << ',' << l.factor_cn
       << ",\"" << l.method_poisson << "\"," << csv_num(l.it_poisson) << ',' << l.factor_poisson << ',' << csv_num(l.s_low)
       << ',' << csv_num(r.ratio()) << ',' << csv_num(r.ratio_loop()) << ',' << csv_num(r.ratio_10k()) << ','

@@ -38,10 +38,10 @@ LagrangianFluid::LagrangianFluid(const FluidParams& params)
   gauge_ = Gauge(lat_, NullSpace::Constants);  // of the Poisson operator, the Morris Laplacian
   k_move_ = prof_.phase("move particles (Eq. 37)");
   k_reinit_ = prof_.phase("reinitialisation (Eq. 61)");
-  k_neighbours_ = prof_.phase("neighbours and images (cell list)");
-  k_assembly_ = prof_.phase("operators (Eqs. 27-34)");
-  k_factor_cn_ = prof_.phase("factorise Crank-Nicolson");
-  k_factor_poisson_ = prof_.phase("factorise Poisson");
+  k_neighbours_ = prof_.phase("neighbours and images (Verlet list)");
+  k_assembly_ = prof_.phase("operators, systems, kernel sums (Eqs. 27-34)");
+  k_factor_cn_ = prof_.phase("new matrix: Crank-Nicolson solver");
+  k_factor_poisson_ = prof_.phase("new matrix: Poisson solver");
   const RebuildSeconds s = rebuild(0.0);  // the first analysis and factorisations
   add_setup("neighbours", s.neighbours);
   add_setup("assembly", s.assembly);
