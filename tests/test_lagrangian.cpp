@@ -502,7 +502,7 @@ TEST(LagrangianFluid, MadeByMethodName) {
   run(*f, 3);
   bool found = false;
   for (const auto& line : f->describe())
-    found = found || line.find("Poisson: 3 new matrices; ") != std::string::npos;
+    found = found || line.find("Poisson: 3 new matrices, conjugate gradients, ") != std::string::npos;
   EXPECT_TRUE(found);
   double refactorised = -1;
   for (const auto& [k, v] : f->figures())
