@@ -24,17 +24,29 @@ std::vector<int> nonempty_rows(const SpMat& B) {
   return rows;
 }
 
-void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y) {
+namespace {
+template <bool Add>
+void image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y) {
   for (int i : rows) {
     double s = 0;
     for (SpMat::InnerIterator it(B, i); it; ++it) s += it.value() * c[it.col()];
-    y[i] += s;
+    y[i] = Add ? y[i] + s : s;
   }
+}
+}  // namespace
+
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y) {
+  image_terms<true>(B, rows, c, y);
 }
 
 void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y) {
-  add_image_terms(B, rows, c.data(), y.data());
-  add_image_terms(B, rows, c.data() + c.rows(), y.data() + y.rows());
+  image_terms<true>(B, rows, c.data(), y.data());
+  image_terms<true>(B, rows, c.data() + c.rows(), y.data() + y.rows());
+}
+
+void set_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y) {
+  image_terms<false>(B, rows, c.data(), y.data());
+  image_terms<false>(B, rows, c.data() + c.rows(), y.data() + y.rows());
 }
 
 int RowStencil::stencil_rows() const {
@@ -90,9 +102,14 @@ void add_blocks(int cls, const std::vector<int>& rows, std::vector<RowStencil::B
 }
 
 // The kernels, compiled twice (SSE2 and AVX2, chosen at load time; no FMA, so both give the same
-// bits): y = A x for two columns; the four derivatives; the divergence; a scalar's gradient.
+// bits): y = A x for two columns; the four derivatives; the divergence; a scalar's gradient. Each
+// accumulates a block and stores it (`sum`: the divergence, out = acc_0 + acc_1).
 using Cls = RowStencil::Class;
 using Blk = RowStencil::Block;
+
+[[gnu::always_inline]] inline void store_sum(const double (*acc)[kBlock], double* const* out, int b, int m, int st) {
+  for (int t = 0; t < m; ++t) out[0][b + t * st] = acc[0][t] + acc[1][t];
+}
 [[gnu::target_clones("avx2", "default")]] void block_apply2(const Cls& cl, const Blk& k, const double* const* w,
                                                            const double* const* in, double* const* out) {
   double acc[2][kBlock];
@@ -109,7 +126,7 @@ using Blk = RowStencil::Block;
                                                                const double* const* in, double* const* out) {
   double acc[2][kBlock];
   stencil::accumulate_block<2, 2, true>(cl, k, w, in, acc);
-  for (int t = 0; t < k.count; ++t) out[0][k.begin + t * k.stride] = acc[0][t] + acc[1][t];
+  store_sum(acc, out, k.begin, k.count, k.stride);
 }
 [[gnu::target_clones("avx2", "default")]] void block_gradient(const Cls& cl, const Blk& k, const double* const* w,
                                                              const double* const* in, double* const* out) {
@@ -118,23 +135,17 @@ using Blk = RowStencil::Block;
   stencil::store<2>(acc, out, k.begin, k.count, k.stride);
 }
 
-// One product: NW operators of one pattern (values val) on NI inputs; `block` is the kernel of a
-// stencil block, `finish(acc, i)` makes row i's outputs from a compressed row's sums.
-template <int NI, int NW, bool Diag, class Kernel, class Finish>
+// One product through stencil::pass: `kernel` for the blocks, the same store for the other rows
+// (Diag: the divergence's sum).
+template <int NI, int NW, bool Diag, class Kernel>
 void product(const SpMat& A, const double* const* val, const double* const* in, double* const* out,
-             const RowStencil* st, Kernel&& block, Finish&& finish) {
-  const int* o = A.outerIndexPtr();
-  const int* c = A.innerIndexPtr();
-  auto row = [&](int i) {
-    double acc[Diag ? NI : NI * NW][kBlock];
-    stencil::accumulate_row<NI, NW, Diag>(o, c, val, in, acc, i);
-    finish(acc, i);
-  };
-  stencil::for_rows(static_cast<int>(A.rows()), st, row, [&](const Blk& k) {
-    const double* w[NW];
-    stencil::class_weights<NW>(st->classes[k.cls], o, val, w);
-    block(st->classes[k.cls], k, w, in, out);
-  });
+             const RowStencil* st, Kernel kernel) {
+  stencil::pass<NI, NW, Diag>(
+      A, val, in, st, [&](const Cls& cl, const Blk& k, const double* const* w) { kernel(cl, k, w, in, out); },
+      [&](const double (*acc)[kBlock], int b, int m, int stride) {
+        if (Diag) store_sum(acc, out, b, m, stride);
+        else stencil::store<NI * NW>(acc, out, b, m, stride);
+      });
 }
 
 }  // namespace
@@ -200,10 +211,7 @@ void apply2(const SpMat& A, const double* x, double* y, const RowStencil* st) {
   const double* val[1] = {A.valuePtr()};
   const double* in[2] = {x, x + n};
   double* out[2] = {y, y + n};
-  product<2, 1, false>(A, val, in, out, st, block_apply2, [&](const double (*acc)[kBlock], int i) {
-    out[0][i] = acc[0][0];
-    out[1][i] = acc[1][0];
-  });
+  product<2, 1, false>(A, val, in, out, st, block_apply2);
 }
 
 void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& dy, const RowStencil* st) {
@@ -211,17 +219,14 @@ void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& 
   const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
   const double* in[2] = {u.data(), u.data() + u.rows()};
   double* out[4] = {dx.data(), dx.data() + n, dy.data(), dy.data() + n};  // d/dx of u, v; d/dy of u, v
-  product<2, 2, false>(Gx, val, in, out, st, block_gradient2, [&](const double (*acc)[kBlock], int i) {
-    for (int a = 0; a < 4; ++a) out[a][i] = acc[a][0];
-  });
+  product<2, 2, false>(Gx, val, in, out, st, block_gradient2);
 }
 
 void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const RowStencil* st) {
   const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
   const double* in[2] = {u.data(), u.data() + u.rows()};
   double* out[1] = {d.data()};
-  product<2, 2, true>(Gx, val, in, out, st, block_divergence,
-                      [&](const double (*acc)[kBlock], int i) { out[0][i] = acc[0][0] + acc[1][0]; });
+  product<2, 2, true>(Gx, val, in, out, st, block_divergence);  // d = Gx u_x + Gy u_y
 }
 
 void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st) {
@@ -229,10 +234,7 @@ void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const Row
   const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
   const double* in[1] = {f.data()};
   double* out[2] = {g.data(), g.data() + n};
-  product<1, 2, false>(Gx, val, in, out, st, block_gradient, [&](const double (*acc)[kBlock], int i) {
-    out[0][i] = acc[0][0];
-    out[1][i] = acc[1][0];
-  });
+  product<1, 2, false>(Gx, val, in, out, st, block_gradient);
 }
 
 }  // namespace sphib

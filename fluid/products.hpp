@@ -68,5 +68,7 @@ bool same_pattern(const SpMat& A, const SpMat& B);
 std::vector<int> nonempty_rows(const SpMat& B);
 void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
 void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y);
+// y = B c over those rows, the same sums (the other rows of y untouched: zero in the fused passes)
+void set_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
 
 }  // namespace sphib

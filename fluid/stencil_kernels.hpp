@@ -156,4 +156,25 @@ template <int NA>
   }
 }
 
+// One pass of NW operators of one pattern (A's; values val[j]) over NI inputs: every stencil block
+// by block(cl, k, w) (a clone that accumulates and finishes its rows), every other row by
+// accumulate_row and finish(acc, i, 1, 1) (finish(acc, b, m, stride): the epilogue of rows
+// b + t stride, t < m).
+template <int NI, int NW, bool Diag, class Block, class Finish>
+void pass(const SpMat& A, const double* const* val, const double* const* in, const RowStencil* st, Block&& block,
+          Finish&& finish) {
+  const int* o = A.outerIndexPtr();
+  const int* c = A.innerIndexPtr();
+  auto row = [&](int i) {
+    double acc[Diag ? NI : NI * NW][kBlock];
+    accumulate_row<NI, NW, Diag>(o, c, val, in, acc, i);
+    finish(static_cast<const double(*)[kBlock]>(acc), i, 1, 1);
+  };
+  for_rows(static_cast<int>(A.rows()), st, row, [&](const RowStencil::Block& k) {
+    const double* w[NW];
+    class_weights<NW>(st->classes[k.cls], o, val, w);
+    block(st->classes[k.cls], k, static_cast<const double* const*>(w));
+  });
+}
+
 }  // namespace sphib::stencil
