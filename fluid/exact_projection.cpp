@@ -158,6 +158,7 @@ void ExactProjection::velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, 
   p.bx1 = psi_bx1_.data();
   p.u_star = u_star.data();
   p.par = parity_.data();
+  p.nx = lat_.nx;
   p.modes = vmodes_.addends(u_star);
   p.u = u.data();
   p.grad_phi = grad_phi.data();

@@ -1,5 +1,7 @@
 #include "fluid/fused_passes.hpp"
 
+#include <type_traits>
+
 #include "fluid/stencil_kernels.hpp"
 
 namespace sphib {
@@ -148,29 +150,81 @@ void curl_transpose_rhs(const CurlTransposeRhs& p) {
 
 namespace {
 
+using stencil::v4d;
+using stencil::v4d_unaligned;
+
+template <class T>
+[[gnu::always_inline]] inline T splat(double x) {
+  if constexpr (std::is_same_v<T, double>) return x;
+  else return T{x, x, x, x};
+}
+template <class T>
+[[gnu::always_inline]] inline T load(const double* p) {
+  if constexpr (std::is_same_v<T, double>) return *p;
+  else return *reinterpret_cast<const v4d_unaligned*>(p);
+}
+template <class T>
+[[gnu::always_inline]] inline void put(double* p, T x) {
+  if constexpr (std::is_same_v<T, double>) *p = x;
+  else *reinterpret_cast<v4d_unaligned*>(p) = x;
+}
+
+// One row (T = double) or four (T = v4d) of u^{n+1} and grad phi: md0, md1 the modes' values.
+template <class T, bool Images>
+[[gnu::always_inline]] inline void curl_velocity_math(const CurlVelocity& p, T gx, T gy, T by1, T bx1, T us0, T us1,
+                                                      T md0, T md1, T& u0, T& u1, T& g0, T& g1) {
+  const T qz = splat<T>(p.Q * 0.0);  // Q by1 where by1 is zero (no image terms)
+  T a = gy + (Images ? p.Q * by1 : qz);
+  T c = -(gx + (Images ? p.Q * bx1 : qz));
+  if (p.modes.has[0]) a = a + md0;  // u*'s alternating modes
+  if (p.modes.has[1]) c = c + md1;
+  u0 = a;
+  u1 = c;
+  g0 = p.r * (us0 - a);  // Eq. (34): G phi = rho/dt (u* - u^{n+1})
+  g1 = p.r * (us1 - c);
+}
+
+// Rows b + t st, t < m, from acc = (Gx psi, Gy psi). The modes' values, by the parity class of each
+// row, alternate with t along a lattice row and down a column (alt[c][t & 1]): such contiguous
+// blocks go four rows at a time.
 template <bool Images, bool Strided>
 [[gnu::always_inline]] inline void curl_velocity_rows(const CurlVelocity& p, int N, const double (*acc)[kBlock], int b,
                                                       int m, int stride) {
   const int st = Strided ? stride : 1;
-  const double Q = p.Q, r = p.r, qz = p.Q * 0.0;  // Q by1 where by1 is zero (no image terms)
-  const bool m0 = p.modes.has[0], m1 = p.modes.has[1];
-  const double(*mv)[2][2] = p.modes.value;
-  const double *__restrict by1 = p.by1 + b, *__restrict bx1 = p.bx1 + b;
-  const double *__restrict us0 = p.u_star + b, *__restrict us1 = p.u_star + N + b;
-  const unsigned char* __restrict par = p.par + b;
-  double *__restrict u0 = p.u + b, *__restrict u1 = p.u + N + b;
-  double *__restrict g0 = p.grad_phi + b, *__restrict g1 = p.grad_phi + N + b;
-  const double *__restrict gx = acc[0], *__restrict gy = acc[1];
-  for (int t = 0; t < m; ++t) {
-    const int i = t * st;
-    double a = gy[t] + (Images ? Q * by1[i] : qz);
-    double c = -(gx[t] + (Images ? Q * bx1[i] : qz));
-    if (m0) a = a + mv[0][par[i] >> 1][par[i] & 1];
-    if (m1) c = c + mv[1][par[i] >> 1][par[i] & 1];
-    u0[i] = a;
-    u1[i] = c;
-    g0[i] = r * (us0[i] - a);  // Eq. (34): G phi = rho/dt (u* - u^{n+1})
-    g1[i] = r * (us1[i] - c);
+  const int nx = p.nx, iy = b / nx, ix = b - iy * nx;
+  const auto& mv = p.modes.value;
+  bool alternating = false;
+  double alt[2][2] = {};
+  if ((st == 1 && ix + m <= nx) || st == nx) {  // along lattice row iy, or down lattice column ix
+    alternating = true;
+    for (int c = 0; c < 2; ++c) {
+      alt[c][0] = mv[c][iy & 1][ix & 1];
+      alt[c][1] = st == 1 ? mv[c][iy & 1][(ix + 1) & 1] : mv[c][(iy + 1) & 1][ix & 1];
+    }
+  }
+  double *u0 = p.u, *u1 = p.u + N, *g0 = p.grad_phi, *g1 = p.grad_phi + N;
+  const double *us0 = p.u_star, *us1 = p.u_star + N;
+  int t = 0;
+  if (!Strided && alternating) {
+    const v4d md0 = {alt[0][0], alt[0][1], alt[0][0], alt[0][1]}, md1 = {alt[1][0], alt[1][1], alt[1][0], alt[1][1]};
+    for (; t + 4 <= m; t += 4) {
+      const int i = b + t;
+      v4d a, c, ga, gc;
+      curl_velocity_math<v4d, Images>(p, load<v4d>(acc[0] + t), load<v4d>(acc[1] + t), load<v4d>(p.by1 + i),
+                                      load<v4d>(p.bx1 + i), load<v4d>(us0 + i), load<v4d>(us1 + i), md0, md1, a, c,
+                                      ga, gc);
+      put(u0 + i, a);
+      put(u1 + i, c);
+      put(g0 + i, ga);
+      put(g1 + i, gc);
+    }
+  }
+  for (; t < m; ++t) {
+    const int i = b + t * st, q = p.par[i];
+    const double md0 = alternating ? alt[0][t & 1] : mv[0][q >> 1][q & 1];
+    const double md1 = alternating ? alt[1][t & 1] : mv[1][q >> 1][q & 1];
+    curl_velocity_math<double, Images>(p, acc[0][t], acc[1][t], p.by1[i], p.bx1[i], us0[i], us1[i], md0, md1, u0[i],
+                                       u1[i], g0[i], g1[i]);
   }
 }
 

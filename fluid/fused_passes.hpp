@@ -74,6 +74,7 @@ struct CurlVelocity {
   double Q, r;
   const double *by1, *bx1, *u_star;
   const unsigned char* par;
+  int nx;  // the lattice's row length
   VelocityModes::Addends modes;
   double *u, *grad_phi;  // N x 2
 };

@@ -167,7 +167,7 @@ TEST(FusedPasses, CurlVelocityEqualsTheSeparateProducts) {
       for (const RowStencil* s : {&st, static_cast<const RowStencil*>(nullptr)}) {
         Mat2 fu(N, 2), fg(N, 2);
         curl_velocity({&op.grad_ux.A, &op.grad_uy.A, s, &images, psi.data(), Q, r, by1.data(), bx1.data(),
-                       u_star.data(), par.data(), modes.addends(u_star), fu.data(), fg.data()});
+                       u_star.data(), par.data(), L.nx, modes.addends(u_star), fu.data(), fg.data()});
         EXPECT_TRUE(bitwise_equal(fu, u) && bitwise_equal(fg, grad_phi)) << box.n << " Q " << Q << (s ? " stencil" : " rows");
       }
     }
