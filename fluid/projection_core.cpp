@@ -71,19 +71,21 @@ void ProjectionFluid::image_offsets() {
   image_velocity_offsets(im_, prm_.domain, &grad_phi_, prm_.dt / prm_.rho, c_star_);
 }
 
-void ProjectionFluid::viscous_predictor(const Mat2& F) {
+void ProjectionFluid::viscous_rhs(const Mat2& F) {
   const double dt = prm_.dt, a = a_cn();
   const int N = size();
-  {
-    ScopedTimer tm(prof_, k_rhs_);
-    // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
-    apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
-    add_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, rhs_);
-    const double k = dt / prm_.rho, kc = convective_ ? dt : 0.0;
-    for (int c = 0; c < 2; ++c)
-      for (int i = 0; i < N; ++i)
-        rhs_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * a + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
-  }
+  ScopedTimer tm(prof_, k_rhs_);
+  // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
+  apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
+  add_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, rhs_);
+  const double k = dt / prm_.rho, kc = convective_ ? dt : 0.0;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < N; ++i)
+      rhs_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * a + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
+}
+
+void ProjectionFluid::viscous_predictor(const Mat2& F) {
+  viscous_rhs(F);
   ScopedTimer tm(prof_, k_solve_cn_);
   // u and v: two right-hand sides of one factorisation. An iterative solver starts from the
   // linear extrapolation 2 u*_{n-1} - u*_{n-2} (direct solvers ignore it).

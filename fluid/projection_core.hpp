@@ -81,6 +81,8 @@ class ProjectionFluid : public FluidSolver {
   // --- what a method provides -------------------------------------------------------------------
   virtual void begin_step() {}  // the step's geometry (may throw a breakdown before anything changes)
   virtual void convection() {}  // fills conv_ (N^{n+1/2}); the rhs subtracts it when convective_
+  // Eq. (28)'s right-hand side into rhs_ (EPSPH: one pass with the convection, fluid/fused_passes.hpp)
+  virtual void viscous_rhs(const Mat2& F);
   virtual void project() { project_approximate(); }
   virtual void end_step() {}    // after t and n have advanced
   virtual void extra_state(NamedArrays&) const {}
