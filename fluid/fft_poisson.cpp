@@ -432,13 +432,22 @@ class LatticeSolver : public LinearSolver {
       throw std::runtime_error("linear solver: system '" + info_.system + "': FFTW could not plan the transforms");
     }
   }
-  void forward(Work& w) const {
-    if (complex_) fftw_execute_dft_r2c(fwd_, w.in, reinterpret_cast<fftw_complex*>(w.hat));
-    else fftw_execute_r2r(fwd_, w.in, w.hat);
+  // The forward transform of b into w.hat, from b itself when FFTW may read it there (the
+  // plans' alignment; the forward transforms preserve their input), else from a copy in w.in.
+  void forward(const double* b, Work& w) const {
+    double* in = w.in;
+    if (fftw_alignment_of(const_cast<double*>(b)) == fftw_alignment_of(w.in)) in = const_cast<double*>(b);
+    else std::copy(b, b + info_.n, w.in);
+    if (complex_) fftw_execute_dft_r2c(fwd_, in, reinterpret_cast<fftw_complex*>(w.hat));
+    else fftw_execute_r2r(fwd_, in, w.hat);
   }
-  void inverse(Work& w) const {
-    if (complex_) fftw_execute_dft_c2r(inv_, reinterpret_cast<fftw_complex*>(w.hat), w.out);
-    else fftw_execute_r2r(inv_, w.hat, w.out);
+  // The inverse transform of w.hat (destroyed), into x itself where FFTW may write it, else into
+  // w.out; returns where the result is.
+  const double* inverse(Work& w, double* x) const {
+    double* out = fftw_alignment_of(x) == fftw_alignment_of(w.out) ? x : w.out;
+    if (complex_) fftw_execute_dft_c2r(inv_, reinterpret_cast<fftw_complex*>(w.hat), out);
+    else fftw_execute_r2r(inv_, w.hat, out);
+    return out;
   }
   virtual void solve_column(const double* b, double* x, Work& w) const = 0;
 
@@ -615,12 +624,11 @@ class BandedSolver final : public LatticeSolver {
   void solve_column(const double* b, double* x, Work& ws) const override {
     const int N = info_.n;
     if (complex_) {
-      std::copy(b, b + N, ws.in);
-      forward(ws);
+      forward(b, ws);
       substitute<2>(ws.hat);
-      inverse(ws);  // unnormalised: n_x times the inverse transform
+      const double* out = inverse(ws, x);  // unnormalised: n_x times the inverse transform
       const double s = 1.0 / nx_;
-      for (int i = 0; i < N; ++i) x[i] = s * ws.out[i];
+      for (int i = 0; i < N; ++i) x[i] = s * out[i];
     } else {  // DCT-II or DST-II by RowDct, its inverse 2 n_x times the inverse transform
       auto* tmp = reinterpret_cast<fftw_complex*>(ws.tmp);
       dct_.permute(b, ws.in);
@@ -724,8 +732,7 @@ class DiagonalSolver final : public LatticeSolver {
  private:
   void solve_column(const double* b, double* x, Work& ws) const override {
     const int N = info_.n;
-    std::copy(b, b + N, ws.in);
-    forward(ws);
+    forward(b, ws);
     const std::size_t n = inv_lambda_.size();
     const double* r = inv_lambda_.data();
     double* h = ws.hat;
@@ -737,8 +744,8 @@ class DiagonalSolver final : public LatticeSolver {
     } else {
       for (std::size_t q = 0; q < n; ++q) h[q] *= r[q];
     }
-    inverse(ws);
-    std::copy(ws.out, ws.out + N, x);
+    const double* out = inverse(ws, x);
+    if (out != x) std::copy(out, out + N, x);
   }
 
   XWaves waves_;
