@@ -287,6 +287,73 @@ fftw_r2r_kind forward_kind(XKind x) { return x == XKind::Even ? FFTW_REDFT10 : F
 fftw_r2r_kind inverse_kind(XKind x) { return x == XKind::Even ? FFTW_REDFT01 : FFTW_RODFT01; }
 
 // ================================================================================================
+// The banded substitutions of BandedSolver, all wavenumbers at once
+// ================================================================================================
+
+// One row of a substitution over the n values of h's row i (every wavenumber, real and imaginary
+// parts alike): h_i = (h_i - l_1 h_{i -+ 1} - ... - l_D h_{i -+ D}) / L(i, i), the terms subtracted
+// one by one in the order of d, then the product by 1 / L(i, i): the arithmetic of a loop over d of
+// whole-row updates, each value kept in a register instead of the row stored after every d.
+template <int D>
+[[gnu::always_inline]] inline void substitute_row(double* __restrict hi, const double* const* hj, const double* const* l,
+                                                  const double* __restrict r, int n) {
+  const double* __restrict h1 = hj[0];
+  const double* __restrict h2 = hj[D > 1 ? 1 : 0];
+  const double* __restrict h3 = hj[D > 2 ? 2 : 0];
+  const double* __restrict h4 = hj[D > 3 ? 3 : 0];
+  const double* __restrict l1 = l[0];
+  const double* __restrict l2 = l[D > 1 ? 1 : 0];
+  const double* __restrict l3 = l[D > 2 ? 2 : 0];
+  const double* __restrict l4 = l[D > 3 ? 3 : 0];
+  for (int m = 0; m < n; ++m) {
+    double a = hi[m];
+    if (D > 0) a -= l1[m] * h1[m];
+    if (D > 1) a -= l2[m] * h2[m];
+    if (D > 2) a -= l3[m] * h3[m];
+    if (D > 3) a -= l4[m] * h4[m];
+    hi[m] = a * r[m];
+  }
+}
+
+// L y = b, then L' x = y, in place, for every wavenumber: h row i at h + i n (n values per row),
+// the factors as BandedSolver::arrange_factors stores them. Rows reaching more than 4 neighbours
+// (half-bandwidths above 4: wide kernels) take the loop over d of whole-row updates (the same
+// arithmetic).
+[[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int n,
+                                                                const double* lrow, const double* lcol,
+                                                                const double* rdiag) {
+  auto row = [&](int i, int dir, const double* f, int dmax) __attribute__((always_inline)) {
+    double* hi = h + static_cast<std::size_t>(i) * n;
+    const double* r = rdiag + static_cast<std::size_t>(i) * n;
+    auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * n; };     // h_{i -+ d}
+    auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * n; };  // l_d
+    if (dmax > 4) {
+      for (int d = 1; d <= dmax; ++d) {
+        const double *hj = hd(d), *l = ld(d);
+        for (int m = 0; m < n; ++m) hi[m] -= l[m] * hj[m];
+      }
+      for (int m = 0; m < n; ++m) hi[m] *= r[m];
+      return;
+    }
+    const double* hj[4] = {hi, hi, hi, hi};
+    const double* l[4] = {r, r, r, r};
+    for (int d = 1; d <= dmax; ++d) {
+      hj[d - 1] = hd(d);
+      l[d - 1] = ld(d);
+    }
+    switch (dmax) {
+      case 0: substitute_row<0>(hi, hj, l, r, n); break;
+      case 1: substitute_row<1>(hi, hj, l, r, n); break;
+      case 2: substitute_row<2>(hi, hj, l, r, n); break;
+      case 3: substitute_row<3>(hi, hj, l, r, n); break;
+      default: substitute_row<4>(hi, hj, l, r, n);
+    }
+  };
+  for (int i = 0; i < ny; ++i) row(i, -1, lrow, std::min(w, i));                // L y = b
+  for (int i = ny - 1; i >= 0; --i) row(i, +1, lcol, std::min(w, ny - 1 - i));  // L' x = y
+}
+
+// ================================================================================================
 // The solvers
 // ================================================================================================
 
@@ -365,13 +432,22 @@ class LatticeSolver : public LinearSolver {
       throw std::runtime_error("linear solver: system '" + info_.system + "': FFTW could not plan the transforms");
     }
   }
-  void forward(Work& w) const {
-    if (complex_) fftw_execute_dft_r2c(fwd_, w.in, reinterpret_cast<fftw_complex*>(w.hat));
-    else fftw_execute_r2r(fwd_, w.in, w.hat);
+  // The forward transform of b into w.hat, from b itself when FFTW may read it there (the
+  // plans' alignment; the forward transforms preserve their input), else from a copy in w.in.
+  void forward(const double* b, Work& w) const {
+    double* in = w.in;
+    if (fftw_alignment_of(const_cast<double*>(b)) == fftw_alignment_of(w.in)) in = const_cast<double*>(b);
+    else std::copy(b, b + info_.n, w.in);
+    if (complex_) fftw_execute_dft_r2c(fwd_, in, reinterpret_cast<fftw_complex*>(w.hat));
+    else fftw_execute_r2r(fwd_, in, w.hat);
   }
-  void inverse(Work& w) const {
-    if (complex_) fftw_execute_dft_c2r(inv_, reinterpret_cast<fftw_complex*>(w.hat), w.out);
-    else fftw_execute_r2r(inv_, w.hat, w.out);
+  // The inverse transform of w.hat (destroyed), into x itself where FFTW may write it, else into
+  // w.out; returns where the result is.
+  const double* inverse(Work& w, double* x) const {
+    double* out = fftw_alignment_of(x) == fftw_alignment_of(w.out) ? x : w.out;
+    if (complex_) fftw_execute_dft_c2r(inv_, reinterpret_cast<fftw_complex*>(w.hat), out);
+    else fftw_execute_r2r(inv_, w.hat, out);
+    return out;
   }
   virtual void solve_column(const double* b, double* x, Work& w) const = 0;
 
@@ -516,22 +592,30 @@ class BandedSolver final : public LatticeSolver {
     return true;
   }
 
-  // The factors rearranged wavenumber-fastest: lrow[(i ldab + d) nk + k] = L_k(i, i - d) (forward
-  // substitution), lcol[(i ldab + d) nk + k] = L_k(i + d, i) (backward), rdiag = 1 / L_k(i, i).
-  // Singular blocks: row and column 0 (dropped, x = 0 there) are zeros, so no wavenumber is special.
+  // The factors rearranged wavenumber-fastest, each value V times (V = 2 after the r2c FFT: the real
+  // and imaginary parts of h side by side, 1 after a DCT or DST), so that a substitution row is one
+  // contiguous loop over the V nk values of h: lrow[((i ldab + d) nk + k) V + v] = L_k(i, i - d)
+  // (forward substitution), lcol[...] = L_k(i + d, i) (backward), rdiag[(i nk + k) V + v] =
+  // 1 / L_k(i, i). Singular blocks: row and column 0 (dropped, x = 0 there) are zeros, so no
+  // wavenumber is special.
   void arrange_factors(const std::vector<double>& band) {
-    const int ny = ny_, w = w_;
-    lrow_.assign(static_cast<std::size_t>(ny) * ldab_ * nk_, 0.0);
+    const int ny = ny_, w = w_, V = complex_ ? 2 : 1;
+    const std::size_t nv = static_cast<std::size_t>(V) * nk_;
+    lrow_.assign(static_cast<std::size_t>(ny) * ldab_ * nv, 0.0);
     lcol_.assign(lrow_.size(), 0.0);
-    rdiag_.assign(static_cast<std::size_t>(ny) * nk_, 0.0);
+    rdiag_.assign(static_cast<std::size_t>(ny) * nv, 0.0);
     for (int kk = 0; kk < nk_; ++kk) {
       const double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
       const int i0 = drop_[kk] ? 1 : 0;
-      for (int i = i0; i < ny; ++i) {
-        rdiag_[static_cast<std::size_t>(i) * nk_ + kk] = 1.0 / ab[static_cast<std::size_t>(ldab_) * i];
-        for (int d = 1; d <= w; ++d) {
-          if (i - d >= i0) lrow_[(static_cast<std::size_t>(i) * ldab_ + d) * nk_ + kk] = ab[d + static_cast<std::size_t>(ldab_) * (i - d)];
-          if (i + d < ny) lcol_[(static_cast<std::size_t>(i) * ldab_ + d) * nk_ + kk] = ab[d + static_cast<std::size_t>(ldab_) * i];
+      for (int v = 0; v < V; ++v) {
+        const std::size_t kv = static_cast<std::size_t>(V) * kk + v;
+        for (int i = i0; i < ny; ++i) {
+          rdiag_[static_cast<std::size_t>(i) * nv + kv] = 1.0 / ab[static_cast<std::size_t>(ldab_) * i];
+          for (int d = 1; d <= w; ++d) {
+            const std::size_t at = (static_cast<std::size_t>(i) * ldab_ + d) * nv + kv;
+            if (i - d >= i0) lrow_[at] = ab[d + static_cast<std::size_t>(ldab_) * (i - d)];
+            if (i + d < ny) lcol_[at] = ab[d + static_cast<std::size_t>(ldab_) * i];
+          }
         }
       }
     }
@@ -540,12 +624,11 @@ class BandedSolver final : public LatticeSolver {
   void solve_column(const double* b, double* x, Work& ws) const override {
     const int N = info_.n;
     if (complex_) {
-      std::copy(b, b + N, ws.in);
-      forward(ws);
+      forward(b, ws);
       substitute<2>(ws.hat);
-      inverse(ws);  // unnormalised: n_x times the inverse transform
+      const double* out = inverse(ws, x);  // unnormalised: n_x times the inverse transform
       const double s = 1.0 / nx_;
-      for (int i = 0; i < N; ++i) x[i] = s * ws.out[i];
+      for (int i = 0; i < N; ++i) x[i] = s * out[i];
     } else {  // DCT-II or DST-II by RowDct, its inverse 2 n_x times the inverse transform
       auto* tmp = reinterpret_cast<fftw_complex*>(ws.tmp);
       dct_.permute(b, ws.in);
@@ -559,38 +642,18 @@ class BandedSolver final : public LatticeSolver {
   }
 
   // B_k x = b for every wavenumber k (B_k is real: real and imaginary parts alike): L y = b, then
-  // L' x = y, in place, each row over all k at once, V doubles per wavenumber (2 after the r2c FFT,
-  // 1 after a DCT or DST). By hand rather than LAPACK dpbtrs, whose Level-2 calls on bands of 2-5
-  // cost 4x the rest of the solve (perf: 70 of 85 us per step at 64 x 64).
+  // L' x = y, in place (substitute_bands). By hand rather than LAPACK dpbtrs, whose Level-2 calls on
+  // bands of 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per step at 64 x 64).
   template <int V>
-  void substitute(double* h) const {  // row i, wavenumber k at V (i nk + k)
-    const int ny = ny_;
-    for (int i = 0; i < ny; ++i) substitute_row<V>(h, i, -1, lrow_, std::min(w_, i));                // L y = b
-    for (int i = ny - 1; i >= 0; --i) substitute_row<V>(h, i, +1, lcol_, std::min(w_, ny - 1 - i));  // L' x = y
-  }
-
-  // Row i of a substitution, all wavenumbers at once: h_i -= sum_{d=1..dmax} l(i, d) h_{i + dir d},
-  // then h_i *= 1/L(i, i) (dir -1: forward with lrow_, +1: backward with lcol_).
-  template <int V>
-  void substitute_row(double* h, int i, int dir, const std::vector<double>& l, int dmax) const {
-    const int nk = nk_;
-    double* hi = h + V * static_cast<std::size_t>(i) * nk;
-    for (int d = 1; d <= dmax; ++d) {
-      const double* hj = h + V * static_cast<std::size_t>(i + dir * d) * nk;
-      const double* c = l.data() + (static_cast<std::size_t>(i) * ldab_ + d) * nk;
-      for (int k = 0; k < nk; ++k)
-        for (int v = 0; v < V; ++v) hi[V * k + v] -= c[k] * hj[V * k + v];
-    }
-    const double* r = rdiag_.data() + static_cast<std::size_t>(i) * nk;
-    for (int k = 0; k < nk; ++k)
-      for (int v = 0; v < V; ++v) hi[V * k + v] *= r[k];
+  void substitute(double* h) const {
+    substitute_bands(h, ny_, w_, ldab_, V * nk_, lrow_.data(), lcol_.data(), rdiag_.data());
   }
 
   XWaves waves_;
   int nk_, w_ = 0, ldab_ = 1;
   RowDct dct_;
   std::vector<char> drop_;                   // per wavenumber: B_k singular, row 0 dropped
-  std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see arrange_factors)
+  std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest, V times (see arrange_factors)
 };
 
 // y periodic: the transform along y too (FFT, with the x transform a 2-D one), A diagonal.
@@ -669,8 +732,7 @@ class DiagonalSolver final : public LatticeSolver {
  private:
   void solve_column(const double* b, double* x, Work& ws) const override {
     const int N = info_.n;
-    std::copy(b, b + N, ws.in);
-    forward(ws);
+    forward(b, ws);
     const std::size_t n = inv_lambda_.size();
     const double* r = inv_lambda_.data();
     double* h = ws.hat;
@@ -682,8 +744,8 @@ class DiagonalSolver final : public LatticeSolver {
     } else {
       for (std::size_t q = 0; q < n; ++q) h[q] *= r[q];
     }
-    inverse(ws);
-    std::copy(ws.out, ws.out + N, x);
+    const double* out = inverse(ws, x);
+    if (out != x) std::copy(out, out + N, x);
   }
 
   XWaves waves_;
