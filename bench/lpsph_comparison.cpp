@@ -4,12 +4,15 @@
 //
 // poiseuille  Start-up planar Poiseuille (Section 5.1, Tables 1-2): Re = 0.0125 (rho = 1,
 //             mu = 1/Re, F = 8/Re, u_max = 1; bench/poiseuille.hpp), 10 000 steps (--steps to
-//             shorten), Nx = Ny in --nx x h/dx in --h.
+//             shorten), Nx = Ny in --nx (24, 32, 48, 64) x h/dx in --h (1.525).
 //             Both methods with the same settings and solvers (auto); rms error (Eq. 69) at the
-//             final time and wall time (set-up + loop); the LPSPH per-step breakdown, how often
-//             the symbolic analysis was kept, and the time ratio LPSPH/EPSPH next to the paper's
-//             (Table 2 / Table 1: 2.77 to 5.25). With fewer steps, totals are also extrapolated
-//             to 10 000 steps (set-up once, loop scaled).
+//             final time and CPU time of the process (set-up + loop: the machine is shared, CPU
+//             time is what a run costs); the time ratio LPSPH/EPSPH next to the paper's (Table 2
+//             / Table 1: 2.77 to 5.25); an LPSPH step phase by phase (ms) beside EPSPH's step;
+//             the solvers LPSPH chose, their CG iterations per solve and preconditioner
+//             factorisations, and the Verlet list's builds. The load average before and after.
+//             With fewer steps, totals are also extrapolated to 10 000 steps (set-up once, loop
+//             scaled).
 // fig9        Fixed membrane in equilibrium (Section 5.2.1, Fig. 9): T0 = 3, mu = 0.25,
 //             Nb = 360, dt = 0.1 dx, 2h = 2.25 (dx + dy), h* = 0.5 h, Nx = Ny in --fig9-nx; the
 //             mean absolute pressure error (Eq. 80, free constant chosen optimally as the runner
@@ -27,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -51,13 +55,21 @@ fs::path cases_dir() {
   return fs::path(__FILE__).parent_path().parent_path() / "cases";
 }
 
+// The load average (1, 5, 15 minutes) of the machine.
+std::string load_average() {
+  std::ifstream f("/proc/loadavg");
+  double a = NAN, b = NAN, c = NAN;
+  f >> a >> b >> c;
+  return fix(a, 2) + ", " + fix(b, 2) + ", " + fix(c, 2);
+}
+
 // The paper's LPSPH/EPSPH time ratio for (nx, h/dx), NaN when not tabulated.
 double paper_ratio(int nx, double hdx) { return paper_seconds(true, nx, hdx) / paper_seconds(false, nx, hdx); }
 
 struct Options {
   std::vector<std::string> parts{"poiseuille", "fig9", "fig18"};
-  std::vector<int> nx{16, 24, 32, 48, 64};
-  std::vector<double> h{1.2, 1.525, 2.2, 3.0};
+  std::vector<int> nx{24, 32, 48, 64};
+  std::vector<double> h{1.525};
   long steps = kPaperSteps;
   std::vector<int> fig9_nx{40, 80};
   double fig9_end = 3.0;
@@ -71,48 +83,70 @@ struct Options {
 
 struct PoiseuilleRun {
   std::string status = "ok";
-  double rms = NAN, t_setup = 0, t_loop = 0;
+  double rms = NAN, t_setup = 0, t_loop = 0, cpu_setup = 0, cpu_loop = 0;
   long steps = 0;
-  // LPSPH only
-  double nb = 0, t_neighbours = 0, t_operators = 0, t_factor = 0, t_solves = 0, s_low = NAN;
-  long reused_cn = 0, reused_poisson = 0, refactorised = 0;
-  long nnz_factor = 0;
-  std::string method;
-  double total() const { return t_setup + t_loop; }
-  double total_10k() const { return t_setup + (steps ? t_loop * kPaperSteps / steps : 0.0); }
+  // LPSPH only: its profile (ms per step by phase), the neighbours, the solvers' work
+  std::vector<std::pair<std::string, double>> phases;
+  double nb = 0, s_low = NAN, it_cn = 0, it_poisson = 0;
+  long builds = 0, factor_cn = 0, factor_poisson = 0;
+  std::string method_cn, method_poisson;
+  double total() const { return cpu_setup + cpu_loop; }  // CPU seconds: the machine is shared
+  double total_10k() const { return cpu_setup + (steps ? cpu_loop * kPaperSteps / steps : 0.0); }
+  double phase(const std::string& prefix) const {
+    double t = 0;
+    for (const auto& [n, v] : phases)
+      if (n.rfind(prefix, 0) == 0) t += v;
+    return t;
+  }
 };
+
+// The solver's short name for the tables: what preconditions its CG, or its method.
+std::string solver_name(const sphib::SolverInfo& si) {
+  const std::string& m = si.method;
+  if (m.rfind("CG preconditioned by FFT", 0) == 0) return "pcg_fft";
+  if (m.rfind("CG preconditioned by a lagged", 0) == 0) return "pcg_cholmod";
+  if (m.rfind("Jacobi-PCG", 0) == 0) return "Jacobi-PCG";
+  return m.substr(0, m.find(" ("));
+}
+
+void lpsph_figures(const sphib::LagrangianFluid& l, PoiseuilleRun& r) {
+  const sphib::Profile& P = l.profile();
+  for (size_t k = 0; k < P.names().size(); ++k) {
+    const double s = P.seconds(static_cast<int>(k));
+    if (s > 0) r.phases.emplace_back(P.names()[k], 1e3 * s / r.steps);
+  }
+  r.nb = l.neighbours_per_particle();
+  r.builds = l.verlet().builds();
+  r.s_low = l.lowest_kernel_sum();
+  const auto info = l.solver_info();
+  r.method_cn = solver_name(info[0]);
+  r.method_poisson = solver_name(info[1]);
+  for (const auto& [name, v] : l.figures()) {
+    if (name == "crank_nicolson_cg_iterations") r.it_cn = v;
+    if (name == "poisson_cg_iterations") r.it_poisson = v;
+    if (name == "crank_nicolson_preconditioner_factorisations") r.factor_cn = static_cast<long>(v);
+    if (name == "poisson_preconditioner_factorisations") r.factor_poisson = static_cast<long>(v);
+  }
+}
 
 PoiseuilleRun poiseuille_run(const std::string& method, int nx, double hdx, long steps) {
   PoiseuilleRun r;
   r.steps = steps;
   try {
     auto t0 = Clock::now();
+    double c0 = cpu_seconds();
     auto f = sphib::make_fluid(params(method, nx, hdx));  // Stokes: LPSPH has no convection term
     r.t_setup = seconds_since(t0);
+    r.cpu_setup = cpu_seconds() - c0;
     const sphib::Mat2 F = body_force(f->size());
     t0 = Clock::now();
+    c0 = cpu_seconds();
     for (long s = 0; s < steps; ++s) f->step(F);
     r.t_loop = seconds_since(t0);
+    r.cpu_loop = cpu_seconds() - c0;
     r.rms = error(*f).rms;  // Eq. (69) at the particles' positions
     if (!std::isfinite(r.rms)) r.status = "non-finite velocity";
-    if (auto* l = dynamic_cast<sphib::LagrangianFluid*>(f.get())) {
-      const sphib::Profile& P = l->profile();
-      for (size_t k = 0; k < P.names().size(); ++k) {
-        const std::string& n = P.names()[k];
-        const double s = P.seconds(static_cast<int>(k));
-        if (n.rfind("neighbours", 0) == 0) r.t_neighbours += s;
-        else if (n.rfind("operators", 0) == 0) r.t_operators += s;
-        else if (n.rfind("factorise", 0) == 0) r.t_factor += s;
-        else if (n.rfind("solve", 0) == 0) r.t_solves += s;
-      }
-      r.nb = static_cast<double>(l->pairs().size()) / l->size();
-      r.reused_cn = l->symbolic_reused_cn();
-      r.reused_poisson = l->symbolic_reused_poisson();
-      r.refactorised = l->refactorisations();
-      r.s_low = l->lowest_kernel_sum();
-      r.nnz_factor = l->solver_info()[1].nnz_factor;
-      r.method = l->solver_info()[1].method;
-    }
+    if (auto* l = dynamic_cast<sphib::LagrangianFluid*>(f.get())) lpsph_figures(*l, r);
   } catch (const std::exception& e) {
     r.status = e.what();
   }
@@ -125,32 +159,62 @@ struct PoiseuillePair {
   PoiseuilleRun e, l;
   double ratio() const { return l.total() / e.total(); }
   double ratio_10k() const { return l.total_10k() / e.total_10k(); }
-  double ratio_loop() const { return l.t_loop / e.t_loop; }
+  double ratio_loop() const { return l.cpu_loop / e.cpu_loop; }
 };
 
 std::string poiseuille_csv(const std::vector<PoiseuillePair>& rs) {
   std::ostringstream o;
-  o << "nx,h_over_dx,steps,t_end,eps_status,eps_rms,eps_setup_s,eps_loop_s,lps_status,lps_rms,lps_setup_s,lps_loop_s,"
-       "lps_neighbours_s,lps_operators_s,lps_factorise_s,lps_solves_s,lps_neighbours_per_particle,"
-       "lps_symbolic_reused_cn,lps_symbolic_reused_poisson,lps_refactorised,lps_lowest_kernel_sum,lps_nnz_factor,"
-       "lps_poisson_method,ratio_total,ratio_loop,ratio_total_10k,paper_ratio\n";
+  o << "nx,h_over_dx,steps,t_end,eps_status,eps_rms,eps_setup_cpu_s,eps_loop_cpu_s,eps_loop_wall_s,lps_status,lps_rms,"
+       "lps_setup_cpu_s,lps_loop_cpu_s,lps_loop_wall_s,lps_neighbours_ms,lps_operators_ms,lps_new_matrices_ms,"
+       "lps_solve_cn_ms,lps_solve_poisson_ms,lps_neighbours_per_particle,lps_list_builds,lps_cn_solver,lps_cn_iterations,"
+       "lps_cn_factorisations,lps_poisson_solver,lps_poisson_iterations,lps_poisson_factorisations,lps_lowest_kernel_sum,"
+       "ratio_total,ratio_loop,ratio_total_10k,paper_ratio\n";
   for (const auto& r : rs) {
+    const PoiseuilleRun& l = r.l;
     o << r.nx << ',' << r.hdx << ',' << r.e.steps << ',' << csv_num(r.e.steps * kDt) << ",\"" << r.e.status << "\","
-      << csv_num(r.e.rms) << ',' << csv_num(r.e.t_setup) << ',' << csv_num(r.e.t_loop) << ",\"" << r.l.status << "\","
-      << csv_num(r.l.rms) << ',' << csv_num(r.l.t_setup) << ',' << csv_num(r.l.t_loop) << ',' << csv_num(r.l.t_neighbours) << ','
-      << csv_num(r.l.t_operators) << ',' << csv_num(r.l.t_factor) << ',' << csv_num(r.l.t_solves) << ',' << csv_num(r.l.nb) << ','
-      << r.l.reused_cn << ',' << r.l.reused_poisson << ',' << r.l.refactorised << ',' << csv_num(r.l.s_low) << ','
-      << r.l.nnz_factor << ",\"" << r.l.method << "\"," << csv_num(r.ratio()) << ',' << csv_num(r.ratio_loop()) << ','
-      << csv_num(r.ratio_10k()) << ',' << csv_num(paper_ratio(r.nx, r.hdx)) << '\n';
+      << csv_num(r.e.rms) << ',' << csv_num(r.e.cpu_setup) << ',' << csv_num(r.e.cpu_loop) << ',' << csv_num(r.e.t_loop)
+      << ",\"" << l.status << "\"," << csv_num(l.rms) << ',' << csv_num(l.cpu_setup) << ',' << csv_num(l.cpu_loop) << ','
+      << csv_num(l.t_loop) << ',' << csv_num(l.phase("neighbours")) << ',' << csv_num(l.phase("operators")) << ','
+      << csv_num(l.phase("new matrix")) << ',' << csv_num(l.phase("solve Crank")) << ',' << csv_num(l.phase("solve Poisson"))
+      << ',' << csv_num(l.nb) << ',' << l.builds << ",\"" << l.method_cn << "\"," << csv_num(l.it_cn) << ',' << l.factor_cn
+      << ",\"" << l.method_poisson << "\"," << csv_num(l.it_poisson) << ',' << l.factor_poisson << ',' << csv_num(l.s_low)
+      << ',' << csv_num(r.ratio()) << ',' << csv_num(r.ratio_loop()) << ',' << csv_num(r.ratio_10k()) << ','
+      << csv_num(paper_ratio(r.nx, r.hdx)) << '\n';
   }
   return o.str();
+}
+
+// The LPSPH step, phase by phase (ms per step, the profile of fluid/lagrangian.hpp), one column per run.
+std::string breakdown_md(const std::vector<PoiseuillePair>& rs) {
+  std::vector<std::string> names;
+  for (const auto& r : rs)
+    for (const auto& [n, v] : r.l.phases)
+      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+  std::ostringstream m;
+  m << "### An LPSPH step, ms (CPU of the loop by phase; EPSPH's whole step below)\n\n| phase |";
+  for (const auto& r : rs) m << " Nx = " << r.nx << ", h = " << r.hdx << " dx |";
+  m << "\n|---|";
+  for (size_t k = 0; k < rs.size(); ++k) m << "---:|";
+  m << '\n';
+  for (const auto& n : names) {
+    m << "| " << n << " |";
+    for (const auto& r : rs) m << ' ' << fix(r.l.phase(n), 3) << " |";
+    m << '\n';
+  }
+  m << "| **LPSPH step** |";
+  for (const auto& r : rs) m << " **" << fix(r.l.steps ? 1e3 * r.l.cpu_loop / r.l.steps : NAN, 3) << "** |";
+  m << "\n| EPSPH step |";
+  for (const auto& r : rs) m << ' ' << fix(r.e.steps ? 1e3 * r.e.cpu_loop / r.e.steps : NAN, 3) << " |";
+  m << "\n\n";
+  return m.str();
 }
 
 std::string poiseuille_md(const std::vector<PoiseuillePair>& rs, const Options& o) {
   std::ostringstream m;
   m << "## Start-up Poiseuille, EPSPH against LPSPH (Section 5.1, Tables 1-2)\n\n"
     << "Re = 0.0125, dt = 1.25e-6, " << o.steps << " steps (t = " << sci(o.steps * kDt, 6)
-    << "), the same solvers (auto) for both; one core.";
+    << "), the same solvers (auto) for both; one core; times are CPU seconds of the process (the machine is "
+       "shared), set-up + loop.";
   if (o.steps != kPaperSteps)
     m << " **Shortened**: the errors are at t = " << sci(o.steps * kDt, 6)
       << ", not the developed flow of t = 0.0125; the 10 000-step totals are extrapolated (set-up once, loop "
@@ -178,7 +242,7 @@ std::string poiseuille_md(const std::vector<PoiseuillePair>& rs, const Options& 
   table("rms error (Eq. 69), EPSPH / LPSPH", [&](const PoiseuillePair& p) {
     return ok(p) ? sci(p.e.rms, 3) + " / " + sci(p.l.rms, 3) : std::string("failed");
   });
-  table("Wall time, set-up + loop, s: EPSPH / LPSPH", [&](const PoiseuillePair& p) {
+  table("CPU time, set-up + loop, s: EPSPH / LPSPH", [&](const PoiseuillePair& p) {
     return ok(p) ? fix(p.e.total(), 2) + " / " + fix(p.l.total(), 2) : std::string("failed");
   });
   table("Time ratio LPSPH / EPSPH: ours over these steps (loop only) [paper, Table 2 / Table 1]",
@@ -190,22 +254,21 @@ std::string poiseuille_md(const std::vector<PoiseuillePair>& rs, const Options& 
     table("Time ratio LPSPH / EPSPH extrapolated to 10 000 steps", [&](const PoiseuillePair& p) {
       return ok(p) ? fix(p.ratio_10k(), 1) : std::string("failed");
     });
-  table("LPSPH per step, ms: neighbours + images / operators / factorisations / solves", [&](const PoiseuillePair& p) {
-    if (!ok(p) || !p.l.steps) return std::string("failed");
-    const double s = 1e3 / p.l.steps;
-    return fix(p.l.t_neighbours * s, 2) + " / " + fix(p.l.t_operators * s, 2) + " / " + fix(p.l.t_factor * s, 2) +
-           " / " + fix(p.l.t_solves * s, 2);
-  });
-  table("LPSPH: symbolic analysis kept in K of N steps (Poisson; Crank-Nicolson the same unless shown)",
+  table("LPSPH solvers: Crank-Nicolson / Poisson, CG iterations per solve [preconditioner factorisations]",
         [&](const PoiseuillePair& p) {
           if (!ok(p)) return std::string("failed");
-          std::string c = std::to_string(p.l.reused_poisson) + " of " + std::to_string(p.l.refactorised);
-          if (p.l.reused_cn != p.l.reused_poisson) c += " (CN " + std::to_string(p.l.reused_cn) + ")";
-          return c;
+          return p.l.method_cn + " " + fix(p.l.it_cn, 2) + " [" + std::to_string(p.l.factor_cn) + "] / " +
+                 p.l.method_poisson + " " + fix(p.l.it_poisson, 2) + " [" + std::to_string(p.l.factor_poisson) + "]";
         });
-  double lo = INFINITY, hi = 0;
+  table("LPSPH neighbours within 2h per particle; Verlet list builds in the run", [&](const PoiseuillePair& p) {
+    return ok(p) ? fix(p.l.nb, 1) + "; " + std::to_string(p.l.builds) : std::string("failed");
+  });
+  std::vector<PoiseuillePair> done;
   for (const auto& r : rs)
-    if (ok(r)) { lo = std::min(lo, r.ratio_10k()); hi = std::max(hi, r.ratio_10k()); }
+    if (ok(r)) done.push_back(r);
+  if (!done.empty()) m << breakdown_md(done);
+  double lo = INFINITY, hi = 0;
+  for (const auto& r : done) { lo = std::min(lo, r.ratio_10k()); hi = std::max(hi, r.ratio_10k()); }
   if (std::isfinite(lo))
     m << "Our LPSPH/EPSPH time ratio (" << (o.steps == kPaperSteps ? "10 000 steps" : "extrapolated to 10 000 steps")
       << "): " << fix(lo, 1) << " to " << fix(hi, 1)
@@ -225,7 +288,7 @@ struct Fig9Run {
   std::vector<double> t, p_mad, jump;
   std::string stop = "end time";
   double seconds = 0, s_low = NAN;
-  long reused = 0, refactorised = 0;
+  long builds = 0, steps = 0;  // LPSPH: Verlet list builds in the run's steps
 };
 
 // Eq. (80) with the free constant chosen optimally (the median), as io/run.cpp's
@@ -281,8 +344,8 @@ Fig9Run fig9_run(int nx, const std::string& method, int reinit, const Options& o
   r.seconds = seconds_since(t0);
   if (auto* l = dynamic_cast<const sphib::LagrangianFluid*>(&sim.fluid())) {
     r.s_low = l->lowest_kernel_sum();
-    r.reused = l->symbolic_reused_poisson();
-    r.refactorised = l->refactorisations();
+    r.builds = l->verlet().builds();
+    r.steps = l->steps();
   }
   return r;
 }
@@ -332,8 +395,8 @@ std::string fig9_md(const std::vector<Fig9Run>& rs, const Options& o) {
   for (const auto& r : rs) {
     m << "- Nx = " << r.nx << ", " << r.variant << ": " << fix(r.seconds, 1) << " s";
     if (std::isfinite(r.s_low))
-      m << ", lowest kernel sum " << fix(r.s_low, 3) << ", symbolic analysis kept in " << r.reused << " of "
-        << r.refactorised << " steps";
+      m << ", lowest kernel sum " << fix(r.s_low, 3) << ", Verlet list built " << r.builds << " times in " << r.steps
+        << " steps";
     m << "; stopped: " << r.stop << "\n";
   }
   return m.str() + "\n";
@@ -348,7 +411,7 @@ struct Fig18Sample {
 struct Fig18Run {
   std::string stop = "end time";
   double t_stop = NAN, seconds = 0, seconds_e = 0, s_low = NAN;
-  long steps = 0, reused = 0, refactorised = 0;
+  long steps = 0, builds = 0;
   std::vector<Fig18Sample> samples;
 };
 
@@ -394,8 +457,7 @@ Fig18Run fig18_run(const Options& o) {
   r.t_stop = sim.time();
   r.steps = sim.steps();
   r.s_low = l->lowest_kernel_sum();
-  r.reused = l->symbolic_reused_poisson();
-  r.refactorised = l->refactorisations();
+  r.builds = l->verlet().builds();
   return r;
 }
 
@@ -424,8 +486,8 @@ std::string fig18_md(const Fig18Run& r, const Options& o) {
       << fix(x.rx_e, 4) << " | " << fix(x.ry_e, 4) << " |\n";
   }
   m << "\n- LPSPH stopped: " << r.stop << " (after " << r.steps << " steps, t = " << fix(r.t_stop, 4)
-    << "); lowest kernel sum " << fix(r.s_low, 4) << "; symbolic analysis kept in " << r.reused << " of "
-    << r.refactorised << " steps; " << fix(r.seconds, 1) << " s (EPSPH " << fix(r.seconds_e, 1)
+    << "); lowest kernel sum " << fix(r.s_low, 4) << "; Verlet list built " << r.builds << " times; "
+    << fix(r.seconds, 1) << " s (EPSPH " << fix(r.seconds_e, 1)
     << " s, ratio " << fix(r.seconds / r.seconds_e, 1) << ")\n\n";
   return m.str();
 }
@@ -440,21 +502,24 @@ int compare(const Options& o) {
   };
 
   if (o.wants("poiseuille")) {
-    std::printf("== Start-up Poiseuille: %zu x %zu runs per method, %ld steps\n", o.nx.size(), o.h.size(), o.steps);
+    const std::string load0 = load_average();
+    std::printf("== Start-up Poiseuille: %zu x %zu runs per method, %ld steps; %s, load average %s\n", o.nx.size(),
+                o.h.size(), o.steps, cpu_model().c_str(), load0.c_str());
     std::vector<PoiseuillePair> rs;
     for (double h : o.h)
       for (int n : o.nx) {
         PoiseuillePair p{n, h, poiseuille_run("eulerian", n, h, o.steps), poiseuille_run("lagrangian", n, h, o.steps)};
-        std::printf("Nx=%3d h/dx=%-5g EPSPH rms %.4e %7.2f s | LPSPH rms %.4e %8.2f s (nb %.3f ops %.3f fact %.3f "
-                    "solves %.3f s; analysis kept %ld/%ld) | ratio %.1f (loop %.1f, 10k %.1f; paper %.2f)%s%s\n",
-                    n, h, p.e.rms, p.e.total(), p.l.rms, p.l.total(), p.l.t_neighbours, p.l.t_operators, p.l.t_factor,
-                    p.l.t_solves, p.l.reused_poisson, p.l.refactorised, p.ratio(), p.ratio_loop(), p.ratio_10k(),
+        std::printf("Nx=%3d h/dx=%-5g EPSPH rms %.4e cpu %7.2f s | LPSPH rms %.4e cpu %8.2f s (CN %s %.2f it, Poisson %s "
+                    "%.2f it, %ld list builds) | ratio %.1f (loop %.1f, 10k %.1f; paper %.2f)%s%s\n",
+                    n, h, p.e.rms, p.e.total(), p.l.rms, p.l.total(), p.l.method_cn.c_str(), p.l.it_cn,
+                    p.l.method_poisson.c_str(), p.l.it_poisson, p.l.builds, p.ratio(), p.ratio_loop(), p.ratio_10k(),
                     paper_ratio(n, h), p.e.status == "ok" ? "" : (" EPSPH: " + p.e.status).c_str(),
                     p.l.status == "ok" ? "" : (" LPSPH: " + p.l.status).c_str());
         std::fflush(stdout);
         rs.push_back(p);
         sphib::write_file_atomic((dir / "lpsph_poiseuille.csv").string(), poiseuille_csv(rs));
-        md_poiseuille = poiseuille_md(rs, o);
+        md_poiseuille = poiseuille_md(rs, o) + "Machine: " + cpu_model() + "; load average (1, 5, 15 min) " + load0 +
+                        " before, " + load_average() + " after.\n\n";
         write_md();
       }
     std::printf("\n%s", md_poiseuille.c_str());

@@ -21,85 +21,127 @@ void check_params(const FluidParams& p) {
 }
 }  // namespace
 
-LagrangianFluid::LagrangianFluid(const FluidParams& params) : ProjectionFluid(params), x_(lat_.x), x_star_(lat_.x) {
+// The Verlet skin (neighbours.hpp), adaptive between 0.01 and 0.3 of the support 2h. Measured on
+// start-up Poiseuille at 64^2 (300 steps, one core): 1.60 ms per step with a skin of 0.01 2h (on the
+// sheared lattice the candidates are then the 28 neighbours within 2h: the shell at sqrt(13) dx lies
+// beyond 2h + skin), 2.02 ms with 0.1 2h (36 candidates: 29% more entries in every product and
+// solve); the flow moves the rows apart by 0.01 2h in ~400 steps, so a small skin costs few builds.
+// Fast flows choose larger skins (a sheared channel at 64^2, dt = 5e-4: 0.14 2h, a build every 14
+// steps; kBuildCost 0.5 / 2 / 8: 3.44 / 3.34 / 3.38 ms per step, a fixed 0.1 2h 3.26 ms).
+constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
+
+LagrangianFluid::LagrangianFluid(const FluidParams& params)
+    : ProjectionFluid(params), x_(lat_.x), x_star_(lat_.x),
+      verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support()) {
   check_params(prm_);
   S_ = Vec::Zero(lat_.size());
   gauge_ = Gauge(lat_, NullSpace::Constants);  // of the Poisson operator, the Morris Laplacian
   k_move_ = prof_.phase("move particles (Eq. 37)");
   k_reinit_ = prof_.phase("reinitialisation (Eq. 61)");
-  k_neighbours_ = prof_.phase("neighbours and images (cell list)");
-  k_assembly_ = prof_.phase("operators (Eqs. 27-34)");
-  k_factor_cn_ = prof_.phase("factorise Crank-Nicolson");
-  k_factor_poisson_ = prof_.phase("factorise Poisson");
+  k_neighbours_ = prof_.phase("neighbours and images (Verlet list)");
+  k_assembly_ = prof_.phase("operators, systems, kernel sums (Eqs. 27-34)");
+  k_factor_cn_ = prof_.phase("new matrix: Crank-Nicolson solver");
+  k_factor_poisson_ = prof_.phase("new matrix: Poisson solver");
   const RebuildSeconds s = rebuild(0.0);  // the first analysis and factorisations
   add_setup("neighbours", s.neighbours);
   add_setup("assembly", s.assembly);
   add_setup("factorisation", s.factorisation_cn + s.factorisation_poisson);
 }
 
+// Breakdown (Section 5.2.2, Fig. 18): the kernel sums S_i = V (W(0) + sum_j W_ij), images included
+// and only the pairs closer than the reach (the Verlet candidates beyond it have W = 0), come from the
+// assembly's pass (ParticleOperators::assemble). Below the threshold the geometry goes back to the
+// last positions that passed, so that nothing the state depends on has changed, and the step throws.
 void LagrangianFluid::check_kernel_sums(double t) {
-  const int N = lat_.size();
-  const double V = lat_.volume;
-  // Breakdown (Section 5.2.2, Fig. 18): S_i = V (W(0) + sum_j W_ij), images included.
-  int worst = 0;
-  for (int i = 0; i < N; ++i) {
-    double w = W_.W(0.0);
-    for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k) w += W_.W(pairs_.r[k]);
-    S_[i] = V * w;
-    if (S_[i] < S_[worst]) worst = i;
+  Eigen::Index worst = 0;
+  const double S_min = S_.minCoeff(&worst);
+  S_low_ = std::min(S_low_, S_min);
+  if (S_min >= prm_.lagrangian.min_kernel_sum) {
+    x_star_good_ = x_star_;
+    return;
   }
-  S_low_ = std::min(S_low_, S_[worst]);
-  if (S_[worst] < prm_.lagrangian.min_kernel_sum) {
-    std::ostringstream m;
-    m.precision(8);
-    m << "LPSPH breakdown at t = " << t << ": particle " << worst << " at (" << x_star_(worst, 0)
-      << ", " << x_star_(worst, 1) << ") has kernel sum " << S_[worst] << " < " << prm_.lagrangian.min_kernel_sum
-      << " (" << pairs_.offset[worst + 1] - pairs_.offset[worst] << " neighbours within 2h, "
-      << static_cast<double>(pairs_.size()) / N
-      << " on average; particles driven apart; Section 5.2.2, Fig. 18)";
-    throw std::runtime_error(m.str());
+  std::ostringstream m;
+  m.precision(8);
+  m << "LPSPH breakdown at t = " << t << ": particle " << worst << " at (" << x_star_(worst, 0) << ", "
+    << x_star_(worst, 1) << ") has kernel sum " << S_min << " < " << prm_.lagrangian.min_kernel_sum << " ("
+    << neighbours_within(static_cast<int>(worst)) << " neighbours within 2h, " << neighbours_per_particle()
+    << " on average; particles driven apart; Section 5.2.2, Fig. 18)";
+  if (x_star_good_.rows() == x_star_.rows()) {  // (kernel_sums() keeps the failing sums)
+    x_star_ = x_star_good_;
+    geometry(false, false, nullptr);
   }
+  throw std::runtime_error(m.str());
 }
 
-LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t) {
-  RebuildSeconds s;
+// Images and pairs at x_star_ (the Verlet list), the operators, the two systems and the kernel sums
+// (when asked) in one pass, and the core's derived data; returns whether the list was built.
+bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s) {
   auto t0 = Profile::Clock::now();
-  // Images of the current particles (Section 3.3) and the pair list by cell list, O(N). The reach is
-  // 2h less 1e-12 relative: pairs at exactly 2h (lattice distances when 2h/dx is an integer, e.g.
-  // h = 3 dx) have W = F = 0 but would enter and leave the pattern with the round-off of every move
-  // (measured at h = 3 dx: the analysis kept in 1 of 100 Poiseuille steps instead of 100).
-  const double reach = W_.support() * (1.0 - 1e-12);
-  im_ = make_images(prm_.domain, x_star_, reach);
-  find_pairs(prm_.domain, x_star_, im_.x, reach, pairs_);
-  s.neighbours = seconds_since(t0);
+  // Images of the current particles (Section 3.3) and the pairs by the Verlet list (neighbours.hpp):
+  // built by cell list, O(N), when the particles have moved by about the skin, else moved. The reach
+  // is 2h less 1e-12 relative: pairs at exactly 2h (lattice distances when 2h/dx is an integer, e.g.
+  // h = 3 dx) have W = F = 0 but would enter and leave with the round-off of every move.
+  const bool built = verlet_.update(x_star_, im_, pairs_, jump);
+  if (s) s->neighbours = seconds_since(t0);
+  t0 = Profile::Clock::now();
+  // Operators at the new positions (Eqs. 27-34), as build_operators makes them, the pattern only
+  // after a build of the list; with them the two systems of the step, I - a lap (Eq. 28) and the
+  // Poisson matrix -lap phi (Eq. 32: the symmetric semi-definite -lap phi = -(rho/dt) div u*).
+  assembly_.assemble(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), built, op_, {a_cn(), &A_cn_, &A_phi_},
+                     sums ? S_.data() : nullptr);
+  // The core's derived data (projection_core.hpp): after a build of the list all of it; between
+  // builds the images, their walls and the patterns are the same, and only the wall part of the
+  // Laplacian, B c^n (Eq. 42 with c^n = 2 u_b), follows the values (zero for walls at rest).
+  if (built || lap_wall_.rows() != lat_.size()) {
+    operators_changed();
+  } else if (c_wall_.size() && c_wall_.cwiseAbs().maxCoeff() > 0) {
+    lap_wall_.setZero();
+    add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
+  }
+  if (s) s->assembly = seconds_since(t0);
+  return built;
+}
+
+LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
+  RebuildSeconds s;
+  geometry(jump, true, &s);
   check_kernel_sums(t);
+  auto t0 = Profile::Clock::now();
 
-  // Operators at the new positions (Eqs. 27-34), as build_operators makes them.
+  // The solvers (solver_policy.hpp): made by the constructor's rebuild, at the lattice points, so that
+  // the matrices there are the lattice reference of an FFT preconditioner; refactorised every step.
   t0 = Profile::Clock::now();
-  assembly_.assemble(pairs_, im_, lat_.size(), W_, lat_.volume, op_);
-  operators_changed();
-  const SpMat A_cn = crank_nicolson_matrix();
-  // Poisson (Eq. 32) as the symmetric semi-definite -lap phi = -(rho/dt) div u*, its gauge pinned
-  // in place (the zeros stay in the pattern, so that the pattern is the pair list's).
-  const SpMat A_phi = -op_.lap_phi;
-  s.assembly = seconds_since(t0);
-
-  // Factorisations (solver_policy.hpp): the symbolic analysis is kept while the pattern stays the same.
-  t0 = Profile::Clock::now();
-  if (!cn_) cn_ = crank_nicolson_solver(A_cn, op_.lap_u.A, a_cn(), prm_.cn_solver, nullptr, Refactor::EveryStep);
-  else n_reused_cn_ += cn_->refactorize(A_cn);
+  if (!cn_) {
+    if (x_star_ != lat_.x) throw std::logic_error("LPSPH: the solvers are made at the lattice points");
+    cn_ = crank_nicolson_solver(A_cn_, op_.lap_u.A, a_cn(), prm_.cn_solver, nullptr, Refactor::EveryStep, {&lat_, &A_cn_});
+  } else {
+    n_reused_cn_ += cn_->refactorize_in_place(A_cn_);  // kept until the next rebuild
+  }
   s.factorisation_cn = seconds_since(t0);
   t0 = Profile::Clock::now();
   if (!poisson_) {
-    SystemSolver p = singular_solver("Poisson", A_phi, gauge_, prm_.poisson_solver, nullptr, Refactor::EveryStep);
+    SystemSolver p = singular_solver("Poisson", A_phi_, gauge_, prm_.poisson_solver, nullptr, Refactor::EveryStep, {&lat_, &A_phi_});
     poisson_ = std::move(p.solver);
     poisson_unpinned_ = p.unpinned;
   } else {
-    n_reused_poisson_ += poisson_->refactorize(gauge_.pinned(A_phi, false));
+    if (poisson_unpinned_) n_reused_poisson_ += poisson_->refactorize_in_place(A_phi_);
+    else n_reused_poisson_ += poisson_->refactorize(gauge_.pinned(A_phi_, false));
     ++n_refactor_;
   }
   s.factorisation_poisson = seconds_since(t0);
   return s;
+}
+
+double LagrangianFluid::neighbours_per_particle() const {
+  long n = 0;
+  for (int i = 0; i < size(); ++i) n += neighbours_within(i);
+  return static_cast<double>(n) / size();
+}
+
+int LagrangianFluid::neighbours_within(int i) const {
+  int n = 0;
+  for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k) n += pairs_.r[k] < verlet_.reach();
+  return n;
 }
 
 void LagrangianFluid::wrap_into_domain(Mat2& X, double t) const {
@@ -131,7 +173,7 @@ void LagrangianFluid::set_positions(const Mat2& x) {
   x_ = x;
   wrap_into_domain(x_, t_);
   x_star_ = x_;
-  rebuild(t_);
+  rebuild(t_, true);
   ++revision_;
 }
 
@@ -209,20 +251,25 @@ void LagrangianFluid::onto_lattice() {
 void LagrangianFluid::reinitialise() {
   onto_lattice();
   x_star_ = x_;
-  rebuild(t_);
+  rebuild(t_, true);
   ++revision_;
 }
 
 std::vector<std::string> LagrangianFluid::describe() const {
   std::ostringstream m;
   const int N = size();
-  m << "LPSPH: " << lat_.nx << " x " << lat_.ny << " = " << N << " moving particles (Eq. 37), " << im_.size()
-    << " images now, h = " << W_.h << " (" << prm_.h_over_dx << " (dx+dy)/2), "
-    << static_cast<double>(pairs_.size()) / N
+  m << "LPSPH: " << lat_.nx << " x " << lat_.ny << " = " << N << " moving particles (Eq. 37), "
+    << verlet_.images_within_reach(im_, x_star_) << " images now, h = " << W_.h << " (" << prm_.h_over_dx
+    << " (dx+dy)/2), " << neighbours_per_particle()
     << " neighbours per particle now; convection carried by the particle motion (no convection term); "
-       "neighbours (cell list), images, operators and factorisations rebuilt every step at the predicted "
-       "positions x* = x^n + dt u^n";
+       "images, pairs, operators and systems rebuilt every step at the predicted positions x* = x^n + dt u^n";
   std::vector<std::string> lines{m.str()};
+  std::ostringstream v;
+  v << "LPSPH: pairs from a Verlet list (fluid/neighbours.hpp): candidates within 2h + skin, skin = "
+    << verlet_.skin() << " (" << verlet_.skin() / W_.support() << " 2h), "
+    << static_cast<double>(pairs_.size()) / N << " per particle now; built (cell list, new pattern) "
+    << verlet_.builds() << " times, moved " << verlet_.updates() << " times";
+  lines.push_back(v.str());
   std::ostringstream r;
   r << "LPSPH: reinitialisation onto the lattice (Eq. 61) ";
   if (prm_.lagrangian.reinit_every > 0)
@@ -232,26 +279,43 @@ std::vector<std::string> LagrangianFluid::describe() const {
   r << "; breakdown when a kernel sum falls below " << prm_.lagrangian.min_kernel_sum << " (lowest so far "
     << S_low_ << ", now " << S_.minCoeff() << ")";
   lines.push_back(r.str());
-  std::ostringstream s;
-  s << "LPSPH: symbolic analysis reused in " << n_reused_cn_ << " of " << n_refactor_
-    << " steps (Crank-Nicolson) and " << n_reused_poisson_ << " of " << n_refactor_
-    << " (Poisson): the sparsity pattern is unchanged while no pair enters or leaves 2h";
-  lines.push_back(s.str());
-  for (const auto& si : solver_info()) lines.push_back(si.describe() + " (the latest refactorisation)");
+  for (const auto& [name, sv] : {std::pair<const char*, const LinearSolver*>{"Crank-Nicolson", cn_.get()},
+                                {"Poisson", poisson_.get()}}) {
+    std::ostringstream s;
+    s << "LPSPH: " << name << ": " << n_refactor_ << " new matrices; ";
+    if (sv->mean_iterations() > 0) {
+      s << sv->mean_iterations() << " iterations per solve";
+      if (sv->preconditioner_factorisations() > 0)
+        s << ", preconditioner factorised " << sv->preconditioner_factorisations() << " times (analysis kept in "
+          << sv->preconditioner_analyses_kept() << ")";
+      else if (sv->info().nnz_factor == 0 && sv->info().method.rfind("CG preconditioned", 0) == 0)
+        s << ", no factorisation (the lattice's preconditioner throughout)";
+    } else {
+      s << "refactorised every step, symbolic analysis kept in "
+        << (std::string(name) == "Poisson" ? n_reused_poisson_ : n_reused_cn_) << " (while the pattern stays)";
+    }
+    lines.push_back(s.str());
+  }
+  for (const auto& si : solver_info()) lines.push_back(si.describe());
   return lines;
 }
 
 std::vector<std::pair<std::string, double>> LagrangianFluid::figures() const {
   std::vector<std::pair<std::string, double>> f{
-      {"images", im_.size()},
-      {"neighbours_per_particle", static_cast<double>(pairs_.size()) / size()},
+      {"images", verlet_.images_within_reach(im_, x_star_)},
+      {"neighbours_per_particle", neighbours_per_particle()},
       {"kernel_sum_min", S_.minCoeff()},
       {"kernel_sum_lowest", S_low_},
       {"refactorised_steps", static_cast<double>(n_refactor_)},
       {"symbolic_reused_steps_crank_nicolson", static_cast<double>(n_reused_cn_)},
       {"symbolic_reused_steps_poisson", static_cast<double>(n_reused_poisson_)},
-      {"reinitialisations", static_cast<double>(n_reinit_)}};
+      {"reinitialisations", static_cast<double>(n_reinit_)},
+      {"verlet_builds", static_cast<double>(verlet_.builds())}};
   if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
+  if (poisson_->mean_iterations() > 0) f.emplace_back("poisson_cg_iterations", poisson_->mean_iterations());
+  for (const auto& [name, s] : {std::pair<const char*, const LinearSolver*>{"crank_nicolson", cn_.get()}, {"poisson", poisson_.get()}})
+    if (s->preconditioner_factorisations() > 0)
+      f.emplace_back(std::string(name) + "_preconditioner_factorisations", static_cast<double>(s->preconditioner_factorisations()));
   return f;
 }
 
@@ -267,7 +331,7 @@ void LagrangianFluid::extra_state(NamedArrays& st) const {
 void LagrangianFluid::restore_extra(const NamedArrays& st) {
   x_ = state_entry(st, "x", size(), 2);
   x_star_ = x_;
-  rebuild(t_);  // the next step rebuilds at its own x* before using anything
+  rebuild(t_, true);  // the next step rebuilds at its own x* before using anything
   const Eigen::MatrixXd& c = state_entry(st, "lagrangian_counters", 1, 5);
   S_low_ = c(0, 0);
   n_refactor_ = static_cast<long>(c(0, 1));

@@ -53,6 +53,8 @@ class LagrangianFluid final : public ProjectionFluid {
   bool particles_move() const override { return true; }
   const Mat2& x() const override { return x_; }  // x^n
   // images(), pairs(), operators() (the core's): at x* of the last step (x^n before any step)
+  double neighbours_per_particle() const;  // within 2h
+  const VerletList& verlet() const { return verlet_; }
   const Vec& kernel_sums() const { return S_; }  // S_i = sum_j V W_ij at x*, images and j = i included
   double lowest_kernel_sum() const { return S_low_; }  // over the run so far
 
@@ -73,13 +75,18 @@ class LagrangianFluid final : public ProjectionFluid {
   void extra_state(NamedArrays& st) const override;  // positions and counters
   void restore_extra(const NamedArrays& st) override;
   // Images, pairs, kernel sums (breakdown at time t), operators, factorisations at x_star_.
-  RebuildSeconds rebuild(double t);
+  RebuildSeconds rebuild(double t, bool jump = false);  // jump: the positions did not move by a step
   void check_kernel_sums(double t);
+  bool geometry(bool jump, bool sums, RebuildSeconds* s);
+  int neighbours_within(int i) const;  // of particle i, closer than 2h
   void wrap_into_domain(Mat2& x, double t) const;  // periodic wrap; a particle beyond a wall throws
   void onto_lattice();       // Eq. (61): fields to the lattice points, x_ = lattice
 
   Mat2 x_, x_star_;  // x^n, and the step's predicted positions x* (images, pairs, operators)
+  VerletList verlet_;
   ParticleOperators assembly_;
+  SpMat A_cn_, A_phi_;  // the two systems of the step (Eqs. 28, 32), kept: values only while the pattern stays
+  Mat2 x_star_good_;  // the last x* whose kernel sums passed (a breakdown puts the geometry back there)
   Vec S_;
   double S_low_ = 1.0;
   long n_refactor_ = 0, n_reused_cn_ = 0, n_reused_poisson_ = 0, n_reinit_ = 0;

@@ -3,6 +3,7 @@
 // Contract: a LinearSolver is built from a matrix (analysed and factorised there, once), then
 // solve(B, X, k) solves A X = B for k right-hand sides without allocating after the first call.
 // CHOLMOD takes symmetric positive definite systems, UMFPACK any other.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -11,8 +12,10 @@
 namespace sphib {
 
 // Fft: the periodic-lattice Poisson solver of fluid/fft_poisson.hpp (EPSPH only; built there, not by
-// factorize()).
-enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack, Pcg, Fft };
+// factorize()). PcgCholmod, PcgFft: conjugate gradients for a matrix that changes every step (moving
+// particles), preconditioned by a CHOLMOD factorisation of an earlier step's matrix or by the FFT
+// solver of the fixed lattice (lagged_pcg below; made by fluid/solver_policy.hpp, not by factorize()).
+enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack, Pcg, Fft, PcgCholmod, PcgFft };
 
 struct SolverInfo {
   std::string system;   // which system ("Crank-Nicolson", "Poisson")
@@ -34,13 +37,21 @@ class LinearSolver {
   virtual void solve(const double* B, double* X, int k) = 0;
   const SolverInfo& info() const { return info_; }
   virtual double mean_iterations() const { return 0.0; }  // iterative solvers: per solve so far
+  // Preconditioned iterations (lagged_pcg): numeric factorisations of the preconditioner since the
+  // solver was made, and of them those that kept the symbolic analysis. 0 for the others.
+  virtual long preconditioner_factorisations() const { return 0; }
+  virtual long preconditioner_analyses_kept() const { return 0; }
   // A new matrix of the same size and kind (LPSPH: every step). The symbolic analysis (ordering,
   // elimination tree, supernodes) is kept when A has the sparsity pattern of the analysed matrix,
   // then only the numeric factorisation is redone; returns whether it was kept (always true for an
   // iterative solver, which has none). Failures throw as factorize() does.
   virtual bool refactorize(const SpMat& A) = 0;
+  // refactorize(A) for a caller that keeps A alive and unchanged until the next refactorisation (or
+  // the solver's end): an iterative solver then reads A where it is instead of copying it (moving
+  // particles assemble their matrices in place every step). Direct solvers copy as refactorize().
+  virtual bool refactorize_in_place(const SpMat& A) { return refactorize(A); }
   // Appends a note to the method (e.g. why it was chosen) and the set-up time of the others.
-  void annotate(const std::string& note, double extra_factor_seconds) {
+  virtual void annotate(const std::string& note, double extra_factor_seconds) {
     info_.method += note;
     info_.factor_seconds += extra_factor_seconds;
   }
@@ -63,5 +74,37 @@ std::unique_ptr<LinearSolver> cholmod_by_factor_size(const std::string& system, 
                                                      const std::string& rule);
 
 bool is_symmetric(const SpMat& A, double rel_tol = 1e-12);
+
+// ---- Conjugate gradients for a matrix that changes every step (moving particles: LPSPH, ISPH) ----
+// refactorize(A) only takes the new matrix (its values, when the pattern is unchanged); solve() runs
+// CG on it, warm-started from X, preconditioned by a solver M of a nearby matrix, to
+// |b - A x| <= rtol |b| per column:
+//   the `start` solver, if given (the FFT solver of the fixed lattice: particles near their lattice
+//     points make A close to the lattice's matrix), else a factorisation of A itself;
+//   a solve that needs more than `refresh_iterations` iterations (the matrix has drifted from M's)
+//     refreshes M: a new factorisation of the current A by `factorise` for the next solves (the same
+//     CHOLMOD object refactorised, its symbolic analysis kept while A's pattern stays).
+// Singular A (symmetric semi-definite, right-hand sides orthogonal to its null space): `null`
+// removes the null components of the preconditioned residual, and a factorisation is of the
+// definite matrix `null.definite(A)` with the right-hand side `null.pin_rhs(r)` (the gauge's pins,
+// fluid/gauge.hpp); the `start` solver takes the singular operator itself. The solution is then
+// unique up to the null space (the caller fixes it).
+struct NullSpaceHooks {
+  std::function<void(double*)> project;             // v minus its null components
+  std::function<SpMat(const SpMat&)> definite;     // the matrix to factorise (pins: identity rows)
+  std::function<void(double*)> pin_rhs;            // its right-hand side (zero at the pins)
+  bool singular() const { return static_cast<bool>(project); }
+};
+
+struct LaggedPcgOptions {
+  double rtol = 1e-13;
+  int max_iter = 500;
+  int refresh_iterations = 8;
+};
+
+using Factorise = std::function<std::unique_ptr<LinearSolver>(const std::string& system, const SpMat& A)>;
+
+std::unique_ptr<LinearSolver> lagged_pcg(const std::string& system, const SpMat& A, std::unique_ptr<LinearSolver> start,
+                                         Factorise factorise, NullSpaceHooks null, LaggedPcgOptions opt);
 
 }  // namespace sphib

@@ -182,4 +182,127 @@ void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double supp
   }
 }
 
+VerletList::VerletList(const Domain& d, double reach, double skin_min, double skin_max)
+    : d_(d), reach_(reach), skin_min_(std::max(0.0, skin_min)), skin_max_(std::max(skin_min_, skin_max)) {
+  // Room for the skin: minimum image needs reach + skin <= half a period, one image layer per wall
+  // needs 2 (reach + skin) <= the distance between opposite walls (make_images).
+  for (double L : {d.Lx(), d.Ly()}) skin_max_ = std::min(skin_max_, std::max(0.0, 0.5 * L - reach));
+  skin_min_ = std::min(skin_min_, skin_max_);
+  skin_ = skin_min_;
+}
+
+bool VerletList::update(const Mat2& x, Images& im, PairList& P, bool force) {
+  const bool first = builds_ == 0 || x.rows() != x_build_.rows();
+  double spread = 0;
+  if (!force && !first && !needs_build(x, spread)) {
+    move(x, im, P);
+    ++updates_;
+    ++since_build_;
+    return false;
+  }
+  // The next skin from the relative speed since the last build, v = spread / steps (not after a
+  // forced build: a jump of the positions is no speed): the skin that balances a build against the
+  // steps' extra candidates, sqrt(kBuildCost v reach) (see the header).
+  if (!force && !first) {
+    const double v = spread / (since_build_ + 1);
+    skin_ = std::clamp(std::sqrt(kBuildCost * v * reach_), skin_min_, skin_max_);
+  }
+  build(x, im, P);
+  since_build_ = 0;
+  return true;
+}
+
+// The walls (bits 1 << Side) within `range` of a particle at (x, y), and bit 16 for a corner, as
+// make_images decides which images it makes.
+int VerletList::walls_near(double x, double y, double range) const {
+  int xw = 0, yw = 0;
+  if (!d_.periodic_x) xw = x - d_.x0 < range ? 1 << Left : (d_.x1 - x < range ? 1 << Right : 0);
+  if (!d_.periodic_y) yw = y - d_.y0 < range ? 1 << Bottom : (d_.y1 - y < range ? 1 << Top : 0);
+  return xw | yw | (xw && yw ? 16 : 0);
+}
+
+// A pair (i, j) changes its distance by at most |d_i - d_j|, d the displacements since the build
+// (an image's is its parent's, mirrored); a pair that was not a candidate (farther than reach + skin)
+// is closer than reach now only if |d_i - d_j| > skin. The diagonal of the box around all the d
+// bounds every |d_i - d_j|: a uniform translation does not build, a shear once the layers have slid
+// by the skin (less a margin for the rounding of r). And a particle now within reach of a wall it
+// has no image across (it came from farther than reach + skin) needs one.
+bool VerletList::needs_build(const Mat2& x, double& spread) const {
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  auto add = [&](double dx, double dy) {
+    lo[0] = std::min(lo[0], dx); hi[0] = std::max(hi[0], dx);
+    lo[1] = std::min(lo[1], dy); hi[1] = std::max(hi[1], dy);
+  };
+  const int N = static_cast<int>(x.rows());
+  bool image_missing = false;
+  for (int i = 0; i < N; ++i) {
+    const int has = walls_[i];
+    image_missing = image_missing || (walls_near(x(i, 0), x(i, 1), reach_) & ~has);
+    double dx = x(i, 0) - x_build_(i, 0), dy = x(i, 1) - x_build_(i, 1);
+    if (d_.periodic_x) dx -= d_.Lx() * std::round(dx / d_.Lx());  // minimum image
+    if (d_.periodic_y) dy -= d_.Ly() * std::round(dy / d_.Ly());
+    if (i == 0) lo[0] = hi[0] = dx, lo[1] = hi[1] = dy;
+    add(dx, dy);
+    if (has & (1 << Left | 1 << Right)) add(-dx, dy);  // the image across x = const
+    if (has & (1 << Bottom | 1 << Top)) add(dx, -dy);  // across y = const
+    if (has & 16) add(-dx, -dy);                       // the corner image
+  }
+  spread = std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+  return image_missing || spread >= skin_ - 1e-9 * (reach_ + skin_);
+}
+
+int VerletList::images_within_reach(const Images& im, const Mat2& x) const {
+  int n = 0;
+  for (int m = 0; m < im.size(); ++m) {
+    const int p = im.parent[m], w = im.wall[m];
+    n += (walls_near(x(p, 0), x(p, 1), reach_) & (w < 0 ? 16 : 1 << w)) != 0;
+  }
+  return n;
+}
+
+void VerletList::build(const Mat2& x, Images& im, PairList& P) {
+  const double range = reach_ + skin_;
+  im = make_images(d_, x, range);
+  find_pairs(d_, x, im.x, range, P);
+  x_build_ = x;
+  walls_.resize(x.rows());
+  for (int i = 0; i < x.rows(); ++i) walls_[i] = walls_near(x(i, 0), x(i, 1), range);
+  const int M = im.size();
+  mx_.assign(M, 0);
+  my_.assign(M, 0);
+  for (int m = 0; m < M; ++m) {
+    const int w = im.wall[m];  // a corner image (-1) is mirrored across both walls it lies beyond
+    if (w == Left || w == Right || w < 0) mx_[m] = im.x(m, 0) < d_.x0 ? -1 : 1;
+    if (w == Bottom || w == Top || w < 0) my_[m] = im.x(m, 1) < d_.y0 ? -1 : 1;
+  }
+  ++builds_;
+}
+
+void VerletList::move(const Mat2& x, Images& im, PairList& P) const {
+  const int N = static_cast<int>(x.rows()), M = im.size();
+  for (int m = 0; m < M; ++m) {  // the mirror images of the parents (boundary.hpp), 2 w - x
+    const int p = im.parent[m];
+    im.x(m, 0) = mx_[m] ? 2.0 * (mx_[m] < 0 ? d_.x0 : d_.x1) - x(p, 0) : x(p, 0);
+    im.x(m, 1) = my_[m] ? 2.0 * (my_[m] < 0 ? d_.y0 : d_.y1) - x(p, 1) : x(p, 1);
+  }
+  // x_i - x_j by minimum image, computed as the cell list does (fluid/neighbours.hpp: the query
+  // shifted by a whole period, then the difference), so that the bits are a fresh search's.
+  const double Lx = d_.x1 - d_.x0, Ly = d_.y1 - d_.y0;
+  const bool px = d_.periodic_x, py = d_.periodic_y;
+  const double *x0 = x.data(), *x1 = x.data() + N, *i0 = im.x.data(), *i1 = im.x.data() + M;
+  for (int i = 0; i < N; ++i) {
+    const double qx = x0[i], qy = x1[i];
+    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+      const int j = P.j[k];
+      const double xj = j < N ? x0[j] : i0[j - N], yj = j < N ? x1[j] : i1[j - N];
+      double dx = qx - xj, dy = qy - yj;
+      if (px && std::fabs(dx) > 0.5 * Lx) dx = (dx > 0 ? qx - Lx : qx + Lx) - xj;
+      if (py && std::fabs(dy) > 0.5 * Ly) dy = (dy > 0 ? qy - Ly : qy + Ly) - yj;
+      P.rx[k] = dx;
+      P.ry[k] = dy;
+      P.r[k] = std::sqrt(dx * dx + dy * dy);
+    }
+  }
+}
+
 }  // namespace sphib

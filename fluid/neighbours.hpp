@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "fluid/boundary.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/types.hpp"
 
@@ -149,5 +150,57 @@ PairList find_pairs(const Lattice& lattice, const Mat2& image_x, double support)
 // The same for arbitrary particle positions x (N x 2) in the domain: the moving particles of LPSPH,
 // searched again every step (cell list, O(N)). `out` is overwritten, reusing its storage.
 void find_pairs(const Domain& domain, const Mat2& x, const Mat2& image_x, double support, PairList& out);
+
+// The neighbours of moving particles kept between steps (a Verlet list; LPSPH, ISPH). A build makes
+// the images of every particle within reach + skin of a wall (make_images) and the candidate pairs
+// within reach + skin (find_pairs, cell list). Until the next build, update() only moves them: image
+// positions mirrored from their parents, x_i - x_j and r of every candidate again, bit for bit as a
+// fresh find_pairs computes them (the same periodic shift by minimum image). The candidates contain
+// every pair closer than `reach` as long as no two points (particles or images: an image moves as its
+// parent, mirrored) have moved relative to each other by more than the skin since the build:
+// update() builds again when the box around all the displacements has a diagonal of the skin (less
+// a margin for rounding), or when a particle has come within reach of a wall it has no image
+// across. Candidates farther than reach stay in the list (the caller's coefficients are zero
+// there), so that a pattern made from the list stays the same between builds.
+class VerletList {
+ public:
+  // The skin lies in [skin_min, skin_max] (reduced where a periodic period or the walls leave less
+  // room: reach + skin <= half a period, 2 (reach + skin) <= the distance between opposite walls;
+  // 0: a build every step). It starts at skin_min and is chosen again at every build from the
+  // relative speed v of the particles since the last one (the box diagonal over the steps):
+  // skin = sqrt(kBuildCost v reach), which minimises (builds per step) x (a build's cost) + (extra
+  // candidates per step) x (their cost) when a build costs about kBuildCost / 2 steps' worth of the
+  // candidates within reach (see kBuildCost). skin_min = skin_max: a fixed skin.
+  VerletList(const Domain& d, double reach, double skin_min, double skin_max);
+  VerletList(const Domain& d, double reach, double skin) : VerletList(d, reach, skin, skin) {}
+
+  // The particles at x (N x 2, in the domain: wrapped along periodic axes): the images im and the
+  // candidate pairs P (rx, ry, r) moved there, or built again (force: always); returns whether it
+  // built. im and P are the list's state, kept by the caller (a fluid's own members, no copies):
+  // pass the same objects every time, unchanged in between.
+  bool update(const Mat2& x, Images& im, PairList& P, bool force = false);
+
+  // Of the images im (the list's, at x), those that make_images(x, reach) makes: within reach.
+  int images_within_reach(const Images& im, const Mat2& x) const;
+  double reach() const { return reach_; }
+  double skin() const { return skin_; }
+  long builds() const { return builds_; }
+  long updates() const { return updates_; }
+
+ private:
+  void build(const Mat2& x, Images& im, PairList& P);
+  void move(const Mat2& x, Images& im, PairList& P) const;
+  bool needs_build(const Mat2& x, double& spread) const;  // spread: the diagonal of the displacement box
+  int walls_near(double x, double y, double range) const;
+
+  Domain d_;
+  static constexpr double kBuildCost = 2.0;  // measured insensitive: fluid/lagrangian.cpp
+  double reach_, skin_min_, skin_max_, skin_;
+  long since_build_ = 0;  // moves since the last build
+  Mat2 x_build_;
+  std::vector<int> walls_;            // per particle: the walls it has images across (walls_near)
+  std::vector<signed char> mx_, my_;  // per image: mirrored across x = x0 (-1), x1 (+1), or not (0); y alike
+  long builds_ = 0, updates_ = 0;
+};
 
 }  // namespace sphib

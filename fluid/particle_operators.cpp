@@ -4,25 +4,153 @@
 
 namespace sphib {
 
-void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
-                                 Operators& op) {
-  make_pattern(P, im, N);
-  const int K = P.size();
-  lap_.resize(K);
-  gx_.resize(K);
-  gy_.resize(K);
-  for (int k = 0; k < K; ++k) {
-    const double F = W.F(P.r[k]);  // (1/r) dW/dr
-    lap_[k] = 2.0 * V * F;         // Eqs. (28), (31): 2 m (mu_i+mu_j)/(rho_i+rho_j)^2 -> 2 V per unit nu
-    gx_[k] = V * P.rx[k] * F;      // Eqs. (27), (30): V (x_i - x_j) F_ij
-    gy_[k] = V * P.ry[k] * F;
+// The value arrays a step writes: the six operators' A (same pattern), the three B, the systems.
+struct ParticleOperators::Values {
+  double *lu, *gxu, *gyu, *lp, *gxp, *gyp;  // lap_u.A, grad_ux.A, grad_uy.A, lap_phi, grad_phix, grad_phiy
+  double *lb, *gxb, *gyb;                   // lap_u.B, grad_ux.B, grad_uy.B
+  double *cn, *ph;                          // I - a lap_u (Eq. 28), -lap_phi (Eq. 32); null: not asked for
+  double na;                                // -a
+  double* S;                                // kernel sums (null: not asked for); V, W(0)
+  double V, w_0;
+};
+
+namespace {
+
+
+// The pair terms of one pair: Laplacian (Eqs. 28, 31) 2 V F_ij on f_i - f_j; gradient (Eqs. 27, 30)
+// V (x_i - x_j) F_ij on f_i + f_j. Zero beyond the reach (a Verlet candidate beyond 2h).
+struct PairTerms {
+  double lap = 0, gx = 0, gy = 0, w = 0;  // w = W_ij (for the kernel sum)
+  bool active = false;                    // closer than the reach
+  PairTerms(const PairList& P, int k, const KernelWF& W, double V, double reach) {
+    if (P.r[k] < reach) {
+      active = true;
+      const double F = W.F(P.r[k], &w);  // (1/r) dW/dr
+      lap = 2.0 * V * F;
+      gx = V * P.rx[k] * F;
+      gy = V * P.ry[k] * F;
+    }
   }
-  scatter(P, im, N, ImageRule::Velocity, lap_, true, op.lap_u.A, &op.lap_u.B);
-  scatter(P, im, N, ImageRule::Velocity, gx_, false, op.grad_ux.A, &op.grad_ux.B);
-  scatter(P, im, N, ImageRule::Velocity, gy_, false, op.grad_uy.A, &op.grad_uy.B);
-  scatter(P, im, N, ImageRule::Scalar, lap_, true, op.lap_phi, nullptr);
-  scatter(P, im, N, ImageRule::Scalar, gx_, false, op.grad_phix, nullptr);
-  scatter(P, im, N, ImageRule::Scalar, gy_, false, op.grad_phiy, nullptr);
+};
+
+}  // namespace
+
+void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
+                                 double reach, bool new_pattern, Operators& op, const Systems& sys,
+                                 double* kernel_sums) {
+  if (new_pattern || static_cast<int>(diag_.size()) != N) {
+    make_pattern(P, im, N);
+    shape(op, N, im.size(), sys);
+  }
+  Values v{op.lap_u.A.valuePtr(), op.grad_ux.A.valuePtr(), op.grad_uy.A.valuePtr(),
+           op.lap_phi.valuePtr(), op.grad_phix.valuePtr(), op.grad_phiy.valuePtr(),
+           op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
+           sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn,
+           kernel_sums, V, W.W(0.0)};
+  const KernelWF Wl(W);
+  // One pass over the pairs: each pair's terms into every operator, in the order of the separate
+  // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
+  // its bits; an image j carries f_j = sign f_parent + c_j (velocity; sign +1 for phi).
+  int b = 0;  // B's entries are the image pairs, in order
+  for (int i = 0; i < N; ++i) {
+    if (!row_images_[i]) {
+      if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
+      else row_plain<false>(P, i, Wl, V, reach, v);
+    } else {
+      row_with_images(P, im, i, N, Wl, V, reach, v, b);
+    }
+  }
+}
+
+// A row without images has one pair per column: each entry is written once, the diagonal summed in
+// registers.
+template <bool kSystems>
+void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
+                                  const Values& v) const {
+  double dl = 0, dgx = 0, dgy = 0, sw = v.w_0;  // sw: W(0) + sum_j W_ij, in pair order
+  for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+    const PairTerms t(P, k, W, V, reach);
+    if (t.active) sw += t.w;
+    const int s = slot_[k];
+    const double l = t.active ? -1.0 * t.lap : 0.0;
+    dl += t.lap;
+    dgx += t.gx;
+    dgy += t.gy;
+    v.lu[s] = v.lp[s] = l;
+    v.gxu[s] = v.gxp[s] = t.gx;
+    v.gyu[s] = v.gyp[s] = t.gy;
+    if (kSystems) {
+      v.cn[s] = v.na * l;  // as crank_nicolson_matrix(): -a lap, then + 1 on the diagonal
+      v.ph[s] = -l;
+    }
+  }
+  const int d = diag_[i];
+  v.lu[d] = v.lp[d] = dl;
+  v.gxu[d] = v.gxp[d] = dgx;
+  v.gyu[d] = v.gyp[d] = dgy;
+  if (kSystems) {
+    v.cn[d] = v.na * dl + 1.0;
+    v.ph[d] = -dl;
+  }
+  if (v.S) v.S[i] = v.V * sw;
+}
+
+// A row with images may meet a column twice (a neighbour and an image's parent, or i and its own
+// image): zeroed, then summed in place.
+void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W,
+                                        double V, double reach, const Values& v, int& b) const {
+  const int d = diag_[i], o0 = outer_[i], o1 = outer_[i + 1];
+  for (double* a : {v.lu, v.gxu, v.gyu, v.lp, v.gxp, v.gyp}) std::fill(a + o0, a + o1, 0.0);
+  double sw = v.w_0;
+  for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+    const int j = P.j[k];
+    const bool image = j >= N;
+    const PairTerms t(P, k, W, V, reach);
+    if (t.active) {
+      sw += t.w;
+      const int s = slot_[k];
+      const double sign = image ? im.v_sign[j - N] : 1.0;
+      v.lu[d] += t.lap;
+      v.lu[s] += -1.0 * sign * t.lap;
+      v.gxu[d] += t.gx;
+      v.gxu[s] += 1.0 * sign * t.gx;
+      v.gyu[d] += t.gy;
+      v.gyu[s] += 1.0 * sign * t.gy;
+      v.lp[d] += t.lap;
+      v.lp[s] += -1.0 * t.lap;
+      v.gxp[d] += t.gx;
+      v.gxp[s] += 1.0 * t.gx;
+      v.gyp[d] += t.gy;
+      v.gyp[s] += 1.0 * t.gy;
+    }
+    if (image) {
+      v.lb[b] = t.active ? -1.0 * t.lap : 0.0;
+      v.gxb[b] = t.gx;
+      v.gyb[b] = t.gy;
+      ++b;
+    }
+  }
+  for (int k = o0; k < o1; ++k) {  // the systems, as crank_nicolson_matrix() and -lap_phi make them
+    if (v.cn) v.cn[k] = v.na * v.lu[k];
+    if (v.ph) v.ph[k] = -v.lp[k];
+  }
+  if (v.cn) v.cn[d] += 1.0;
+  if (v.S) v.S[i] = v.V * sw;
+}
+
+void ParticleOperators::shape(Operators& op, int N, int M, const Systems& sys) const {
+  auto set = [](SpMat& S, int rows, int cols, const std::vector<int>& outer, const std::vector<int>& inner) {
+    S.resize(rows, cols);  // compressed and empty
+    S.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+    std::copy(outer.begin(), outer.end(), S.outerIndexPtr());
+    std::copy(inner.begin(), inner.end(), S.innerIndexPtr());
+    std::fill(S.valuePtr(), S.valuePtr() + inner.size(), 0.0);
+  };
+  for (SpMat* S : {&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A, &op.lap_phi, &op.grad_phix, &op.grad_phiy})
+    set(*S, N, N, outer_, inner_);
+  for (SpMat* S : {sys.A_cn, sys.A_phi})
+    if (S) set(*S, N, N, outer_, inner_);
+  for (SpMat* S : {&op.lap_u.B, &op.grad_ux.B, &op.grad_uy.B}) set(*S, N, M, outer_b_, inner_b_);
 }
 
 void ParticleOperators::make_pattern(const PairList& P, const Images& im, int N) {
@@ -32,6 +160,7 @@ void ParticleOperators::make_pattern(const PairList& P, const Images& im, int N)
   inner_b_.clear();
   slot_.resize(P.size());
   diag_.resize(N);
+  row_images_.assign(N, 0);
   std::vector<int> cols;
   for (int i = 0; i < N; ++i) {
     cols.assign(1, i);  // the f_i part of every pair term
@@ -52,6 +181,7 @@ void ParticleOperators::make_pattern(const PairList& P, const Images& im, int N)
     inner_.insert(inner_.end(), cols.begin(), cols.end());
     outer_[i + 1] = begin + static_cast<int>(cols.size());
     outer_b_[i + 1] = outer_b_[i] + images;
+    row_images_[i] = images > 0;
     auto where = [&](int col) {
       return begin + static_cast<int>(std::lower_bound(cols.begin(), cols.end(), col) - cols.begin());
     };
@@ -61,38 +191,6 @@ void ParticleOperators::make_pattern(const PairList& P, const Images& im, int N)
       slot_[k] = where(j < N ? j : im.parent[j - N]);
     }
   }
-}
-
-void ParticleOperators::scatter(const PairList& P, const Images& im, int N, ImageRule rule,
-                                const std::vector<double>& a, bool difference, SpMat& A, SpMat* B) const {
-  const int M = im.size();
-  auto shape = [](SpMat& S, int rows, int cols, const std::vector<int>& outer, const std::vector<int>& inner) {
-    S.resize(rows, cols);  // compressed and empty
-    S.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-    std::copy(outer.begin(), outer.end(), S.outerIndexPtr());
-    std::copy(inner.begin(), inner.end(), S.innerIndexPtr());
-    std::fill(S.valuePtr(), S.valuePtr() + inner.size(), 0.0);
-  };
-  shape(A, N, N, outer_, inner_);
-  const bool velocity = rule == ImageRule::Velocity;
-  if (B) shape(*B, N, M, outer_b_, inner_b_);
-  double* va = A.valuePtr();
-  double* vb = B ? B->valuePtr() : nullptr;
-  const double s_ij = difference ? -1.0 : 1.0;  // f_i - f_j  or  f_i + f_j
-  int b = 0;                                    // B's entries are the image pairs, in order
-  for (int i = 0; i < N; ++i)
-    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
-      const int j = P.j[k];
-      va[diag_[i]] += a[k];  // the f_i part
-      if (j < N) {
-        va[slot_[k]] += s_ij * a[k];
-      } else {  // image: f_j = sign f_p + c_j
-        const double sign = velocity ? im.v_sign[j - N] : 1.0;
-        va[slot_[k]] += s_ij * sign * a[k];
-        if (vb) vb[b] = s_ij * a[k];
-        ++b;
-      }
-    }
 }
 
 }  // namespace sphib

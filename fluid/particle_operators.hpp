@@ -3,25 +3,74 @@
 // (LPSPH, ISPH), straight into compressed rows: one pattern from the pair list for every operator
 // (A: particle i, its neighbours and the parents of its image neighbours; B: i and its image
 // neighbours; explicit zeros kept, so that the fused products of products.hpp apply and a pattern
-// that does not change keeps the factorisations' symbolic analysis), then each operator's values by
-// scattering the pair terms into it. The values equal build_operators' for the same pairs.
+// that does not change keeps the factorisations' symbolic analysis), then the values of all six
+// operators in one pass over the pairs. The values equal build_operators' for the same pairs.
+//
+// With a Verlet list (neighbours.hpp) the pairs are candidates that may lie beyond the reach 2h; they
+// stay in the pattern with zero coefficients (the kernel vanishes there), so that the pattern is
+// made only when the list is built again and a step computes the values alone (no allocation).
 #include <vector>
 
 #include "fluid/operators.hpp"
 
 namespace sphib {
 
+// The kernel of Eq. (19) for a pass over pairs: W(r) and F(r) = (1/r) dW/dr together, bit for bit
+// CubicSplineKernel's W and F (kernel.hpp), from one q = r / h and with the factor w0 / h^2 computed
+// once: inside the kernel's branches the compiler may not hoist that division, and it was a third
+// of the assembly's time (perf, 64^2). Tested equal to W.W and W.F bit for bit
+// (tests/test_lagrangian.cpp).
+struct KernelWF {
+  double h, w0, c;  // c = w0 / (h h), as kernel.hpp computes it
+  explicit KernelWF(const CubicSplineKernel& W) : h(W.h), w0(W.w0), c(W.w0 / (W.h * W.h)) {}
+  double F(double r, double* w = nullptr) const {  // also W(r) into *w when asked
+    const double q = r / h;
+    if (q < 1.0) {
+      if (w) *w = w0 * (2.0 / 3.0 - q * q + 0.5 * q * q * q);
+      return c * (-2.0 + 1.5 * q);
+    }
+    if (q < 2.0) {
+      const double t = 2.0 - q;
+      if (w) *w = w0 * t * t * t / 6.0;
+      return -c * 0.5 * t * t / q;
+    }
+    if (w) *w = 0.0;
+    return 0.0;
+  }
+};
+
+// The two systems of a projection step, assembled with the operators when given (their pattern):
+// A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
+// (Eq. 32).
+struct ProjectionSystems {
+  double a_cn = 0;
+  SpMat* A_cn = nullptr;
+  SpMat* A_phi = nullptr;
+};
+
 class ParticleOperators {
  public:
-  // op at the particles of P (N of them, uniform volume V) and the images im.
-  void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, Operators& op);
+  using Systems = ProjectionSystems;
+  // op at the particles of P (N of them, uniform volume V) and the images im; pairs at r >= reach
+  // contribute zeros. `new_pattern`: P's pairs (or im) changed since the last call, else only their
+  // geometry did and op (and the systems) keep their pattern. `kernel_sums` (N, when given): the
+  // kernel sums S_i = V (W(0) + sum_j W_ij) over the same pairs (LPSPH's breakdown check, Section
+  // 5.2.2), summed in pair order.
+  void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
+                bool new_pattern, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr);
+  // The position of the diagonal entry of row i in the values of op's A matrices.
+  const std::vector<int>& diagonal() const { return diag_; }
 
  private:
+  struct Values;  // the value arrays a step writes (particle_operators.cpp)
   void make_pattern(const PairList& P, const Images& im, int N);
-  void scatter(const PairList& P, const Images& im, int N, ImageRule rule, const std::vector<double>& a,
-               bool difference, SpMat& A, SpMat* B) const;
+  void shape(Operators& op, int N, int M, const Systems& sys) const;
+  template <bool kSystems>
+  void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
+  void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
+                       double reach, const Values& v, int& b) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
-  std::vector<double> lap_, gx_, gy_;                                 // pair coefficients
+  std::vector<char> row_images_;                                      // row i has image pairs
 };
 
 }  // namespace sphib

@@ -16,6 +16,29 @@
 //     numeric factorisation dominates). Measured here (one core), ms simplicial / supernodal per
 //     factorisation: nnz(L) = 1.2e4: 0.45/0.93; 9.4e4: 4.4/8.5; 1.5e5: 10.3/9.9; 2.9e5: 24.3/19.5;
 //     5.9e5: 56.5/35.1; per solve: README, "Solvers, chosen automatically".
+//
+// Moving particles (Refactor::EveryStep: LPSPH, ISPH) change the matrices a little every step, and
+// refactorising them every step was 80% of an LPSPH step. There (solver.* = "pcg_fft" or
+// "pcg_cholmod" force one): conjugate gradients warm-started from the last solution(s) and
+// preconditioned by a solver of a nearby matrix (linear_solver.hpp, lagged_pcg), to
+// |r| <= 1e-14 |b| (as the Jacobi-PCG) or a backward error of 1e-14:
+//   pcg_fft      the FFT solver of the same system on the fixed lattice the particles started on
+//                (`near`; where make_fft_solver applies): no factorisation at all while the
+//                particles stay near their lattice points; should they drift far (a solve needing
+//                more than 8 iterations), the preconditioner becomes a lagged CHOLMOD factor;
+//   pcg_cholmod  a CHOLMOD factorisation of an earlier step's matrix, refactorised (symbolic analysis
+//                kept while the pattern stays) when a solve needs more than 8 iterations. Measured
+//                on a closed box (64^2 vortex, dt = 5e-4, Poisson): refreshing above 4 / 6 / 8 / 12 /
+//                16 iterations took 4.3 / 5.5 / 6.6 / 8.4 / 10.1 iterations per solve and 74 / 13 /
+//                5 / 2 / 2 factorisations in 200 steps; with a factorisation costing ~25
+//                iterations, 6-12 are equally cheap.
+//   auto, Crank-Nicolson: pcg_fft where it applies (Poiseuille 24^2, b = 0.13: 1.0 iterations per
+//     solve, 0.14 ms against Jacobi-PCG's 3.5 iterations, 0.26 ms); else Jacobi-PCG while the
+//     Gershgorin bound b <= 40 (closed box 64^2: b = 4.7: 17 iterations, 3.2 ms per step against
+//     pcg_cholmod's 4.5 iterations, 6.7 ms; b = 19: 37 iterations, 5.5 ms against 6.3, 7.7 ms;
+//     equal, by the sqrt(b) growth of the Jacobi iterations, near b = 40); else pcg_cholmod.
+//   auto, Poisson: pcg_fft where it applies, else pcg_cholmod; both take the singular operator
+//     itself (its gauge inside: linear_solver.hpp), so the system is unpinned.
 #include <memory>
 #include <string>
 
@@ -29,6 +52,13 @@ namespace sphib {
 // LinearSolver::refactorize, the symbolic analysis kept while the pattern stays).
 enum class Refactor { Once, EveryStep };
 
+// The fixed lattice the moving particles started on and the system's matrix there (the FFT
+// preconditioner's), or nothing.
+struct LatticeReference {
+  const Lattice* lattice = nullptr;
+  const SpMat* A = nullptr;
+};
+
 struct SystemSolver {
   std::unique_ptr<LinearSolver> solver;
   bool unpinned = false;  // it takes the singular operator itself: no pin in the right-hand side
@@ -37,11 +67,13 @@ struct SystemSolver {
 // The Crank-Nicolson matrix A = I - a lap. `fixed`: the lattice when the particles never move (the
 // FFT solver needs it), else nullptr. The solver's log line says what was chosen and why.
 std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
-                                                    const Lattice* fixed, Refactor refactor);
+                                                    const Lattice* fixed, Refactor refactor,
+                                                    const LatticeReference& near = {});
 
 // A symmetric positive semi-definite operator A whose null space is that of gauge g. With
-// Refactor::EveryStep the pinned matrix keeps A's pattern (refactorize with g.pinned(A, false)).
+// Refactor::EveryStep and a direct solver the pinned matrix keeps A's pattern (refactorize with
+// g.pinned(A, false)); an unpinned solver (FFT, the preconditioned CG) is refactorised with A itself.
 SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
-                             const Lattice* fixed, Refactor refactor);
+                             const Lattice* fixed, Refactor refactor, const LatticeReference& near = {});
 
 }  // namespace sphib

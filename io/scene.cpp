@@ -350,6 +350,8 @@ SolverKind solver_kind(const std::string& s) {
   if (s == "umfpack") return SolverKind::Umfpack;
   if (s == "pcg") return SolverKind::Pcg;
   if (s == "fft") return SolverKind::Fft;
+  if (s == "pcg_fft") return SolverKind::PcgFft;
+  if (s == "pcg_cholmod") return SolverKind::PcgCholmod;
   return SolverKind::Auto;
 }
 
@@ -535,12 +537,14 @@ void read_time_and_solvers(Reader& r, Scene& s) {
   std::vector<std::string> cn_kinds(kinds);
   cn_kinds.push_back("pcg");
   cn_kinds.push_back("fft");
+  for (const char* k : {"pcg_fft", "pcg_cholmod"}) cn_kinds.push_back(k);
   f.cn_solver = solver_kind(r.choice("solver.crank_nicolson", "auto", cn_kinds,
-                                     "Crank-Nicolson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor)"));
+                                     "Crank-Nicolson solver (auto, eulerian: fast transforms when the matrix has the lattice structure (every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else warm-started Jacobi-PCG when the Gershgorin bound nu dt max|lap_ii| <= 0.5, else CHOLMOD, simplicial or supernodal by the size of the factor; auto, moving particles (lagrangian): pcg_fft where the lattice has an FFT solver, else Jacobi-PCG when the bound is <= 40, else pcg_cholmod; pcg_fft, pcg_cholmod (moving particles only): CG warm-started and preconditioned by the FFT solver of the initial lattice, or by a CHOLMOD factor of an earlier step's matrix refactorised when a solve needs more than 8 iterations)"));
   std::vector<std::string> poisson_kinds(kinds);
   poisson_kinds.push_back("fft");
+  for (const char* k : {"pcg_fft", "pcg_cholmod"}) poisson_kinds.push_back(k);
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", poisson_kinds,
-                                          "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor)"));
+                                          "Poisson solver (auto, eulerian: fast transforms when the matrix has the lattice structure (every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor; auto, moving particles (lagrangian): pcg_fft where the lattice has an FFT solver, else pcg_cholmod; pcg_fft, pcg_cholmod as for solver.crank_nicolson, moving particles only)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = r.int32("solver.marker_max_iter", 50, 1, "fixed-point iteration limit");
   s.sim.markers.extrapolate =
