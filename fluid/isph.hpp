@@ -106,9 +106,10 @@ class IsphFluid final : public ProjectionFluid {
   void assemble(bool new_pattern);  // Morris factors, operators, systems, surface, Dirichlet rows
   void morris_factors();         // beta_ of every pair with a wall particle
   void add_mirror_divergence();  // A Eq. (26)'s sums: the wall's part
-  void surface_gradient();
-  void renormalised_gradient();
-  void wall_repulsion();
+  void clip_tension();           // p = max(p, 0) and u^{n+1} from it (see isph.cpp)
+  void surface_gradient();       // the renormalised gradient at surface particles (isph.cpp)
+  void wall_contact();           // no particle within half a spacing of a wall (see the header)
+  void wall_repulsion();         // Lennard-Jones force of the inner wall row on u* (isph.cpp)
   void find_wall_pairs();        // wall_pairs_ from pairs_
   void wall_pressure();          // p_w_ from phi_ (A Eq. 30 normalised, with the hydrostatic term)
   void make_solvers();
