@@ -27,7 +27,8 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   conv_wall_x_ = conv_wall_y_ = Mat2::Zero(N, 2);  // the wall values' terms, once
   add_image_terms(op_.grad_ux.B, gx_b_rows_, c_wall_, conv_wall_x_);
   add_image_terms(op_.grad_uy.B, gy_b_rows_, c_wall_, conv_wall_y_);
-  du_dx_ = du_dy_ = conv_old_ = Mat2::Zero(N, 2);
+  vel_images_ = ImageRows(vel_st_, N, {&op_.lap_u.B, &op_.grad_ux.B, &op_.grad_uy.B});
+  lap_star_ = conv_old_ = Mat2::Zero(N, 2);
   add_setup("assembly", seconds_since(t0));
 
   // Factorisations, once (fluid/solver_policy.hpp). The approximate projection's Poisson operator is
@@ -41,7 +42,6 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   else make_phi_solver();
   add_setup("factorisation", seconds_since(t0));
   k_psi_ = prof_.phase("stream function");
-  k_conv_ = prof_.phase("convection (Eqs. 39-41)");
   convective_ = prm_.convection;
 }
 
@@ -52,19 +52,33 @@ void EulerianFluid::make_phi_solver() const {
   poisson_unpinned_ = s.unpinned;
 }
 
-void EulerianFluid::convection() {
-  if (!prm_.convection) return;
-  ScopedTimer tm(prof_, k_conv_);
-  const int N = size();
-  // Eqs. (40)-(41): (u.grad)u_i = u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values);
-  // Eq. (39): AB2, 3/2 N^n - 1/2 N^{n-1} (first step: Euler, N^{-1} = N^0); conv_old_ keeps N^n.
-  gradient2(op_.grad_ux.A, op_.grad_uy.A, u_, du_dx_, du_dy_, vel_st_);  // one pass for the four derivatives
-  for (int c = 0; c < 2; ++c)
-    for (int i = 0; i < N; ++i) {
-      const double n = (du_dx_(i, c) + conv_wall_x_(i, c)) * u_(i, 0) + (du_dy_(i, c) + conv_wall_y_(i, c)) * u_(i, 1);
-      conv_(i, c) = 1.5 * n - 0.5 * (first_ ? n : conv_old_(i, c));
-      conv_old_(i, c) = n;
-    }
+void EulerianFluid::viscous_rhs(const Mat2& F) {
+  ScopedTimer tm(prof_, k_rhs_);
+  // Eq. (28) as in the core, with, when the flow is convective, Eqs. (40)-(41): (u.grad)u_i =
+  // u_i (d/dx)u + v_i (d/dy)u with images of u^n (wall values), and Eq. (39): AB2, 3/2 N^n -
+  // 1/2 N^{n-1} (first step: Euler, N^{-1} = N^0); conv_old_ keeps N^n. One pass over the velocity
+  // pattern for lap u^n and the four derivatives and the row-local arithmetic.
+  set_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, lap_star_);  // B c*: the wall rows only
+  PredictorRhs p;
+  p.lap = &op_.lap_u.A;
+  p.gx = &op_.grad_ux.A;
+  p.gy = &op_.grad_uy.A;
+  p.st = vel_st_;
+  p.images = &vel_images_;
+  p.u = u_.data();
+  p.F = F.data();
+  p.bc = lap_star_.data();
+  p.lw = lap_wall_.data();
+  p.cwx = conv_wall_x_.data();
+  p.cwy = conv_wall_y_.data();
+  p.a = a_cn();
+  p.k = prm_.dt / prm_.rho;
+  p.kc = convective_ ? prm_.dt : 0.0;
+  p.first = first_;
+  p.conv_old = convective_ ? conv_old_.data() : nullptr;
+  p.conv = conv_.data();
+  p.rhs = rhs_.data();
+  predictor_rhs(p);
 }
 
 void EulerianFluid::project() {

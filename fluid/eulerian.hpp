@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fluid/exact_projection.hpp"
+#include "fluid/fused_passes.hpp"
 #include "fluid/projection_core.hpp"
 
 namespace sphib {
@@ -44,7 +45,7 @@ class EulerianFluid final : public ProjectionFluid {
   double floor_seconds(int reps = 20) const override;
 
  private:
-  void convection() override;
+  void viscous_rhs(const Mat2& F) override;  // Eqs. (28), (39)-(41) in one pass (fluid/fused_passes.hpp)
   void project() override;
   void extra_state(NamedArrays& st) const override;
   void restore_extra(const NamedArrays& st) override;
@@ -52,11 +53,13 @@ class EulerianFluid final : public ProjectionFluid {
   void make_phi_solver() const;  // exact projection: the Morris Laplacian's, for phi~ (on demand)
 
   RowStencil vel_st_lattice_, phi_st_lattice_;  // the lattice rows of the velocity and phi patterns
+  ImageRows vel_images_;            // the velocity pattern's blocks with image terms
   Mat2 conv_wall_x_, conv_wall_y_;  // B c^n of grad_ux, grad_uy: the wall values' convection terms
-  Mat2 du_dx_, du_dy_, conv_old_;   // derivatives of u^n, N^n kept for AB2 (Eq. 39)
+  Mat2 lap_star_;                   // B c* of the Laplacian (this step's images; zero off the wall rows)
+  Mat2 conv_old_;                   // N^n kept for AB2 (Eq. 39)
   mutable std::unique_ptr<ExactProjection> streams_;  // made when first needed (approximate projection)
   mutable long phi_step_ = 0;  // exact projection: the step phi_ belongs to
-  int k_psi_, k_conv_;
+  int k_psi_;
 };
 
 }  // namespace sphib

@@ -32,11 +32,13 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Pai
     div_y_ = -SpMat(op_.grad_phiy.transpose());
     div_st_ = find_row_stencil({&div_x_, &div_y_});
     vmodes_ = VelocityModes(lat_);
+    parity_.resize(lat_.size());
+    for (int i = 0; i < lat_.size(); ++i) parity_[i] = static_cast<unsigned char>(2 * ((i / lat_.nx) & 1) + ((i % lat_.nx) & 1));
+    vel_images_ = ImageRows(vel_st_, lat_.size(), {&op_.grad_ux.B, &op_.grad_uy.B});
     make_psi_solver();
   }
   const int N = lat_.size();
   psi_m_ = cu_ = b_m_ = Vec::Zero(N);
-  grad_psi_ = Mat2::Zero(N, 2);
 }
 
 void ExactProjection::make_psi_solver() {
@@ -117,9 +119,20 @@ void ExactProjection::psi_rhs() {
   psi_gauge_.project(b_psi_);  // G^T of a uniform flow is 0 on a periodic box: its mean is the stream function's U
 }
 
+bool ExactProjection::markers_in_one_pass() const {
+  return mpsi_gauge_.dimension() == 0 && (mpsi_unpinned_ || mpsi_gauge_.pins().empty());
+}
+
 void ExactProjection::rhs(const Mat2& u_star, long revision) {
-  curl_transpose(u_star);
-  psi_rhs();  // the normal equations' right-hand side C^T u* - Q ..., in b_psi_
+  // curl_transpose() and psi_rhs() (and the markers' right-hand side) in one pass: C^T u* and the
+  // flux Q of u* (the least-squares value, make_psi_solver), b_psi_ = C^T u* - Q ..., b_m_
+  const Domain& d = lat_.domain;
+  Q_ = d.periodic_x != d.periodic_y ? u_star.cwiseProduct(psi_r1_).sum() : 0.0;
+  const bool bm = markers_in_one_pass();
+  curl_transpose_rhs({&psi_ty_, &psi_tx_, &psi_st_, u_star.data(), Q_, mpsi_scale_, psi_flux_.data(),
+                      mpsi_flux_.data(), cu_.data(), b_psi_.data(), bm ? b_m_.data() : nullptr});
+  bm_revision_ = bm ? revision : -1;
+  psi_gauge_.project(b_psi_);  // G^T of a uniform flow is 0 on a periodic box: its mean is the stream function's U
   if (!psi_unpinned_) psi_gauge_.pin_rhs(b_psi_);
   cu_revision_ = revision;  // C^T u* = C^T u^{n+1}: the markers' right-hand side of this state
 }
@@ -130,16 +143,26 @@ void ExactProjection::solve() {
 }
 
 void ExactProjection::velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, Mat2& grad_phi) {
-  // u^{n+1} = (Gy psi + Q By c1, -(Gx psi + Q Bx c1)) + u*'s alternating modes (and mean)
-  gradient(op_.grad_ux.A, op_.grad_uy.A, psi_, grad_psi_, vel_st_);
-  const int N = lat_.size();
-  for (int i = 0; i < N; ++i) {
-    u(i, 0) = grad_psi_(i, 1) + Q_ * psi_by1_[i];
-    u(i, 1) = -(grad_psi_(i, 0) + Q_ * psi_bx1_[i]);
-  }
-  vmodes_.add_components(u_star, u);
-  // Eq. (34): G phi^{n+1} = rho/dt (u* - u^{n+1}); phi itself on demand (EulerianFluid::phi)
-  grad_phi = (1.0 / dt_over_rho) * (u_star - u);
+  // u^{n+1} = (Gy psi + Q By c1, -(Gx psi + Q Bx c1)) + u*'s alternating modes (and mean), and
+  // Eq. (34): G phi^{n+1} = rho/dt (u* - u^{n+1}) (phi itself on demand, EulerianFluid::phi), in one
+  // pass over the velocity pattern (fluid/fused_passes.hpp)
+  CurlVelocity p;
+  p.gx = &op_.grad_ux.A;
+  p.gy = &op_.grad_uy.A;
+  p.st = vel_st_;
+  p.images = &vel_images_;
+  p.psi = psi_.data();
+  p.Q = Q_;
+  p.r = 1.0 / dt_over_rho;
+  p.by1 = psi_by1_.data();
+  p.bx1 = psi_bx1_.data();
+  p.u_star = u_star.data();
+  p.par = parity_.data();
+  p.nx = lat_.nx;
+  p.modes = vmodes_.addends(u_star);
+  p.u = u.data();
+  p.grad_phi = grad_phi.data();
+  curl_velocity(p);
 }
 
 void ExactProjection::divergence(const Mat2& f, Vec& d) const { sphib::divergence(div_x_, div_y_, f, d, &div_st_); }
@@ -150,8 +173,8 @@ StreamFunction ExactProjection::markers(const Mat2& u, long revision) {
     if (cu_revision_ != revision) curl_transpose(u);  // the exact projection's step made it already
     // -lap psi_m = C^T u with psi_m's wall values (0 and Q): -(A psi_m + Q B c1) = C^T u, divided
     // by m (psi_m / m: make_psi_solver); in one pass where the gauge has nothing to do (walls)
-    if (mpsi_gauge_.dimension() == 0 && (mpsi_unpinned_ || mpsi_gauge_.pins().empty())) {
-      b_m_ = (cu_ + Q_ * mpsi_flux_) * mpsi_scale_;
+    if (markers_in_one_pass()) {
+      if (bm_revision_ != revision) b_m_ = (cu_ + Q_ * mpsi_flux_) * mpsi_scale_;  // (rhs() made it already)
     } else {
       b_m_ = cu_;
       if (Q_ != 0.0) b_m_.noalias() += Q_ * mpsi_flux_;
@@ -199,6 +222,7 @@ void ExactProjection::load(const NamedArrays& st, long revision) {
   cu_ = state_entry(st, "curl_transpose_u_star", lat_.size(), 1);
   Q_ = state_entry(st, "flux", 1, 1)(0, 0);
   cu_revision_ = revision;
+  bm_revision_ = -1;
 }
 
 }  // namespace sphib

@@ -23,6 +23,7 @@
 // membrane with narrow spreading, h* = h/2, blows up within 20 steps).
 #include <memory>
 
+#include "fluid/fused_passes.hpp"
 #include "fluid/gauge.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/linear_solver.hpp"
@@ -78,6 +79,8 @@ class ExactProjection {
   SpMat div_x_, div_y_;
   RowStencil div_st_;
   VelocityModes vmodes_;
+  std::vector<unsigned char> parity_;  // 2 (i_y & 1) + (i_x & 1): the modes' parity class of each particle
+  ImageRows vel_images_;               // the velocity pattern's blocks with image terms (Gx, Gy)
   // the least-squares psi: its normal equations' solver, the transposed velocity gradients (Gy^T,
   // -Gx^T) that make their right-hand side, the wall term per unit flux, the flux's direction
   std::unique_ptr<LinearSolver> psi_solver_;
@@ -86,7 +89,7 @@ class ExactProjection {
   SpMat psi_ty_, psi_tx_;
   RowStencil psi_st_;
   Vec psi_, psi_flux_, b_psi_, psi_by1_, psi_bx1_;
-  Mat2 psi_r1_, grad_psi_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
+  Mat2 psi_r1_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
   double Q_ = 0;
   Eigen::Vector2d mean_ = Eigen::Vector2d::Zero();  // the uniform flow of a doubly periodic box
   // the markers' psi_m: its solver, the wall term per unit flux, C^T u and Q of the last state (exact
@@ -97,6 +100,8 @@ class ExactProjection {
   Vec psi_m_, mpsi_flux_, cu_, b_m_;
   double mpsi_scale_ = 1;
   long cu_revision_ = -1, psi_revision_ = -1;
+  long bm_revision_ = -1;  // the state whose b_m_ rhs() made (where psi_m's right-hand side is one pass)
+  bool markers_in_one_pass() const;
 };
 
 }  // namespace sphib

@@ -42,16 +42,24 @@ void mode_coefficients(const double* f, int nx, int ny, double c[2][2]) {
     for (int b = 0; b < 2; ++b) c[a][b] /= N;
 }
 
+// The values w * sum over `modes` of c[sy][sx] (-1)^{sx i_x + sy i_y} at even and odd i_x of row iy
+template <class Modes>
+void row_values(const Modes& modes, const double c[2][2], double w, int iy, double& even, double& odd) {
+  even = 0;
+  odd = 0;
+  for (const auto& m : modes) {
+    const double v = w * c[m.sy][m.sx] * ((m.sy && (iy & 1)) ? -1.0 : 1.0);
+    even += v;
+    odd += m.sx ? -v : v;
+  }
+}
+
 // f += w * sum over `modes` of c[sy][sx] (-1)^{sx i_x + sy i_y}
 template <class Modes>
 void add_modes(double* f, int nx, int ny, const Modes& modes, const double c[2][2], double w) {
   for (int iy = 0; iy < ny; ++iy) {
-    double even = 0, odd = 0;  // the value added at even and odd i_x in this row
-    for (const auto& m : modes) {
-      const double v = w * c[m.sy][m.sx] * ((m.sy && (iy & 1)) ? -1.0 : 1.0);
-      even += v;
-      odd += m.sx ? -v : v;
-    }
+    double even, odd;  // the value added at even and odd i_x in this row
+    row_values(modes, c, w, iy, even, odd);
     double* r = f + static_cast<std::size_t>(nx) * iy;
     int ix = 0;
     for (; ix + 1 < nx; ix += 2) { r[ix] += even; r[ix + 1] += odd; }
@@ -103,6 +111,19 @@ void VelocityModes::add_components(const Mat2& from, Mat2& to) const {
     mode_coefficients(from.col(comp).data(), g.nx_, g.ny_, c);
     add_modes(to.col(comp).data(), g.nx_, g.ny_, g.modes_, c, 1.0);
   }
+}
+
+VelocityModes::Addends VelocityModes::addends(const Mat2& from) const {
+  Addends a;
+  for (int comp = 0; comp < 2; ++comp) {
+    const Gauge& g = comp_[comp];
+    if (g.modes_.empty()) continue;
+    a.has[comp] = true;
+    double c[2][2];
+    mode_coefficients(from.col(comp).data(), g.nx_, g.ny_, c);
+    for (int py = 0; py < 2; ++py) row_values(g.modes_, c, 1.0, py, a.value[comp][py][0], a.value[comp][py][1]);
+  }
+  return a;
 }
 
 SpMat Gauge::pinned(const SpMat& A, bool prune) const {

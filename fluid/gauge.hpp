@@ -65,6 +65,13 @@ class VelocityModes {
   explicit VelocityModes(const Lattice& L);
   // to += the components of `from` along the modes (column c of both for velocity component c)
   void add_components(const Mat2& from, Mat2& to) const;
+  // What add_components(from, .) adds, as a table: to(i, c) += value[c][i_y & 1][i_x & 1] for the
+  // components with has[c] (the same bits: the modes alternate with the parities only).
+  struct Addends {
+    bool has[2] = {false, false};
+    double value[2][2][2] = {};
+  };
+  Addends addends(const Mat2& from) const;
 
  private:
   Gauge comp_[2];  // the modes of each component, as a gauge's mode list

@@ -348,6 +348,17 @@ void IsphFluid::begin_step() {
   refactorise();
 }
 
+void IsphFluid::viscous_rhs(const Mat2& F) {
+  if (!explicit_viscous_) return ProjectionFluid::viscous_rhs(F);
+  ScopedTimer tm(prof_, k_rhs_);
+  // A Eq. (22) with Morris's Laplacian, Eq. (18): u* = u^n + dt (g + nu (lap u^n + B c^n)) + dt F^n / rho
+  apply2(op_.lap_u.A, u_, u_star_, vel_st_);  // lap u^n, both components in one pass
+  const double nu_dt = 2.0 * a_cn(), k = prm_.dt / prm_.rho;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < size(); ++i) u_star_(i, c) = (u_star_(i, c) + lap_wall_(i, c)) * nu_dt + u_(i, c) + k * F(i, c);
+  add_acceleration(u_star_);
+}
+
 void IsphFluid::end_step() {
   ScopedTimer tm(prof_, k_move_);
   x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}

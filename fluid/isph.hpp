@@ -96,6 +96,7 @@ class IsphFluid final : public ProjectionFluid {
 
  private:
   void begin_step() override;
+  void viscous_rhs(const Mat2& F) override;  // explicit: u* of A Eq. (22); else the core's Eq. (28)
   void project() override;  // the core's, then the wall particles' pressure and its part of the gradient
   void end_step() override;
   void velocity_offsets(const Mat2* grad_phi, Mat2& c) const override;  // the wall particles' velocities

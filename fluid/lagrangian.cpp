@@ -282,16 +282,16 @@ std::vector<std::string> LagrangianFluid::describe() const {
   for (const auto& [name, sv] : {std::pair<const char*, const LinearSolver*>{"Crank-Nicolson", cn_.get()},
                                 {"Poisson", poisson_.get()}}) {
     std::ostringstream s;
-    s << "LPSPH: " << name << ": " << n_refactor_ << " new matrices; ";
-    if (sv->mean_iterations() > 0) {
-      s << sv->mean_iterations() << " iterations per solve";
+    s << "LPSPH: " << name << ": " << n_refactor_ << " new matrices";
+    if (sv->info().nnz_factor == 0) {  // iterative: the matrices taken as they are
+      s << ", conjugate gradients, " << sv->mean_iterations() << " iterations per solve so far";
       if (sv->preconditioner_factorisations() > 0)
         s << ", preconditioner factorised " << sv->preconditioner_factorisations() << " times (analysis kept in "
           << sv->preconditioner_analyses_kept() << ")";
-      else if (sv->info().nnz_factor == 0 && sv->info().method.rfind("CG preconditioned", 0) == 0)
-        s << ", no factorisation (the lattice's preconditioner throughout)";
+      else if (sv->info().method.rfind("CG preconditioned", 0) == 0)
+        s << ", no factorisation so far (the lattice's FFT solver preconditions)";
     } else {
-      s << "refactorised every step, symbolic analysis kept in "
+      s << ", each refactorised, the symbolic analysis kept in "
         << (std::string(name) == "Poisson" ? n_reused_poisson_ : n_reused_cn_) << " (while the pattern stays)";
     }
     lines.push_back(s.str());

@@ -7,10 +7,20 @@
 //
 // What EPSPH builds once is rebuilt here at the beginning of every step: the images (Section 3.3:
 // "the positions of the image particles need to be reassigned at the beginning of each time step"),
-// the pair list (cell list, O(N)), the operator matrices (particle_operators.hpp) and both
-// factorisations, with the solvers of the one policy (solver_policy.hpp, Refactor::EveryStep). The
-// factorisations keep CHOLMOD's symbolic analysis while the sparsity pattern does not change
-// (LinearSolver::refactorize); describe() says in how many steps it could.
+// the pairs, the operator matrices and both systems, with the moving-particle machinery ISPH shares:
+//   - a Verlet list (neighbours.hpp, VerletList): images and candidate pairs within 2h + skin,
+//     built by cell list when the particles have moved apart by the skin (adaptive, between 0.01
+//     and 0.3 2h: see lagrangian.cpp), moved bit for bit as a fresh search in between;
+//   - one pass over the candidates (particle_operators.hpp) for the six operators, the two systems
+//     and the kernel sums, the pattern made again only after a build;
+//   - the solvers of the one policy (solver_policy.hpp, Refactor::EveryStep): conjugate gradients
+//     warm-started and preconditioned by the FFT solver of the initial lattice (where the domain
+//     has one) or by a lagged CHOLMOD factor refactorised when the iterations grow, reading the
+//     matrices in place. describe() and figures() say which, how many iterations per solve and
+//     how often a preconditioner was factorised; a direct solver asked for (solver.* = cholmod_*)
+//     is refactorised every step, its symbolic analysis kept while the pattern stays.
+// Measured (bench/lpsph_comparison, README "Moving particles: LPSPH"): start-up Poiseuille, 10 000
+// steps, LPSPH/EPSPH CPU time 4.9 at Nx = 24 to 6.9 at Nx = 64 (55ee2fe, refactorising: 64 and 265).
 //
 // Where: the paper does not say at which positions the sums of a step are taken. We take the
 // predicted positions x* = x^n + dt u^n (the idea of Cummins & Rudman's SPH projection method), so
@@ -30,7 +40,8 @@
 // fails. At every rebuild the kernel sum S_i = sum_j V W_ij (images and i itself included; 1 on a
 // lattice) of every particle is checked against params.lagrangian.min_kernel_sum; a step whose
 // positions x* bring one below throws std::runtime_error naming the time t_{n+1}, the particle and
-// its position, before it changes anything (the solver keeps the state of t_n). A particle beyond a
+// its position, before it changes anything (the solver keeps the state of t_n; the sums come from the
+// assembly's pass, and the geometry is put back at the last x* that passed). A particle beyond a
 // wall throws as well.
 #include <vector>
 
@@ -55,11 +66,13 @@ class LagrangianFluid final : public ProjectionFluid {
   // images(), pairs(), operators() (the core's): at x* of the last step (x^n before any step)
   double neighbours_per_particle() const;  // within 2h
   const VerletList& verlet() const { return verlet_; }
-  const Vec& kernel_sums() const { return S_; }  // S_i = sum_j V W_ij at x*, images and j = i included
+  // S_i = sum_j V W_ij at x*, images and j = i included (after a breakdown: the failing x*'s)
+  const Vec& kernel_sums() const { return S_; }
   double lowest_kernel_sum() const { return S_low_; }  // over the run so far
 
-  long refactorisations() const { return n_refactor_; }           // rebuilds after the constructor's
-  long symbolic_reused_cn() const { return n_reused_cn_; }        // of them, with the analysis kept
+  long refactorisations() const { return n_refactor_; }           // new matrices after the constructor's
+  // of them, the solver kept its symbolic analysis (a direct solver; always for an iterative one)
+  long symbolic_reused_cn() const { return n_reused_cn_; }
   long symbolic_reused_poisson() const { return n_reused_poisson_; }
   long reinitialisations() const { return n_reinit_; }
 

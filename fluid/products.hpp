@@ -6,10 +6,11 @@
 //
 // On the fixed lattice most rows of an operator are translates of one another: away from walls
 // and periodic seams row i has the columns i + o_s and, bit for bit, the coefficients of a
-// reference row. A RowStencil lists those rows; the products then apply them as a stencil (the
-// coefficients of the reference row, no column indices, contiguous loads that vectorise) and only
-// the remaining rows from the compressed arrays. The summation order of every row is unchanged,
-// so the results are bitwise those of the plain products.
+// reference row; along a wall (or a seam) the rows at one distance from it are translates of one
+// another too. A RowStencil lists those classes of rows; the products then apply them as stencils
+// (the coefficients of the class's reference row, no column indices, loads that vectorise) and only
+// the remaining rows (corners) from the compressed arrays. The summation order of every row is
+// unchanged, so the results are bitwise those of the plain products.
 #include <array>
 #include <initializer_list>
 #include <vector>
@@ -23,17 +24,28 @@ namespace sphib {
 constexpr int kParallelRows = 8192;
 
 struct RowStencil {
-  int ref = -1;                          // the reference row (-1: no stencil rows)
-  std::vector<int> offset;               // its column offsets j - ref, ascending
-  // [begin, end): consecutive rows equal to ref's translate, in blocks of at most 256 rows (the
-  // work units of the products and their threads)
-  std::vector<std::array<int, 2>> blocks;
+  // A class of rows: translates of its reference row (the same column offsets j - i and, in every
+  // operator, the same coefficient bits). Class 0 holds the most common row (the interior); the
+  // others the rows near walls and periodic seams that repeat along them.
+  struct Class {
+    int ref = -1;             // the reference row
+    std::vector<int> offset;  // its column offsets j - ref, in the row's own (column) order
+  };
+  // Rows begin + k stride, k < count, all of one class: the work units of the products and their
+  // threads (at most 256 rows; stride 1 along a wall, the lattice's row length along a seam).
+  struct Block {
+    int cls, begin, count, stride;
+  };
+  std::vector<Class> classes;
+  std::vector<Block> blocks;
   std::vector<int> rest;  // every other row, applied from the compressed arrays
   int stencil_rows() const;
 };
 
-// The rows that are translates of the middle row in every operator of `ops` (one pattern, checked).
-// Operators whose middle row has its own pattern shared by fewer than half the rows get no stencil.
+// The rows that are translates of one another in every operator of `ops` (one pattern, checked),
+// grouped by class. Operators whose most common row is shared by fewer than a quarter of the rows
+// get no stencil; classes of fewer than kMinClassRows rows stay with the compressed rows.
+constexpr int kMinClassRows = 4;
 RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
 
 // Fused products over operators of one sparsity pattern: each reads the pattern once. `st`, when
@@ -56,5 +68,7 @@ bool same_pattern(const SpMat& A, const SpMat& B);
 std::vector<int> nonempty_rows(const SpMat& B);
 void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
 void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y);
+// y = B c over those rows, the same sums (the other rows of y untouched: zero in the fused passes)
+void set_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
 
 }  // namespace sphib

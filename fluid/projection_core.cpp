@@ -95,30 +95,28 @@ void ProjectionFluid::image_offsets() {
   velocity_offsets(&grad_phi_, c_star_);
 }
 
-void ProjectionFluid::viscous_predictor(const Mat2& F) {
+void ProjectionFluid::viscous_rhs(const Mat2& F) {
   const double dt = prm_.dt, a = a_cn();
   const int N = size();
-  {
-    ScopedTimer tm(prof_, k_rhs_);
-    apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
-    const double k = dt / prm_.rho, kc = convective_ ? dt : 0.0;
-    if (explicit_viscous_) {
-      // Afanasiev et al. Eq. (22): u* = u^n + nu dt (lap u^n + B c^n) + dt F^n / rho (+ dt g below)
-      for (int c = 0; c < 2; ++c)
-        for (int i = 0; i < N; ++i)
-          u_star_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * (2.0 * a) + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
-    } else {
-      // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
-      add_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, rhs_);
-      for (int c = 0; c < 2; ++c)
-        for (int i = 0; i < N; ++i)
-          rhs_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * a + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
-    }
-    Mat2& out = explicit_viscous_ ? u_star_ : rhs_;
-    for (int c = 0; c < 2; ++c)  // + dt g (ISPH's gravity, Afanasiev et al. Eq. 22)
-      if (accel_[c] != 0.0) out.col(c).array() += dt * accel_[c];
-  }
-  if (explicit_viscous_) return;
+  ScopedTimer tm(prof_, k_rhs_);
+  // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
+  apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
+  add_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, rhs_);
+  const double k = dt / prm_.rho, kc = convective_ ? dt : 0.0;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < N; ++i)
+      rhs_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * a + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
+  add_acceleration(rhs_);
+}
+
+void ProjectionFluid::add_acceleration(Mat2& v) const {
+  for (int c = 0; c < 2; ++c)  // + dt g (ISPH's gravity, Afanasiev et al. Eq. 22)
+    if (accel_[c] != 0.0) v.col(c).array() += prm_.dt * accel_[c];
+}
+
+void ProjectionFluid::viscous_predictor(const Mat2& F) {
+  viscous_rhs(F);
+  if (explicit_viscous_) return;  // viscous_rhs gave u* itself (ISPH: Afanasiev et al. Eq. 22)
   ScopedTimer tm(prof_, k_solve_cn_);
   // u and v: two right-hand sides of one factorisation. An iterative solver starts from the
   // linear extrapolation 2 u*_{n-1} - u*_{n-2} (direct solvers ignore it).

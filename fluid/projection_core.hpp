@@ -91,6 +91,10 @@ class ProjectionFluid : public FluidSolver {
   // --- what a method provides -------------------------------------------------------------------
   virtual void begin_step() {}  // the step's geometry (may throw a breakdown before anything changes)
   virtual void convection() {}  // fills conv_ (N^{n+1/2}); the rhs subtracts it when convective_
+  // Eq. (28)'s right-hand side into rhs_ (EPSPH: one pass with the convection, fluid/fused_passes.hpp);
+  // with explicit_viscous_ the method's override puts u* itself into u_star_ (ISPH: Afanasiev et al.
+  // Eq. 22) and there is no Crank-Nicolson solve.
+  virtual void viscous_rhs(const Mat2& F);
   virtual void project() { project_approximate(); }
   virtual void end_step() {}    // after t and n have advanced
   virtual void extra_state(NamedArrays&) const {}
@@ -107,6 +111,7 @@ class ProjectionFluid : public FluidSolver {
   // After new values of the operators in the same patterns (moving particles between list builds):
   // the wall part B c^n of the Laplacian again (zero for walls at rest).
   void operator_values_changed();
+  void add_acceleration(Mat2& v) const;  // v += dt accel_ (a no-op for a zero accel_)
   void image_offsets();        // Eq. (42): c* of u*
   void viscous_predictor(const Mat2& F);  // Eq. (28) and the Crank-Nicolson solve
   void project_approximate();  // Eqs. (30)-(34)

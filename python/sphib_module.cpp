@@ -353,13 +353,10 @@ Eigen::Vector2d pair(const std::vector<double>& v, const char* what) {
 
 }  // namespace
 
-PYBIND11_MODULE(sphib, m) {
-  m.doc() = "sphib: immersed-boundary fluid-structure interaction with projection SPH (Python bindings)";
-  m.attr("__version__") = SPHIB_VERSION;
-  py::register_exception<SceneError>(m, "SceneError", PyExc_ValueError);
-  py::register_exception<RunError>(m, "RunError", PyExc_RuntimeError);
+namespace {
 
-  // Membranes
+// Membranes: the shape builders and the spline diagnostics.
+void bind_membranes(py::module_& m) {
   py::class_<Membrane>(m, "Membrane", "A closed Hookean membrane: nb markers X labelled by rest arclength, rest length L0 = 2 pi r0, modulus T0.")
       .def_property_readonly("X", [](const Membrane& mb) -> Eigen::Ref<const Mat2> { return mb.X; },
                              py::return_value_policy::reference_internal, "marker positions (nb x 2), read-only view")
@@ -403,8 +400,10 @@ PYBIND11_MODULE(sphib, m) {
           return d;
         }, py::arg("X"), py::arg("L0"), py::arg("T0") = 0.0,
         "Spline diagnostics of markers X: area (exact for the spline), centroid, half-chords rx, ry, length, elastic energy.");
+}
 
-  // Simulations
+// A Simulation stepped from Python, its arrays as read-only views.
+void bind_simulation(py::module_& m) {
   py::class_<PySim>(m, "Simulation",
                     "A simulation built from a Scene, stepped from Python. Arrays are read-only views of its "
                     "storage (no copies) that keep it alive; take them again after stepping. In an observer the "
@@ -472,8 +471,10 @@ PYBIND11_MODULE(sphib, m) {
            }, py::arg("k") = 0, "membrane k's parameters and shape (area, centroid, rx, ry, length, elastic energy)")
       .def("kinetic_energy", [](const PySim& s) { return s.get().fluid().kinetic_energy(); })
       .def("max_div_u", [](const PySim& s) { return s.get().fluid().max_abs_divergence(); });
+}
 
-  // Scenes
+// Scenes: keys, membranes, callables and observers.
+void bind_scene(py::module_& m) {
   py::class_<PyScene>(m, "Scene",
                       "What to simulate: scene keys (as in a scene file; `sphib keys` lists them), validated as "
                       "they are given, plus membranes, a body force, an initial velocity and observers from Python.")
@@ -558,7 +559,10 @@ PYBIND11_MODULE(sphib, m) {
           << s.scene.sim.membranes.size() + s.extra.size() << " membrane(s)>";
         return o.str();
       });
+}
 
+// Loading and running scenes.
+void bind_running(py::module_& m) {
   m.def("load_scene", [](const std::string& path, py::object set) {
           auto s = std::make_unique<PyScene>();
           s->path = s->name = path;
@@ -572,4 +576,17 @@ PYBIND11_MODULE(sphib, m) {
         "checkpoint.h5); returns the summary as a dict. restart: a checkpoint to continue from. Ctrl-C ends the "
         "run after the current step with complete output, then raises KeyboardInterrupt.");
   m.def("scene_keys", [] { return describe_scene_keys(); }, "The table `sphib keys` prints (Markdown rows).");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(sphib, m) {
+  m.doc() = "sphib: immersed-boundary fluid-structure interaction with projection SPH (Python bindings)";
+  m.attr("__version__") = SPHIB_VERSION;
+  py::register_exception<SceneError>(m, "SceneError", PyExc_ValueError);
+  py::register_exception<RunError>(m, "RunError", PyExc_RuntimeError);
+  bind_membranes(m);
+  bind_simulation(m);
+  bind_scene(m);
+  bind_running(m);
 }

@@ -4,18 +4,7 @@
 # The screenshot it saves is build/paraview_test/paraview_oscillation.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-pkgs=(paraview python3-paraview xvfb xauth)
-missing=()
-for p in "${pkgs[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "run_paraview_test: installing ${missing[*]}"
-  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
-fi
+bash scripts/setup.sh --recommends paraview python3-paraview xvfb xauth
 # Configure again: the test is registered only when pvpython and xvfb-run are found.
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
 cmake --build build --parallel 2 --target sphib >> build.log 2>&1 || { tail -50 build.log; exit 1; }
