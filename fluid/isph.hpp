@@ -45,7 +45,15 @@
 // (a still tank then sinks); with the mirror rule the whole jump does, which makes -lap p = -(rho/dt)
 // div u* with dp/dn = 0 the discrete form of dp/dn = (rho/dt)(u* - u_w) . n at the wall.
 //
-// Linear systems: the solver policy of the moving particles (solver_policy.hpp, Refactor::EveryStep).
+// Beyond the paper (each measured, isph.cpp): negative pressures clipped to 0 with a free surface and
+// u^{n+1} taken from the clipped p (clip_tension; as MPS); no particle within half a spacing of a
+// wall (wall_contact: its normal velocity towards the wall cut); a Lennard-Jones push of the inner
+// wall row on u* (wall_repulsion); at surface particles the renormalised gradient over their fluid
+// neighbours instead of the sum form (surface_gradient).
+//
+// Linear systems: the solver policy of the moving particles (solver_policy.hpp, Refactor::EveryStep);
+// auto: warm-started CG with a lagged CHOLMOD preconditioner with a free surface, CHOLMOD for a full
+// tank (make_solvers says why).
 // The Poisson matrix is singular only without a free surface (a tank full of fluid: the constants,
 // fixed by the gauge as in LPSPH). A connected set of particles without a surface particle (a closed
 // bubble of fluid cut off by walls) makes it singular: the solver then stops the run.
