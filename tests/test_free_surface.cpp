@@ -16,6 +16,7 @@
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "scene_refusal.hpp"
+#include "still_tank_scene.hpp"
 
 using namespace sphib;
 
@@ -50,36 +51,8 @@ bool on_ring(const Mat2& x, int k, int nx, int ny) {
   return X < 1 || X > nx - 1 || Y < 1 || Y > ny - 1;
 }
 
-const char* kStillTank = R"(
-method = "wcsph"
-[domain]
-x = [0.0, 1.0]
-y = [0.0, 1.0]
-periodic_x = false
-open = ["top"]
-[grid]
-nx = 20
-ny = 20
-[kernel]
-h_over_dx = 1.3
-[fill]
-shape = "block"
-y = [0.0, 0.5]
-[fluid]
-rho = 1000.0
-mu = 1.0
-gravity = [0.0, -9.81]
-[wcsph]
-eos = "tait"
-integrator = "predictor_corrector"
-wall_pressure = "extrapolated"
-alpha = 0.1
-[time]
-dt = 4e-4
-end = 1.0
-)";
-
 using test::refusal;
+using test::kStillTank;
 
 }  // namespace
 

@@ -13,36 +13,25 @@
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "scene_refusal.hpp"
+#include "still_tank_scene.hpp"
 
 using namespace sphib;
 
 namespace {
 
-const char* kTank = R"(
-method = "isph"
-[domain]
-x = [0.0, 1.0]
-y = [0.0, 1.0]
-periodic_x = false
-open = ["top"]
-[grid]
-nx = 20
-ny = 20
-[kernel]
-h_over_dx = 1.3
-[fill]
-shape = "block"
-y = [0.0, 0.5]
-[fluid]
-rho = 1000.0
-mu = 1.0
-gravity = [0.0, -9.81]
-[time]
-dt = 1e-3
-end = 1.0
-)";
+// The free-surface tests' still tank by ISPH (dt = 1e-3: the explicit viscosity's bound is far).
+const std::vector<std::string> kIsph = {"method=isph", "time.dt=1e-3"};
 
-using test::refusal;
+Scene tank(std::vector<std::string> sets = {}) {
+  sets.insert(sets.begin(), kIsph.begin(), kIsph.end());
+  return parse_scene(test::kStillTank, "tank.toml", sets);
+}
+
+std::string refused(std::vector<std::string> sets) {
+  sets.insert(sets.begin(), kIsph.begin(), kIsph.end());
+  return test::refusal(test::kStillTank, sets);
+}
+
 
 }  // namespace
 
@@ -52,7 +41,7 @@ using test::refusal;
 // rho g H^2 / 2 = 1226 (-16.8%: Eq. 32's sum over the inner wall row of a 10-row column, 1146 at
 // t = 0), right - left 0.25 N/m, bottom 4862 against rho g H L = 4905 (-0.9%), |load| at most 27.9.
 TEST(Isph, StillTankStaysNearRestWithHydrostaticLoads) {
-  Scene s = parse_scene(kTank, "still.toml");
+  Scene s = tank();
   IsphFluid f(s.sim.fluid);
   const double side = 1000.0 * 9.81 * 0.5 * 0.5 / 2.0, bottom = 1000.0 * 9.81 * 0.5;
   const WallForces F0 = f.wall_forces();
@@ -81,7 +70,7 @@ TEST(Isph, StillTankStaysNearRestWithHydrostaticLoads) {
 // exactly its top row and its right column (the free sides), none next to the walls (the Morris wall
 // particles complete their support). Measured: 17 particles, the ring of the free sides.
 TEST(Isph, SurfaceOfABlockIsItsFreeSides) {
-  Scene s = parse_scene(kTank, "block.toml", {"fill.x=[0.0, 0.6]", "fill.y=[0.0, 0.3]"});
+  Scene s = tank({"fill.x=[0.0, 0.6]", "fill.y=[0.0, 0.3]"});
   IsphFluid f(s.sim.fluid);
   ASSERT_EQ(f.size(), 12 * 6);
   const std::vector<char>& flags = *f.surface();
@@ -110,7 +99,7 @@ TEST(Isph, ShortPoiseuilleMatchesEq36) {
 // Checkpoints with the direct Poisson solver: a restored ISPH continues bit for bit (the Verlet
 // list's state restored: the same candidates, patterns and factorisations).
 TEST(Isph, CheckpointContinuesBitForBit) {
-  Scene s = parse_scene(kTank, "still.toml", {"fill.x=[0.0, 0.4]", "solver.poisson=cholmod_supernodal"});
+  Scene s = tank({"fill.x=[0.0, 0.4]", "solver.poisson=cholmod_supernodal"});
   IsphFluid a(s.sim.fluid);
   const Mat2 F = Mat2::Zero(a.size(), 2);
   for (int n = 0; n < 30; ++n) a.step(F);
@@ -131,22 +120,21 @@ TEST(Isph, BadInputIsRefusedByKey) {
     EXPECT_NE(m.find(key), std::string::npos) << m;
     EXPECT_NE(m.find(what), std::string::npos) << m;
   };
-  expect(refusal(kTank, {"free_surface.beta=1.2"}), "free_surface.beta", "out of range");
-  expect(refusal(kTank, {"free_surface.beta=0"}), "free_surface.beta", "out of range");
-  expect(refusal(kTank, {"fill.y=[0.0, 1.5]"}), "fill.y", "is not inside the tank");
-  expect(refusal(kTank, {"fluid.gravity=[1.0, -9.81]", "domain.periodic_x=true"}), "fluid.gravity", "periodic x");
-  expect(refusal(kTank, {"free_surface.detection=dilts"}), "free_surface.detection", "not available for isph");
-  expect(refusal(kTank, {"free_surface.detection=none"}), "free_surface.detection", "Dirichlet");
-  expect(refusal(kTank, {"isph.viscous=implicit"}), "isph.viscous", "implicit");
-  expect(refusal(kTank, {"solver.crank_nicolson=cholmod_supernodal"}), "solver.crank_nicolson", "explicit");
-  expect(refusal(kTank, {"solver.poisson=pcg_fft"}), "solver.poisson", "pcg_fft");
-  expect(refusal(kTank, {"fluid.projection=exact"}), "fluid.projection", "exact");
+  expect(refused({"free_surface.beta=1.2"}), "free_surface.beta", "out of range");
+  expect(refused({"free_surface.beta=0"}), "free_surface.beta", "out of range");
+  expect(refused({"fill.y=[0.0, 1.5]"}), "fill.y", "is not inside the tank");
+  expect(refused({"fluid.gravity=[1.0, -9.81]", "domain.periodic_x=true"}), "fluid.gravity", "periodic x");
+  expect(refused({"free_surface.detection=dilts"}), "free_surface.detection", "not available for isph");
+  expect(refused({"free_surface.detection=none"}), "free_surface.detection", "Dirichlet");
+  expect(refused({"isph.viscous=implicit"}), "isph.viscous", "implicit");
+  expect(refused({"solver.crank_nicolson=cholmod_supernodal"}), "solver.crank_nicolson", "explicit");
+  expect(refused({"solver.poisson=pcg_fft"}), "solver.poisson", "pcg_fft");
+  expect(refused({"fluid.projection=exact"}), "fluid.projection", "exact");
 }
 
 // A drop thrown sideways in an open box leaves it: the run stops naming the particle and the side.
 TEST(Isph, ParticleLeavingTheTankStops) {
-  Scene s = parse_scene(kTank, "drop.toml",
-                        {"domain.open=[\"left\", \"right\", \"bottom\", \"top\"]", "fluid.gravity=[0.0, 0.0]",
+  Scene s = tank({"domain.open=[\"left\", \"right\", \"bottom\", \"top\"]", "fluid.gravity=[0.0, 0.0]",
                          "fill.shape=circle", "fill.centre=[0.525, 0.525]", "fill.radius=0.12"});
   s.sim.initial_velocity = [](double, double) { return Eigen::Vector2d(2.0, 0.0); };
   Simulation sim(s.sim);
