@@ -1,7 +1,32 @@
 #pragma once
 // The still tank of the free-surface tests (test_free_surface.cpp, test_isph.cpp): 20 x 10 particles
-// of water in an open 1 m tank under gravity, classic SPH's keys (ISPH ignores the [wcsph] table).
+// of water in an open 1 m tank under gravity, classic SPH's keys (ISPH ignores the [wcsph] table);
+// and their checkpoint check.
+#include <gtest/gtest.h>
+
+#include "fluid/solver.hpp"
+
 namespace sphib::test {
+
+// A method with particles of its own (Fluid: WcsphFluid, IsphFluid) restored from the state after
+// `steps` steps continues bit for bit for `steps` more; returns the kinetic energy at the end (the
+// caller checks there was motion to compare).
+template <class Fluid>
+double restart_continues_bit_for_bit(const FluidParams& params, int steps) {
+  Fluid a(params);
+  const Mat2 F = Mat2::Zero(a.size(), 2);
+  for (int n = 0; n < steps; ++n) a.step(F);
+  Fluid b(params);
+  b.restore(a.state());
+  EXPECT_EQ((b.p() - a.p()).cwiseAbs().maxCoeff(), 0.0);
+  for (int n = 0; n < steps; ++n) {
+    a.step(F);
+    b.step(F);
+  }
+  EXPECT_EQ((b.x() - a.x()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((b.u() - a.u()).cwiseAbs().maxCoeff(), 0.0);
+  return a.kinetic_energy();
+}
 
 inline const char* kStillTank = R"(
 method = "wcsph"
