@@ -26,6 +26,12 @@
 #                  h/dx = 1.5 and 1.3
 #   fs_dam_break   Section 7: the dam break to t = 0.6 (5000 particles): front, loads, pictures
 #   fs_still       the still tank: hydrostatic loads and spurious speeds, with and without A's p = 0
+# ISPH (method isph, the paper's second method), the same cases:
+#   isph_poiseuille  Table 1's ISPH column: N = 15^2 ... 60^2 (ISPH_NX=15,20,25,30 for a subset), t = 0.6
+#   isph_inclined    Table 2's ISPH column: the inclined plane, N = 15^2 ... 60^2 (ISPH_NX for a subset), t = 4
+#   isph_droplet     Table 3's ISPH column: the elliptic drop, N = 721 ... 7651, a at t = 0.8, h/dx = 1.5
+#   isph_dam_break   Section 7 (5000 particles): front, loads against fs_dam_break's (Fig. 10), pictures
+#   isph_still       the still tank of fs_still by ISPH (cases/still_tank_isph.toml): loads, spurious speeds
 # Without arguments: all but fig10 and sweep (the long ones).
 # PAIR=paper runs every scene with the paper's approximate projection and SPH interpolation
 # (fluid.projection = "approximate", coupling.interpolation = "sph") into bench_out/paper/; the
@@ -133,6 +139,29 @@ for s in "${sections[@]}"; do
       $SWEEP --scene cases/still_tank_wcsph.toml --out $OUT/fs_still \
         --vary free_surface.detection=none,dilts --vary wcsph.alpha=0.1,0.3 \
         --report force_left,force_bottom,load_left_min,load_left_max,max_speed,max_density_variation ;;
+    isph_poiseuille)
+      $SWEEP --scene cases/poiseuille_afanasiev_isph.toml --out $OUT/isph_poiseuille --vary grid.nx=${ISPH_NX:-15,20,25,30,40,50,60} \
+        --derive grid.ny={grid.nx} --set output.interval=0 \
+        --report particles,profile_error,profile_error_max,rms_error,seconds_per_step ;;
+    isph_inclined)
+      $SWEEP --scene cases/inclined_plane.toml --out $OUT/isph_inclined --vary grid.nx=${ISPH_NX:-15,20,25,30,40,50,60} \
+        --derive grid.ny=2*{grid.nx} --set output.interval=0 \
+        --report particles,profile_error,profile_error_max,rms_error,seconds_per_step ;;
+    isph_droplet)
+      $SWEEP --scene cases/droplet.toml --out $OUT/isph_droplet --vary grid.nx=93,123,183,243,303 \
+        --derive grid.ny={grid.nx} --derive time.dt=0.0915/{grid.nx} --set time.end=0.8 --set output.times=[] \
+        --report particles,droplet_axis_error,droplet_axis_error_extent,seconds_per_step
+      [ -f $OUT/isph_droplet/case/summary.json ] || $SPHIB run cases/droplet.toml --out $OUT/isph_droplet/case --quiet
+      /usr/bin/python3 scripts/plot.py $OUT/isph_droplet/case ;;
+    isph_dam_break)
+      $SWEEP --scene cases/dam_break.toml --out $OUT/isph_dam_break --vary grid.nx=200 \
+        --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,load_left_min,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
+      compare=()
+      [ -f $OUT/fs_dam_break/run_000/diagnostics.csv ] && compare=(--compare $OUT/fs_dam_break/run_000)
+      /usr/bin/python3 scripts/plot.py $OUT/isph_dam_break/run_000 "${compare[@]}" ;;
+    isph_still)
+      $SWEEP --scene cases/still_tank_isph.toml --out $OUT/isph_still --vary grid.nx=40 \
+        --report force_left,force_bottom,load_left_min,load_left_max,max_speed ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done

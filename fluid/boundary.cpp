@@ -55,6 +55,31 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
   return im;
 }
 
+void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint) {
+  for (int i = 0; i < x.rows(); ++i) {
+    for (int a = 0; a < 2; ++a) {
+      const bool periodic = a == 0 ? d.periodic_x : d.periodic_y;
+      const double lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
+      double& c = x(i, a);
+      if (periodic) {
+        c -= (hi - lo) * std::floor((c - lo) / (hi - lo));  // periodic wrap into [lo, hi)
+        if (c >= hi) c = lo;  // -tiny + period rounds to hi
+      } else if (!(c > lo && c < hi)) {
+        std::ostringstream m;
+        const Side side = a == 0 ? (c <= lo ? Left : Right) : (c <= lo ? Bottom : Top);
+        m << method << ": particle " << i;
+        if (!std::isfinite(c)) m << " has a non-finite position";
+        else if (d.open[side]) m << " left the tank through its open " << side_name(side) << " side " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        else m << " crossed the wall " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        m << " (now at " << x(i, 0) << ", " << x(i, 1) << ") at t = " << t;
+        if (std::isfinite(c) && !d.open[side]) m << ": " << hint;
+        if (std::isfinite(c) && d.open[side]) m << " (a splash or a jet: make the tank larger)";
+        throw std::runtime_error(m.str());
+      }
+    }
+  }
+}
+
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
   for (int k = 0; k < im.size(); ++k) {

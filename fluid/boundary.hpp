@@ -34,6 +34,12 @@ Images make_images(const Lattice& lattice, double reach);
 // whose images are made again every step.
 Images make_images(const Domain& domain, const Mat2& x, double reach);
 
+// Moving particles (WCSPH, ISPH) at x (N x 2): wrapped into [x0, x1) along periodic axes; a particle
+// on or beyond a wall or an open side, or with a non-finite position, throws std::runtime_error
+// naming the method, the particle, the side, where it is now and the time t, then `hint` (what to
+// change) for a wall crossed.
+void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint);
+
 // The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
 // plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,

@@ -8,7 +8,7 @@
 
 namespace sphib {
 
-bool supports_free_surface(const std::string& method) { return method == "wcsph"; }
+bool supports_free_surface(const std::string& method) { return method == "wcsph" || method == "isph"; }
 
 bool has_free_surface(const Domain& d, const FreeSurfaceParams& fs) {
   return fs.fill.shape != FluidRegion::Shape::Domain || d.any_open();
@@ -69,7 +69,7 @@ std::optional<ParamProblem> free_surface_problem(const std::string& method, cons
                                                  const Eigen::Vector2d& g) {
   const bool free = has_free_surface(d, fs), gravity = g.norm() != 0;
   if (!supports_free_surface(method)) {
-    const std::string none = "method \"" + method + "\" has no free surface (methods with one: wcsph)";
+    const std::string none = "method \"" + method + "\" has no free surface (methods with one: wcsph, isph)";
     if (fs.fill.shape != FluidRegion::Shape::Domain) return ParamProblem{"fill.shape", "a partly filled tank: " + none};
     if (d.any_open()) return ParamProblem{"domain.open", "an open side: " + none};
     if (gravity) return ParamProblem{"fluid.gravity", none + " (a body force rho g is fluid.body_force)"};
@@ -169,7 +169,12 @@ void SurfaceDetector::divergence(int N, const ParticlePairs& P, const Vec& V, do
     div_r_[i] += (j < N ? V[j] : V_fixed) * t;
     if (j < N) div_r_[j] += V[i] * t;  // the same from j: (x_j - x_i) . grad_j W_ji
   }
-  for (int i = 0; i < N; ++i) flags[i] = div_r_[i] < 2.0 * beta_;  // A Eq. (26)
+  flag_divergence(div_r_, flags);
+}
+
+void SurfaceDetector::flag_divergence(const Vec& div_r, std::vector<char>& flags) const {
+  flags.resize(div_r.size());
+  for (int i = 0; i < div_r.size(); ++i) flags[i] = div_r[i] < 2.0 * beta_;  // A Eq. (26)
 }
 
 namespace {

@@ -38,8 +38,7 @@ struct FreeSurfaceParams {
   double dilts_radius = 1.0;       // Dilts: each particle's circle has radius dilts_radius h
 };
 
-// The methods that support a free surface (open sides, a partly filled tank, gravity). ISPH: add
-// "isph" here, to io/scene.cpp's method list and to make_fluid (fluid/solver.cpp).
+// The methods that support a free surface (open sides, a partly filled tank, gravity): wcsph, isph.
 bool supports_free_surface(const std::string& method);
 
 // A partly filled tank or an open side: the fluid has a free surface.
@@ -90,6 +89,8 @@ class SurfaceDetector {
 
   // N particles with volumes V (m/rho), fixed points of volume V_fixed; flags[i] = 1 on the surface.
   void detect(int N, const ParticlePairs& P, const Vec& V, double V_fixed, std::vector<char>& flags);
+  // A Eq. (26) from the sums div r_i already at hand (ISPH's assembly: particle_operators.hpp).
+  void flag_divergence(const Vec& div_r, std::vector<char>& flags) const;
   SurfaceDetection method() const { return method_; }
   const Vec& position_divergence() const { return div_r_; }  // A Eq. (26)'s sum, last detection (Divergence)
 

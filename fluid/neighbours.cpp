@@ -98,7 +98,7 @@ void CellGrid::build(const Mat2& points) {
   items_.resize(n);
   x_.resize(n, 2);
   for (int j = 0; j < n; ++j) {
-    cell_[j] = cell_of(points(j, 0), 0) + nc_[0] * cell_of(points(j, 1), 1);
+    cell_[j] = cell_of(wrapped(points(j, 0), 0), 0) + nc_[0] * cell_of(wrapped(points(j, 1), 1), 1);
     ++start_[cell_[j] + 1];
   }
   for (int c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
@@ -106,11 +106,7 @@ void CellGrid::build(const Mat2& points) {
   for (int j = 0; j < n; ++j) {  // counting sort, stable in j
     const int k = next[cell_[j]]++;
     items_[k] = j;
-    for (int a = 0; a < 2; ++a) {
-      double c = points(j, a);
-      if (periodic_[a]) c -= period_[a] * std::floor((c - lo_[a]) / period_[a]);
-      x_(k, a) = c;
-    }
+    for (int a = 0; a < 2; ++a) x_(k, a) = wrapped(points(j, a), a);
   }
 }
 
@@ -191,6 +187,21 @@ VerletList::VerletList(const Domain& d, double reach, double skin_min, double sk
   skin_ = skin_min_;
 }
 
+VerletList::VerletList(const Domain& d, double reach, double skin_min, double skin_max, const Mat2& fixed)
+    : VerletList(d, reach, skin_min, skin_max) {
+  fixed_ = fixed;
+  fixed_mode_ = true;
+}
+
+void VerletList::restore(const State& s, const Mat2& x, Images& im, PairList& P) {
+  skin_ = s.skin;
+  build(s.x_build, im, P);
+  move(x, im, P);
+  since_build_ = s.since_build;
+  builds_ = s.builds;
+  updates_ = s.updates;
+}
+
 bool VerletList::update(const Mat2& x, Images& im, PairList& P, bool force) {
   const bool first = builds_ == 0 || x.rows() != x_build_.rows();
   double spread = 0;
@@ -237,11 +248,11 @@ bool VerletList::needs_build(const Mat2& x, double& spread) const {
   bool image_missing = false;
   for (int i = 0; i < N; ++i) {
     const int has = walls_[i];
-    image_missing = image_missing || (walls_near(x(i, 0), x(i, 1), reach_) & ~has);
+    image_missing = image_missing || (!fixed_mode_ && (walls_near(x(i, 0), x(i, 1), reach_) & ~has));
     double dx = x(i, 0) - x_build_(i, 0), dy = x(i, 1) - x_build_(i, 1);
     if (d_.periodic_x) dx -= d_.Lx() * std::round(dx / d_.Lx());  // minimum image
     if (d_.periodic_y) dy -= d_.Ly() * std::round(dy / d_.Ly());
-    if (i == 0) lo[0] = hi[0] = dx, lo[1] = hi[1] = dy;
+    if (i == 0 && !fixed_mode_) lo[0] = hi[0] = dx, lo[1] = hi[1] = dy;  // (fixed points: the box holds 0)
     add(dx, dy);
     if (has & (1 << Left | 1 << Right)) add(-dx, dy);  // the image across x = const
     if (has & (1 << Bottom | 1 << Top)) add(dx, -dy);  // across y = const
@@ -262,11 +273,19 @@ int VerletList::images_within_reach(const Images& im, const Mat2& x) const {
 
 void VerletList::build(const Mat2& x, Images& im, PairList& P) {
   const double range = reach_ + skin_;
-  im = make_images(d_, x, range);
+  if (fixed_mode_) {  // the fixed points, without parents
+    const int M = static_cast<int>(fixed_.rows());
+    im.x = fixed_;
+    im.parent.assign(M, -1);
+    im.wall.assign(M, -1);
+    im.v_sign.assign(M, 0.0);
+  } else {
+    im = make_images(d_, x, range);
+  }
   find_pairs(d_, x, im.x, range, P);
   x_build_ = x;
   walls_.resize(x.rows());
-  for (int i = 0; i < x.rows(); ++i) walls_[i] = walls_near(x(i, 0), x(i, 1), range);
+  for (int i = 0; i < x.rows(); ++i) walls_[i] = fixed_mode_ ? 0 : walls_near(x(i, 0), x(i, 1), range);
   const int M = im.size();
   mx_.assign(M, 0);
   my_.assign(M, 0);
@@ -280,7 +299,7 @@ void VerletList::build(const Mat2& x, Images& im, PairList& P) {
 
 void VerletList::move(const Mat2& x, Images& im, PairList& P) const {
   const int N = static_cast<int>(x.rows()), M = im.size();
-  for (int m = 0; m < M; ++m) {  // the mirror images of the parents (boundary.hpp), 2 w - x
+  for (int m = 0; m < M && !fixed_mode_; ++m) {  // the mirror images of the parents (boundary.hpp), 2 w - x
     const int p = im.parent[m];
     im.x(m, 0) = mx_[m] ? 2.0 * (mx_[m] < 0 ? d_.x0 : d_.x1) - x(p, 0) : x(p, 0);
     im.x(m, 1) = my_[m] ? 2.0 * (my_[m] < 0 ? d_.y0 : d_.y1) - x(p, 1) : x(p, 1);

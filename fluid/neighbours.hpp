@@ -81,11 +81,19 @@ class CellGrid {
   }
 
  private:
+  // c wrapped into [lo, hi) along a periodic axis (c - period * floor rounds to hi for a tiny negative
+  // c - lo: then lo).
+  double wrapped(double c, int axis) const {
+    if (!periodic_[axis]) return c;
+    c -= period_[axis] * std::floor((c - lo_[axis]) / period_[axis]);
+    return c >= lo_[axis] + period_[axis] ? lo_[axis] : c;
+  }
+  // The cell of a wrapped coordinate: the edge cells take points outside a bounded axis, and along a
+  // periodic axis a point just below hi whose quotient rounds up to nc stays in the last cell (with
+  // the coordinate it is stored with: wrapping its cell to 0 made queries near hi miss it).
   int cell_of(double c, int axis) const {
-    int k = static_cast<int>(std::floor((c - lo_[axis]) / h_[axis]));
-    if (periodic_[axis]) { k %= nc_[axis]; if (k < 0) k += nc_[axis]; }
-    else k = k < 0 ? 0 : (k >= nc_[axis] ? nc_[axis] - 1 : k);
-    return k;
+    const int k = static_cast<int>(std::floor((c - lo_[axis]) / h_[axis]));
+    return k < 0 ? 0 : (k >= nc_[axis] ? nc_[axis] - 1 : k);
   }
   static constexpr int kMaxSpan = 64;
   // The cells along an axis that overlap [c - r, c + r], each with the whole-period shift that
@@ -162,6 +170,10 @@ void find_pairs(const Domain& domain, const Mat2& x, const Mat2& image_x, double
 // a margin for rounding), or when a particle has come within reach of a wall it has no image
 // across. Candidates farther than reach stay in the list (the caller's coefficients are zero
 // there), so that a pattern made from the list stays the same between builds.
+// With fixed points (ISPH: the Morris wall particles of walls.hpp) there are no mirror images: the
+// images are the fixed points, numbered as given, without parents (Images::parent -1, v_sign 0),
+// candidates of every particle within reach + skin, never moved; a particle's displacement alone then
+// bounds the change of its distance to them (the box includes the zero displacement).
 class VerletList {
  public:
   // The skin lies in [skin_min, skin_max] (reduced where a periodic period or the walls leave less
@@ -173,6 +185,8 @@ class VerletList {
   // candidates within reach (see kBuildCost). skin_min = skin_max: a fixed skin.
   VerletList(const Domain& d, double reach, double skin_min, double skin_max);
   VerletList(const Domain& d, double reach, double skin) : VerletList(d, reach, skin, skin) {}
+  // With fixed points (M x 2) instead of mirror images.
+  VerletList(const Domain& d, double reach, double skin_min, double skin_max, const Mat2& fixed);
 
   // The particles at x (N x 2, in the domain: wrapped along periodic axes): the images im and the
   // candidate pairs P (rx, ry, r) moved there, or built again (force: always); returns whether it
@@ -187,6 +201,18 @@ class VerletList {
   long builds() const { return builds_; }
   long updates() const { return updates_; }
 
+  // What decides the next builds (checkpoints): the positions of the last build, the skin, the moves
+  // since, and the counters; restore() builds again at those positions and moves the list to x, the
+  // positions of the last update (im, P as update() leaves them), so that the candidates, and the
+  // patterns made from them, are the uninterrupted run's.
+  struct State {
+    Mat2 x_build;
+    double skin = 0;
+    long since_build = 0, builds = 0, updates = 0;
+  };
+  State state() const { return {x_build_, skin_, since_build_, builds_, updates_}; }
+  void restore(const State& s, const Mat2& x, Images& im, PairList& P);
+
  private:
   void build(const Mat2& x, Images& im, PairList& P);
   void move(const Mat2& x, Images& im, PairList& P) const;
@@ -194,6 +220,8 @@ class VerletList {
   int walls_near(double x, double y, double range) const;
 
   Domain d_;
+  Mat2 fixed_;          // the fixed points (fixed_mode_)
+  bool fixed_mode_ = false;
   static constexpr double kBuildCost = 2.0;  // measured insensitive: fluid/lagrangian.cpp
   double reach_, skin_min_, skin_max_, skin_;
   long since_build_ = 0;  // moves since the last build

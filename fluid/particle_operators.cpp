@@ -12,6 +12,8 @@ struct ParticleOperators::Values {
   double na;                                // -a
   double* S;                                // kernel sums (null: not asked for); V, W(0)
   double V, w_0;
+  double sd;     // the divergence's diagonal sign: +1 the sum form (Eq. 30), -1 the difference form (A Eq. 14)
+  double* divr;  // A Eq. (26)'s div r (null: not asked for)
 };
 
 namespace {
@@ -37,7 +39,7 @@ struct PairTerms {
 
 void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
                                  double reach, bool new_pattern, Operators& op, const Systems& sys,
-                                 double* kernel_sums) {
+                                 double* kernel_sums, const PairRules& rules) {
   if (new_pattern || static_cast<int>(diag_.size()) != N) {
     make_pattern(P, im, N);
     shape(op, N, im.size(), sys);
@@ -46,7 +48,7 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
            op.lap_phi.valuePtr(), op.grad_phix.valuePtr(), op.grad_phiy.valuePtr(),
            op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
            sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn,
-           kernel_sums, V, W.W(0.0)};
+           kernel_sums, V, W.W(0.0), rules.divergence_difference ? -1.0 : 1.0, rules.position_divergence};
   const KernelWF Wl(W);
   // One pass over the pairs: each pair's terms into every operator, in the order of the separate
   // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
@@ -57,7 +59,7 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
       if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
       else row_plain<false>(P, i, Wl, V, reach, v);
     } else {
-      row_with_images(P, im, i, N, Wl, V, reach, v, b);
+      row_with_images(P, im, i, N, Wl, V, reach, v, rules, b);
     }
   }
 }
@@ -67,10 +69,11 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
 template <bool kSystems>
 void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
-  double dl = 0, dgx = 0, dgy = 0, sw = v.w_0;  // sw: W(0) + sum_j W_ij, in pair order
+  double dl = 0, dgx = 0, dgy = 0, sw = v.w_0, dr = 0;  // sw: W(0) + sum_j W_ij, in pair order
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const PairTerms t(P, k, W, V, reach);
     if (t.active) sw += t.w;
+    dr -= t.gx * P.rx[k] + t.gy * P.ry[k];  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
     const int s = slot_[k];
     const double l = t.active ? -1.0 * t.lap : 0.0;
     dl += t.lap;
@@ -86,8 +89,11 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
   }
   const int d = diag_[i];
   v.lu[d] = v.lp[d] = dl;
-  v.gxu[d] = v.gxp[d] = dgx;
-  v.gyu[d] = v.gyp[d] = dgy;
+  v.gxp[d] = dgx;
+  v.gyp[d] = dgy;
+  v.gxu[d] = v.sd * dgx;  // u_i's part: + (sum form) or - (difference form)
+  v.gyu[d] = v.sd * dgy;
+  if (v.divr) v.divr[i] = dr;
   if (kSystems) {
     v.cn[d] = v.na * dl + 1.0;
     v.ph[d] = -dl;
@@ -96,25 +102,42 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
 }
 
 // A row with images may meet a column twice (a neighbour and an image's parent, or i and its own
-// image): zeroed, then summed in place.
+// image): zeroed, then summed in place. A fixed point (parent < 0) takes the pair-local rules of the
+// header.
 void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W,
-                                        double V, double reach, const Values& v, int& b) const {
+                                        double V, double reach, const Values& v, const PairRules& rules,
+                                        int& b) const {
   const int d = diag_[i], o0 = outer_[i], o1 = outer_[i + 1];
   for (double* a : {v.lu, v.gxu, v.gyu, v.lp, v.gxp, v.gyp}) std::fill(a + o0, a + o1, 0.0);
-  double sw = v.w_0;
+  double sw = v.w_0, dr = 0;
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const int j = P.j[k];
-    const bool image = j >= N;
-    const PairTerms t(P, k, W, V, reach);
+    const bool image = j >= N, fixed = image && im.parent[j - N] < 0;
+    const PairTerms t(P, k, W, fixed ? rules.V_fixed : V, reach);
+    if (!fixed) dr -= t.gx * P.rx[k] + t.gy * P.ry[k];  // A Eq. (26), the particles' part
+    if (fixed) {  // a Morris wall particle: f_w = s f_i + weight c_w (header)
+      if (t.active) sw += t.w;
+      const double beta = t.active ? rules.wall_beta[k] : 0.0;
+      v.lu[d] += beta * t.lap;           // A Eq. (18): u_i - u_w = beta (u_i - c_w)
+      v.gxu[d] += v.sd * t.gx - t.gx;    // u_w = 2 c_w - u_i: sum form 0, difference form -2 u_i
+      v.gyu[d] += v.sd * t.gy - t.gy;
+      v.gxp[d] += 2.0 * t.gx;            // phi_w = phi_i + the caller's offset: (phi_i + phi_w) (A Eq. 13)
+      v.gyp[d] += 2.0 * t.gy;
+      v.lb[b] = -beta * t.lap;
+      v.gxb[b] = 2.0 * t.gx;
+      v.gyb[b] = 2.0 * t.gy;
+      ++b;
+      continue;
+    }
     if (t.active) {
       sw += t.w;
       const int s = slot_[k];
       const double sign = image ? im.v_sign[j - N] : 1.0;
       v.lu[d] += t.lap;
       v.lu[s] += -1.0 * sign * t.lap;
-      v.gxu[d] += t.gx;
+      v.gxu[d] += v.sd * t.gx;
       v.gxu[s] += 1.0 * sign * t.gx;
-      v.gyu[d] += t.gy;
+      v.gyu[d] += v.sd * t.gy;
       v.gyu[s] += 1.0 * sign * t.gy;
       v.lp[d] += t.lap;
       v.lp[s] += -1.0 * t.lap;
@@ -136,6 +159,7 @@ void ParticleOperators::row_with_images(const PairList& P, const Images& im, int
   }
   if (v.cn) v.cn[d] += 1.0;
   if (v.S) v.S[i] = v.V * sw;
+  if (v.divr) v.divr[i] = dr;
 }
 
 void ParticleOperators::shape(Operators& op, int N, int M, const Systems& sys) const {
@@ -169,8 +193,8 @@ void ParticleOperators::make_pattern(const PairList& P, const Images& im, int N)
       const int j = P.j[k];
       if (j < N) {
         cols.push_back(j);
-      } else {  // an image couples i to its parent, and (velocity) to its offset c_m
-        cols.push_back(im.parent[j - N]);
+      } else {  // an image couples i to its parent (a fixed point to none), and (velocity) to its offset c_m
+        if (im.parent[j - N] >= 0) cols.push_back(im.parent[j - N]);
         inner_b_.push_back(j - N);  // increasing in m: the pairs are sorted by j
         ++images;
       }
@@ -188,7 +212,8 @@ void ParticleOperators::make_pattern(const PairList& P, const Images& im, int N)
     diag_[i] = where(i);
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
       const int j = P.j[k];
-      slot_[k] = where(j < N ? j : im.parent[j - N]);
+      const int col = j < N ? j : im.parent[j - N] >= 0 ? im.parent[j - N] : i;  // (a fixed point: unused)
+      slot_[k] = where(col);
     }
   }
 }

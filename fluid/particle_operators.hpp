@@ -6,6 +6,26 @@
 // that does not change keeps the factorisations' symbolic analysis), then the values of all six
 // operators in one pass over the pairs. The values equal build_operators' for the same pairs.
 //
+// ISPH (isph.hpp) asks for two differences (PairRules): the divergence in the difference form of
+// Afanasiev et al. ["A"] Eq. (14), and neighbours that are fixed points, the Morris wall particles
+// (walls.hpp), instead of mirror images. A fixed point is an image without a parent (Images::parent
+// < 0); the value it carries is an affine function of the PAIR's own particle i and of its offset c_w
+// (the wall particle's prescribed velocity), f_w = s f_i + weight c_w, by operator:
+//   lap_u (A Eq. 18, Morris et al. 1997):  u_w = (1 - beta) u_i + beta c_w, beta = 1 + d_w/d_i the
+//        pair's Morris factor (walls.hpp, morris_wall_factor): the linear extrapolation through the
+//        wall velocity, so that u_i - u_w = beta (u_i - c_w): A(i, i) += beta a_k, B(i, w) = -beta a_k;
+//   grad_ux, grad_uy (the divergence):     u_w = 2 c_w - u_i, the mirror rule of Eq. (42) taken pair by
+//        pair: the wall's whole flux jump enters the divergence (with u_w = c_w only half of it would,
+//        the other half lying in the wall particles' own rows, which are no unknowns here);
+//   lap_phi:                                phi_w = phi_i, the homogeneous Neumann condition of A
+//        Section 3.6 taken pair by pair: a wall pair drops out of the Laplacian, which stays the
+//        symmetric graph Laplacian of the fluid pairs;
+//   grad_phix, grad_phiy (sum form, A Eq. 13): phi_w = phi_i + o_iw, the pair's own value and an
+//        offset the caller adds (ISPH: the hydrostatic rho g . (x_w - x_i) of Adami et al., isph.hpp):
+//        (phi_i + phi_w) puts 2 phi_i on the diagonal.
+// So A's pattern has no column for a fixed point (B has one per pair), and the Poisson matrix
+// -lap_phi is symmetric: no Neumann row breaks it (A's PGMRES is not needed; CHOLMOD and CG apply).
+//
 // With a Verlet list (neighbours.hpp) the pairs are candidates that may lie beyond the reach 2h; they
 // stay in the pattern with zero coefficients (the kernel vanishes there), so that the pattern is
 // made only when the list is built again and a step computes the values alone (no allocation).
@@ -39,6 +59,16 @@ struct KernelWF {
   }
 };
 
+// What ISPH changes (see the header); the defaults give LPSPH's operators.
+struct PairRules {
+  bool divergence_difference = false;  // grad_ux, grad_uy by A Eq. (14): sum_j V (u_j - u_i) . grad_i W_ij
+  const double* wall_beta = nullptr;   // per pair (read at pairs with a fixed point): Morris's beta
+  double V_fixed = 0;                  // the volume of a fixed point (its lattice cell dx dy)
+  // N, when given: A Eq. (26)'s div r_i = -sum_j V_j (x_i - x_j) . grad_i W_ij over the particles and
+  // the images with a parent (the fixed points' part is the caller's: isph.cpp)
+  double* position_divergence = nullptr;
+};
+
 // The two systems of a projection step, assembled with the operators when given (their pattern):
 // A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
 // (Eq. 32).
@@ -55,9 +85,10 @@ class ParticleOperators {
   // contribute zeros. `new_pattern`: P's pairs (or im) changed since the last call, else only their
   // geometry did and op (and the systems) keep their pattern. `kernel_sums` (N, when given): the
   // kernel sums S_i = V (W(0) + sum_j W_ij) over the same pairs (LPSPH's breakdown check, Section
-  // 5.2.2), summed in pair order.
+  // 5.2.2), summed in pair order. `rules`: ISPH's (PairRules), required when im has fixed points.
   void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
-                bool new_pattern, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr);
+                bool new_pattern, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr,
+                const PairRules& rules = {});
   // The position of the diagonal entry of row i in the values of op's A matrices.
   const std::vector<int>& diagonal() const { return diag_; }
 
@@ -68,7 +99,7 @@ class ParticleOperators {
   template <bool kSystems>
   void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
   void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
-                       double reach, const Values& v, int& b) const;
+                       double reach, const Values& v, const PairRules& rules, int& b) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
   std::vector<char> row_images_;                                      // row i has image pairs
 };

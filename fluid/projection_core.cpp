@@ -4,12 +4,15 @@
 
 namespace sphib {
 
-ProjectionFluid::ProjectionFluid(const FluidParams& params)
+ProjectionFluid::ProjectionFluid(const FluidParams& params) : ProjectionFluid(params, -1, 0.0) {}
+
+ProjectionFluid::ProjectionFluid(const FluidParams& params, int particles, double volume)
     : prm_(params), lat_(make_lattice(params.domain, params.nx, params.ny)),
       W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)) {
   check_common_params(prm_);
-  const int N = lat_.size();
-  V_ = Vec::Constant(N, lat_.volume);
+  const int N = particles < 0 ? lat_.size() : particles;  // (-1: the lattice's)
+  volume_ = particles < 0 ? lat_.volume : volume;
+  V_ = Vec::Constant(N, volume_);
   u_ = u_star_ = u_star_old_ = rhs_ = conv_ = grad_phi_ = Mat2::Zero(N, 2);
   phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
   k_images_ = prof_.phase("images (Eq. 42)");
@@ -30,12 +33,33 @@ void ProjectionFluid::operators_changed(const RowStencil* vel_st, const RowStenc
   lap_b_rows_ = nonempty_rows(op_.lap_u.B);
   gx_b_rows_ = nonempty_rows(op_.grad_ux.B);
   gy_b_rows_ = nonempty_rows(op_.grad_uy.B);
-  const int N = lat_.size(), M = im_.size();
+  const int N = static_cast<int>(u_.rows()), M = im_.size();
   c_wall_.setZero(M, 2);
   c_star_.setZero(M, 2);
-  image_velocity_offsets(im_, prm_.domain, nullptr, 0.0, c_wall_);  // 2 u_b: images of u^n
+  velocity_offsets(nullptr, c_wall_);  // 2 u_b: images of u^n
   lap_wall_.setZero(N, 2);
   add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
+}
+
+void ProjectionFluid::operator_values_changed() {
+  if (c_wall_.size() == 0 || c_wall_.cwiseAbs().maxCoeff() == 0) return;
+  lap_wall_.setZero();
+  add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
+}
+
+void ProjectionFluid::velocity_offsets(const Mat2* grad_phi, Mat2& c) const {
+  image_velocity_offsets(im_, prm_.domain, grad_phi, grad_phi ? prm_.dt / prm_.rho : 0.0, c);
+}
+
+void ProjectionFluid::eliminate_dirichlet(SpMat& A) {
+  dirichlet_mask_.assign(A.rows(), 0);
+  for (int i : dirichlet_rows_) dirichlet_mask_[i] = 1;
+  const int* o = A.outerIndexPtr();
+  const int* c = A.innerIndexPtr();
+  double* a = A.valuePtr();
+  for (int i = 0; i < A.outerSize(); ++i)
+    for (int k = o[i]; k < o[i + 1]; ++k)
+      if (dirichlet_mask_[i] || dirichlet_mask_[c[k]]) a[k] = c[k] == i ? 1.0 : 0.0;  // phi_i = 0, symmetric
 }
 
 SpMat ProjectionFluid::crank_nicolson_matrix() const {
@@ -68,7 +92,7 @@ void ProjectionFluid::step(const Mat2& F) {
 void ProjectionFluid::image_offsets() {
   ScopedTimer tm(prof_, k_images_);
   // Eq. (42): images of u* carry 2 (u_b + dt/rho [grad phi~]_tau) - u*, with phi~ = phi^n.
-  image_velocity_offsets(im_, prm_.domain, &grad_phi_, prm_.dt / prm_.rho, c_star_);
+  velocity_offsets(&grad_phi_, c_star_);
 }
 
 void ProjectionFluid::viscous_rhs(const Mat2& F) {
@@ -82,10 +106,17 @@ void ProjectionFluid::viscous_rhs(const Mat2& F) {
   for (int c = 0; c < 2; ++c)
     for (int i = 0; i < N; ++i)
       rhs_(i, c) = (rhs_(i, c) + lap_wall_(i, c)) * a + u_(i, c) + k * F(i, c) - kc * conv_(i, c);
+  add_acceleration(rhs_);
+}
+
+void ProjectionFluid::add_acceleration(Mat2& v) const {
+  for (int c = 0; c < 2; ++c)  // + dt g (ISPH's gravity, Afanasiev et al. Eq. 22)
+    if (accel_[c] != 0.0) v.col(c).array() += prm_.dt * accel_[c];
 }
 
 void ProjectionFluid::viscous_predictor(const Mat2& F) {
   viscous_rhs(F);
+  if (explicit_viscous_) return;  // viscous_rhs gave u* itself (ISPH: Afanasiev et al. Eq. 22)
   ScopedTimer tm(prof_, k_solve_cn_);
   // u and v: two right-hand sides of one factorisation. An iterative solver starts from the
   // linear extrapolation 2 u*_{n-1} - u*_{n-2} (direct solvers ignore it).
@@ -121,6 +152,7 @@ void ProjectionFluid::project_approximate() {
     ScopedTimer tm(prof_, k_solve_poisson_);
     poisson_->solve(b_phi_.data(), phi_.data(), 1);
     if (gauge) phi_.array() -= phi_.mean();
+    for (int i : dirichlet_rows_) phi_[i] = 0.0;  // the exact solution there (CG leaves round-off)
   }
   ScopedTimer tm(prof_, k_project_);
   // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
@@ -131,7 +163,8 @@ void ProjectionFluid::project_approximate() {
 const Vec& ProjectionFluid::p() const {
   if (p_revision_ != revision_) {
     ScopedTimer tm(prof_, k_pressure_);
-    pressure_from_phi(op_.lap_phi, phi(), a_cn(), p_);  // Eq. (35)
+    if (explicit_viscous_) p_ = phi();  // Afanasiev et al. Eqs. (23)-(24): phi is p^{n+1}
+    else pressure_from_phi(op_.lap_phi, phi(), a_cn(), p_);  // Eq. (35)
     p_revision_ = revision_;
   }
   return p_;
@@ -143,10 +176,11 @@ double ProjectionFluid::max_abs_divergence() const {
   return d.cwiseAbs().maxCoeff();
 }
 
-double ProjectionFluid::kinetic_energy() const { return 0.5 * prm_.rho * lat_.volume * u_.squaredNorm(); }
+double ProjectionFluid::kinetic_energy() const { return 0.5 * prm_.rho * volume_ * u_.squaredNorm(); }
 
 std::vector<SolverInfo> ProjectionFluid::solver_info() const {
-  std::vector<SolverInfo> v{cn_->info()};
+  std::vector<SolverInfo> v;
+  if (cn_) v.push_back(cn_->info());
   if (poisson_) v.push_back(poisson_->info());
   return v;
 }

@@ -5,21 +5,29 @@
 //   EPSPH (eulerian.hpp):   fixed lattice, everything built once; convection (Eqs. 39-41); the
 //                           exact projection (exact_projection.hpp) besides the paper's;
 //   LPSPH (lagrangian.hpp): moving particles, geometry rebuilt at x* every step, Eq. (37);
-//   ISPH:                   moving particles with Dirichlet rows p = 0 at a free surface.
+//   ISPH (isph.hpp):        moving particles filling part of a tank, Morris wall particles, the
+//                           explicit viscous predictor of Afanasiev et al. Eq. (22) (explicit_viscous_),
+//                           gravity (accel_), Dirichlet rows p = 0 at a free surface.
 //
 // One step (step(), in order):
 //   begin_step()                      the method's geometry for this step (LPSPH: rebuild at x*)
 //   images: c* by Eq. (42)            image offsets of u*: 2 (u_b + dt/rho [grad phi^n]_tau)
 //   convection()                      EPSPH: N^{n+1/2} by AB2 (Eq. 39); others carry it by motion
 //   viscous predictor, Eq. (28):      (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*)
-//                                                      - dt N^{n+1/2} + dt F^n / rho,  a = nu dt / 2
+//                                                      - dt N^{n+1/2} + dt F^n / rho + dt g,  a = nu dt / 2
+//     or explicitly (explicit_viscous_, Afanasiev et al. Eq. 22):
+//                                     u* = u^n + nu dt (lap u^n + B c^n) + dt F^n / rho + dt g
+//     (g: accel_, a uniform acceleration the method applies itself, ISPH's gravity; zero otherwise)
 //   project()                         approximate by default (Eqs. 30-34); EPSPH: exact if chosen
 //   t += dt; n += 1; end_step()       the method's motion (Eq. 37) and reinitialisation
 //
 // The approximate projection: -lap phi = -(rho/dt) div u* (Eqs. 30-32) with the gauge of the
 // singular operator (fluid/gauge.hpp: right-hand side onto the range, pinned for a factorisation,
 // phi shifted to zero mean) or, for a method with Dirichlet rows, b = 0 on those rows and no gauge;
-// u^{n+1} = u* - dt/rho grad phi (Eq. 34). The pressure (Eq. 35) is recovered only when asked for.
+// u^{n+1} = u* - dt/rho grad phi (Eq. 34). The pressure (Eq. 35) is recovered only when asked for
+// (after the explicit predictor p = phi: Afanasiev et al. Eqs. 23-24 solve for p^{n+1} itself).
+// Dirichlet rows are eliminated from the Poisson matrix symmetrically by the method
+// (eliminate_dirichlet: zero rows and columns, 1 on the diagonal), so that it stays symmetric.
 //
 // The products go through fluid/products.hpp (one pass per sparsity pattern; on a lattice the rows
 // that are translates of one row as a stencil): every operator of a step must share one pattern
@@ -76,22 +84,34 @@ class ProjectionFluid : public FluidSolver {
   void restore(const NamedArrays& state) final;
 
  protected:
-  explicit ProjectionFluid(const FluidParams& params);
+  explicit ProjectionFluid(const FluidParams& params);  // the lattice's particles (Eq. 68)
+  // N particles of volume V each (a fluid region filling part of the lattice's domain: ISPH).
+  ProjectionFluid(const FluidParams& params, int N, double V);
 
   // --- what a method provides -------------------------------------------------------------------
   virtual void begin_step() {}  // the step's geometry (may throw a breakdown before anything changes)
   virtual void convection() {}  // fills conv_ (N^{n+1/2}); the rhs subtracts it when convective_
-  // Eq. (28)'s right-hand side into rhs_ (EPSPH: one pass with the convection, fluid/fused_passes.hpp)
+  // Eq. (28)'s right-hand side into rhs_ (EPSPH: one pass with the convection, fluid/fused_passes.hpp);
+  // with explicit_viscous_ the method's override puts u* itself into u_star_ (ISPH: Afanasiev et al.
+  // Eq. 22) and there is no Crank-Nicolson solve.
   virtual void viscous_rhs(const Mat2& F);
   virtual void project() { project_approximate(); }
   virtual void end_step() {}    // after t and n have advanced
   virtual void extra_state(NamedArrays&) const {}
   virtual void restore_extra(const NamedArrays&) {}  // (after the core's part: t_ and n_ are set)
+  // The offsets c of the neighbours that are not particles (f_j = sign_j f_parent + c_j: operators.hpp)
+  // for the velocity: by default the images' of Eq. (42), 2 (u_b + dt/rho [grad phi]_tau) (without the
+  // tangential term when grad_phi is null).
+  virtual void velocity_offsets(const Mat2* grad_phi, Mat2& c) const;
 
   // --- the parts of the step ------------------------------------------------------------------
   // After the method (re)built im_, pairs_ and op_: the rows of the image operators, the wall part
   // of Eq. (42) (c^n = 2 u_b) and its Laplacian term, and the products' stencils (optional).
   void operators_changed(const RowStencil* vel_st = nullptr, const RowStencil* phi_st = nullptr);
+  // After new values of the operators in the same patterns (moving particles between list builds):
+  // the wall part B c^n of the Laplacian again (zero for walls at rest).
+  void operator_values_changed();
+  void add_acceleration(Mat2& v) const;  // v += dt accel_ (a no-op for a zero accel_)
   void image_offsets();        // Eq. (42): c* of u*
   void viscous_predictor(const Mat2& F);  // Eq. (28) and the Crank-Nicolson solve
   void project_approximate();  // Eqs. (30)-(34)
@@ -100,11 +120,15 @@ class ProjectionFluid : public FluidSolver {
   void add_setup(const std::string& what, double seconds) { setup_.emplace_back(what, seconds); }
   double a_cn() const { return 0.5 * nu() * prm_.dt; }  // Crank-Nicolson factor nu dt / 2 (Eq. 28)
   SpMat crank_nicolson_matrix() const;  // I - a lap (Eq. 28), the pattern of lap_u.A
+  // A with the rows and columns of dirichlet_rows_ zeroed and 1 on their diagonal (in place, the
+  // pattern kept): symmetric when A is, and with b = 0 on those rows phi = 0 there.
+  void eliminate_dirichlet(SpMat& A);
 
   FluidParams prm_;
   Lattice lat_;
   CubicSplineKernel W_;
   Vec V_;
+  double volume_;  // of every particle (V_)
   // the step's geometry (the method builds it; operators_changed() derives the rest)
   Images im_;
   PairList pairs_;
@@ -120,6 +144,8 @@ class ProjectionFluid : public FluidSolver {
   Gauge gauge_;
   mutable bool poisson_unpinned_ = false;  // the Poisson solver takes the singular operator (FFT): no pin
   std::vector<int> dirichlet_rows_;      // Poisson rows replaced by phi_i = 0 (a free surface)
+  bool explicit_viscous_ = false;        // Afanasiev et al. Eq. (22) instead of Crank-Nicolson (no cn_)
+  Eigen::Vector2d accel_ = Eigen::Vector2d::Zero();  // uniform acceleration added to u* (ISPH: gravity)
   // state and workspace
   Mat2 u_, u_star_, u_star_old_, rhs_, conv_, grad_phi_;
   Vec div_;
@@ -134,6 +160,7 @@ class ProjectionFluid : public FluidSolver {
 
  private:
   std::vector<std::pair<std::string, double>> setup_;
+  std::vector<char> dirichlet_mask_;  // eliminate_dirichlet's workspace
   mutable Vec p_;
   mutable long p_revision_ = -1;  // the state p_ belongs to
 };

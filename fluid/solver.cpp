@@ -4,8 +4,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "fluid/lagrangian.hpp"
 #include "fluid/eulerian.hpp"
+#include "fluid/isph.hpp"
+#include "fluid/lagrangian.hpp"
 #include "fluid/wcsph.hpp"
 
 namespace sphib {
@@ -50,7 +51,7 @@ WallForces FluidSolver::wall_forces() const {
 
 std::optional<ParamProblem> free_surface_problem(const FluidParams& p) {
   if (p.method == "wcsph") return wcsph_free_surface_problem(p);
-  // ISPH: its own checks here (they should start with the generic ones)
+  if (p.method == "isph") return isph_problem(p);
   return free_surface_problem(p.method, p.domain, p.free_surface, p.gravity);
 }
 
@@ -59,8 +60,9 @@ std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params) {
   if (params.method == "eulerian") return std::make_unique<EulerianFluid>(params);
   if (params.method == "lagrangian") return std::make_unique<LagrangianFluid>(params);
   if (params.method == "wcsph") return std::make_unique<WcsphFluid>(params);
+  if (params.method == "isph") return std::make_unique<IsphFluid>(params);
   throw std::invalid_argument("method: \"" + params.method +
-                              "\" is not available (allowed: eulerian, lagrangian, wcsph)");
+                              "\" is not available (allowed: eulerian, lagrangian, wcsph, isph)");
 }
 
 }  // namespace sphib

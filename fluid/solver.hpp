@@ -1,8 +1,8 @@
 #pragma once
 // The contract every fluid method meets, so that the coupling, the runner and the cases work
 // with any of them: EPSPH (fixed particles, eulerian.hpp), LPSPH (moving particles,
-// lagrangian.hpp), both on the projection core (projection_core.hpp), and weakly compressible SPH
-// (wcsph.hpp).
+// lagrangian.hpp) and ISPH (moving particles with a free surface, isph.hpp), all on the projection
+// core (projection_core.hpp), and weakly compressible SPH (wcsph.hpp).
 //
 // A FluidSolver advances the velocity of N particles by one time step under an external force
 // per unit volume, and shows their positions, volumes, velocity, pressure and its kernel.
@@ -43,6 +43,11 @@ struct WcsphParams {
   std::string wall_pressure = "rest";   // rest (p(rho0)) | eq30 (A Eq. 30) | extrapolated (A Eq. 30 normalised + hydrostatic term)
 };
 
+// ISPH with a free surface (Afanasiev, Makarchuk & Popov 2011, Sections 3.4-3.6; isph.hpp).
+struct IsphParams {
+  std::string viscous = "explicit";  // explicit (A Eq. 22) | crank_nicolson (Eq. 28 of the projection core)
+};
+
 // The Poisson operator of the projection (Eq. 32). Exact: D G, the divergence of the gradient the
 // projection applies (Eq. 34), so that D u^{n+1} = 0 to solver precision; its grid-scale null
 // modes are fixed by fluid/gauge.hpp. Approximate: the Morris Laplacian L of the paper (Eq. 31),
@@ -51,7 +56,7 @@ struct WcsphParams {
 enum class Projection { Auto, Exact, Approximate };
 
 struct FluidParams {
-  std::string method = "eulerian";  // eulerian (EPSPH) | lagrangian (LPSPH) | wcsph
+  std::string method = "eulerian";  // eulerian (EPSPH) | lagrangian (LPSPH) | wcsph | isph
   Domain domain;
   int nx = 32, ny = 32;
   double h_over_dx = 1.2;  // h = h_over_dx * (dx + dy) / 2
@@ -62,6 +67,7 @@ struct FluidParams {
   SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
   LagrangianParams lagrangian;
   WcsphParams wcsph;
+  IsphParams isph;
   // Free surfaces (free_surface.hpp; methods for which supports_free_surface holds): the fluid's
   // initial region and surface detection, and gravity, an acceleration the method applies itself
   // (it sets the hydrostatic initial state, A Eqs. 27-28).

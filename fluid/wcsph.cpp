@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fluid/boundary.hpp"
+
 namespace sphib {
 
 // wcsph_afanasiev.cpp: the parameters of A's classic SPH, and the particle count of a scene.
@@ -227,30 +229,9 @@ void WcsphFluid::xsph_velocity(const Mat2& u) {
 }
 
 void WcsphFluid::drift(double tau) {
-  const Domain& d = prm_.domain;
   x_ += tau * u_hat_;
-  for (int i = 0; i < x_.rows(); ++i) {
-    for (int a = 0; a < 2; ++a) {
-      const bool periodic = a == 0 ? d.periodic_x : d.periodic_y;
-      const double lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
-      double& c = x_(i, a);
-      if (periodic) {
-        c -= (hi - lo) * std::floor((c - lo) / (hi - lo));  // periodic wrap into [lo, hi)
-        if (c >= hi) c = lo;  // -tiny + period rounds to hi
-      } else if (!(c > lo && c < hi)) {
-        std::ostringstream m;
-        const Side side = a == 0 ? (c <= lo ? Left : Right) : (c <= lo ? Bottom : Top);
-        m << "WCSPH: particle " << i;
-        if (!std::isfinite(c)) m << " has a non-finite position";
-        else if (d.open[side]) m << " left the tank through its open " << side_name(side) << " side " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
-        else m << " crossed the wall " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
-        m << " (now at " << x_(i, 0) << ", " << x_(i, 1) << ") at t = " << t_ + tau;
-        if (std::isfinite(c) && !d.open[side]) m << ": the walls no longer hold the fluid (c too low for this flow, or time.dt too large)";
-        if (std::isfinite(c) && d.open[side]) m << " (a splash or a jet: make the tank larger)";
-        throw std::runtime_error(m.str());
-      }
-    }
-  }
+  keep_in_tank(prm_.domain, x_, t_ + tau, "WCSPH",
+               "the walls no longer hold the fluid (c too low for this flow, or time.dt too large)");
 }
 
 void WcsphFluid::check_density() {

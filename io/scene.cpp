@@ -440,15 +440,15 @@ void read_fluid(Reader& r, Scene& s) {
   f.mu = r.positive("fluid.mu", 1.0, "dynamic viscosity mu", true);
   s.sim.body_force = r.pair("fluid.body_force", Eigen::Vector2d::Zero(), "body force per unit volume [Fx, Fy]");
   f.gravity = r.pair("fluid.gravity", Eigen::Vector2d::Zero(),
-                     "gravity, an acceleration [gx, gy] (free-surface methods: wcsph): with a partly filled tank it sets the "
-                     "hydrostatic initial density (Afanasiev et al. Eq. 28) and B (Eq. 27); it may not point along a periodic "
-                     "axis or at an open side");
+                     "gravity, an acceleration [gx, gy] (free-surface methods: wcsph, isph): wcsph takes the hydrostatic "
+                     "initial density (Afanasiev et al. Eq. 28) and B (Eq. 27) from it, isph adds it to u* (Eq. 22); it may not "
+                     "point along a periodic axis or at an open side");
   f.convection = r.boolean("fluid.convection", true, "Navier-Stokes (true) or Stokes (false: no convection operator)");
   f.method = s.method;
   const std::string projection = r.choice(
       "fluid.projection", "auto", {"auto", "exact", "approximate"},
       "Poisson operator of the projection: exact (D G: the projected velocity is discretely divergence-free), "
-      "approximate (the paper's Morris Laplacian, Eq. 31); auto: exact for eulerian, approximate for lagrangian");
+      "approximate (the paper's Morris Laplacian, Eq. 31); auto: exact for eulerian, approximate for lagrangian and isph");
   if (projection != "auto" && s.method == "wcsph") r.fail("fluid.projection", "does not apply to method \"wcsph\" (no projection)");
   if (projection == "exact" && s.method == "lagrangian")
     r.fail("fluid.projection", "\"exact\" is available for method \"eulerian\" only (lagrangian: \"approximate\")");
@@ -474,6 +474,9 @@ void read_fluid(Reader& r, Scene& s) {
   f.wcsph.alpha = r.number("wcsph.alpha", 0.0, ">= 0", "artificial viscosity alpha of Monaghan (1992) (0: off)", false, 0.0);
   f.wcsph.smooth_every = static_cast<int>(r.integer(
       "wcsph.smooth_every", 0, 0, "density smoothing (Afanasiev et al. Eq. 29) every so many steps (predictor_corrector; 0: off)"));
+  f.isph.viscous = r.choice("isph.viscous", "explicit", {"explicit", "crank_nicolson"},
+                            "ISPH's viscous predictor: explicit (Afanasiev et al. Eq. 22) or crank_nicolson (the "
+                            "projection core's Eq. 28)");
   f.wcsph.wall_pressure = r.choice("wcsph.wall_pressure", "rest", {"rest", "eq30", "extrapolated"},
                                    "pressure of the wall particles (predictor_corrector): rest (p(rho0)), eq30 (Afanasiev et al. "
                                    "Eq. 30), extrapolated (Eq. 30 normalised, with the hydrostatic term of Adami et al. 2012)");
@@ -516,7 +519,8 @@ void read_free_surface(Reader& r, Scene& s) {
   FreeSurfaceParams& fs = f.free_surface;
   fs.detection = r.choice("free_surface.detection", "auto", {"auto", "dilts", "divergence", "none"},
                           "free-surface particles (p = 0): dilts (Dilts 2000), divergence (Afanasiev et al. Eq. 26: div r < "
-                          "2 beta); auto: the paper's choice for the method (wcsph: dilts), none without a free surface");
+                          "2 beta); auto: the paper's choice for the method (wcsph: dilts, isph: divergence), none without a "
+                          "free surface");
   fs.beta = r.number("free_surface.beta", 0.75, "(0, 1)", "Eq. (26)'s beta (the paper's best: 0.75 with h/dx = 1.1)", false,
                      0.0, true, 1.0);
   if (fs.beta == 1.0) r.fail("free_surface.beta", "value 1 is out of range (allowed: (0, 1))");
@@ -544,7 +548,7 @@ void read_time_and_solvers(Reader& r, Scene& s) {
   poisson_kinds.push_back("fft");
   for (const char* k : {"pcg_fft", "pcg_cholmod"}) poisson_kinds.push_back(k);
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", poisson_kinds,
-                                          "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor; auto, moving particles (lagrangian): pcg_fft where the lattice has an FFT solver, else pcg_cholmod; pcg_fft, pcg_cholmod as for solver.crank_nicolson, moving particles only)"));
+                                          "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor; auto, moving particles (lagrangian): pcg_fft where the lattice has an FFT solver, else pcg_cholmod; auto, isph: pcg_cholmod with a free surface, CHOLMOD supernodal for a full tank; pcg_fft, pcg_cholmod as for solver.crank_nicolson, moving particles only)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = r.int32("solver.marker_max_iter", 50, 1, "fixed-point iteration limit");
   s.sim.markers.extrapolate =
@@ -660,11 +664,12 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   Scene s;
   s.path = name;
   s.title = r.text("title", "", "a one-line description");
-  // A new method (ISPH: "isph") is added here, to make_fluid and, with a free surface, to
-  // supports_free_surface (fluid/free_surface.cpp).
-  s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph"},
+  // A new method is added here, to make_fluid and, with a free surface, to supports_free_surface
+  // (fluid/free_surface.cpp).
+  s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph", "isph"},
                       "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
-                      "wcsph (weakly compressible SPH)");
+                      "wcsph (weakly compressible SPH), isph (incompressible SPH with a free surface, Afanasiev et al. "
+                      "2011)");
   read_domain(r, s);
   read_fluid(r, s);
   read_free_surface(r, s);

@@ -311,7 +311,7 @@ def plot_series(cols, names, ylabel, title, out, logy=False):
     return True
 
 
-def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS):
+def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS, compare=None):
     h5_path = require(os.path.join(run_dir, "output.h5"))
     csv_path = require(os.path.join(run_dir, "diagnostics.csv"))
     summary = read_summary(run_dir)
@@ -342,7 +342,7 @@ def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS):
             else:
                 plot_snapshot(s, out)
             written.append(out)
-        written += plot_free_surface_series(h5, names, run_dir, read_csv(csv_path))
+        written += plot_free_surface_series(h5, names, run_dir, read_csv(csv_path), compare)
         if names and not free:
             last = Snapshot(h5["snapshots"][names[-1]])
             jump = summary.get("pressure_jump_exact")
@@ -377,16 +377,22 @@ def reference_dir(h5):
     return None
 
 
-def plot_free_surface_series(h5, names, run_dir, cols):
-    """Loads, droplet axis, dam-break front, inclined-plane profile: those the run has."""
+def plot_free_surface_series(h5, names, run_dir, cols, compare=None):
+    """Loads, droplet axis, dam-break front, inclined-plane profile: those the run has. `compare`: a
+    second run directory whose loads are drawn dashed beside this run's (Fig. 10: ISPH and SPH)."""
     written = []
     t = cols.get("t")
     loads = [c for c in cols if c.startswith("load_")]
     if t is not None and loads:
         out = os.path.join(run_dir, "loads.png")
         fig, ax = plt.subplots(figsize=(6.4, 4))
+        other = read_csv(require(os.path.join(compare, "diagnostics.csv"))) if compare else {}
+        me, them = read_summary(run_dir).get("method", ""), compare and read_summary(compare).get("method", "")
         for c in loads:
-            ax.plot(t, cols[c], label=c.replace("load_", "") + " wall")
+            line, = ax.plot(t, cols[c], label=c.replace("load_", "") + " wall" + (" (%s)" % me if compare else ""))
+            if c in other:
+                ax.plot(other["t"], other[c], "--", color=line.get_color(), lw=1,
+                        label=c.replace("load_", "") + " wall (%s)" % them)
         written.append(finish(fig, ax, out, "t", "load per unit depth (Eq. 31)", "hydrodynamic loads: int (p(t) - p(0)) over each wall"))
     if t is not None and "droplet_a" in cols:
         out = os.path.join(run_dir, "droplet_axis.png")
@@ -474,13 +480,15 @@ def main():
     ap.add_argument("--sweep", metavar="SWEEP_CSV", help="resolution sweep CSV (nx, *_error)")
     ap.add_argument("--snapshots", type=int, default=N_SNAPSHOT_PLOTS,
                     help="how many snapshots to draw, evenly spaced, always the last (default %(default)s)")
+    ap.add_argument("--compare", metavar="RUN_DIR", help="a second run whose loads are drawn dashed in loads.png "
+                    "(Fig. 10: ISPH against SPH)")
     a = ap.parse_args()
     if a.sweep:
         written = plot_sweep(a.sweep)
     elif a.run_dir:
         if not os.path.isdir(a.run_dir):
             fail("missing run directory %s" % a.run_dir)
-        written = plot_run(a.run_dir, a.snapshots)
+        written = plot_run(a.run_dir, a.snapshots, a.compare)
     else:
         ap.error("give RUN_DIR or --sweep SWEEP_CSV")
     for w in written:

@@ -1,0 +1,460 @@
+#include "fluid/isph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "fluid/loads.hpp"
+#include "fluid/solver_policy.hpp"
+
+namespace sphib {
+
+std::optional<ParamProblem> isph_problem(const FluidParams& p) {
+  if (auto e = free_surface_problem(p.method, p.domain, p.free_surface, p.gravity)) return e;
+  const FreeSurfaceParams& fs = p.free_surface;
+  const bool free = has_free_surface(p.domain, fs);
+  if (fs.detection == "dilts")
+    return ParamProblem{"free_surface.detection", "\"dilts\" is not available for isph (A Section 3.5: ISPH marks the "
+                                                  "surface by Eq. 26, \"divergence\")"};
+  if (free && fs.detection == "none")
+    return ParamProblem{"free_surface.detection", "\"none\" leaves isph without the Dirichlet rows p = 0 of its free surface "
+                                                  "(A Section 3.5): the Poisson problem would have no solution"};
+  if (p.isph.viscous != "explicit" && p.isph.viscous != "crank_nicolson")
+    return ParamProblem{"isph.viscous", "\"" + p.isph.viscous + "\" is not allowed (allowed: explicit | crank_nicolson)"};
+  if (p.projection == Projection::Exact)
+    return ParamProblem{"fluid.projection", "\"exact\" is available for method \"eulerian\" only (isph: \"approximate\", "
+                                            "A Eq. 24 with Lee's Laplacian, Eq. 17)"};
+  if (p.poisson_solver == SolverKind::Fft || p.cn_solver == SolverKind::Fft)
+    return ParamProblem{p.poisson_solver == SolverKind::Fft ? "solver.poisson" : "solver.crank_nicolson",
+                        "\"fft\" needs the fixed lattice (method \"eulerian\"); isph's particles move"};
+  if (free && (p.poisson_solver == SolverKind::PcgFft || p.cn_solver == SolverKind::PcgFft))
+    return ParamProblem{p.poisson_solver == SolverKind::PcgFft ? "solver.poisson" : "solver.crank_nicolson",
+                        "\"pcg_fft\" does not apply to a partly filled tank (its preconditioner is the FFT solver of the "
+                        "full lattice); use pcg_cholmod or a CHOLMOD factorisation"};
+  if (p.isph.viscous == "explicit" && p.cn_solver != SolverKind::Auto)
+    return ParamProblem{"solver.crank_nicolson", "does not apply with isph.viscous = \"explicit\" (A Eq. 22: no "
+                                                 "Crank-Nicolson system)"};
+  return std::nullopt;
+}
+
+namespace {
+
+ParticleSet particles_of(const FluidParams& p) {
+  if (const auto e = isph_problem(p)) throw std::invalid_argument(e->key + ": " + e->what);
+  return fill_particles(make_lattice(p.domain, p.nx, p.ny), p.free_surface.fill);
+}
+
+// The Verlet skin (neighbours.hpp), adaptive in [0.01, 0.3] of the support 2h, as LPSPH's
+// (lagrangian.cpp, where it was measured).
+constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
+
+}  // namespace
+
+IsphFluid::IsphFluid(const FluidParams& params)
+    : IsphFluid(params, particles_of(params)) {}
+
+IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
+    : ProjectionFluid(params, static_cast<int>(set.x.rows()), set.volume), x_(set.x), x_star_(set.x),
+      walls_(make_virtual_walls(lat_, W_.support())),
+      verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x) {
+  const FreeSurfaceParams& fs = prm_.free_surface;
+  explicit_viscous_ = prm_.isph.viscous == "explicit";
+  accel_ = prm_.gravity;  // A Eq. (22)
+  const SurfaceDetection how = detection_for(prm_.method, prm_.domain, fs);
+  detect_ = how != SurfaceDetection::None;
+  detector_ = SurfaceDetector(how, fs.beta, fs.dilts_radius * W_.h);
+  surface_.assign(size(), 0);
+  div_r_ = Vec::Zero(size());
+  p_w_ = Vec::Zero(walls_.size());
+  rho_ = Vec::Constant(size(), prm_.rho);
+  // p at t = 0 (A Eq. 31's p(0); also the first warm start of an iterative Poisson solver): the
+  // hydrostatic p0 = rho |g| (H - y) of A Section 3.7, zero at the top row of particles, where the
+  // free surface's Dirichlet rows put it (half a spacing below the region's top).
+  const Vec depth = hydrostatic_depth(x_, fs.fill, prm_.domain, prm_.gravity);
+  phi_ = prm_.rho * prm_.gravity.norm() * (depth.array() - depth.minCoeff());
+  // Without a free surface (a full tank) the Poisson operator has the constants as its null space.
+  if (!has_free_surface(prm_.domain, fs)) gauge_ = Gauge(lat_, NullSpace::Constants);
+  k_neighbours_ = prof_.phase("neighbours (Verlet list with the wall particles)");
+  k_assembly_ = prof_.phase("operators, systems, A Eq. (26) sums");
+  k_surface_ = prof_.phase("free surface: Dirichlet rows (A Eq. 26)");
+  k_factor_cn_ = prof_.phase("new matrix: Crank-Nicolson solver");
+  k_factor_poisson_ = prof_.phase("new matrix: Poisson solver");
+  k_move_ = prof_.phase("move particles (A Eq. 25)");
+  auto t0 = Profile::Clock::now();
+  geometry(true);
+  add_setup("neighbours", 0.0);
+  add_setup("assembly", seconds_since(t0));
+  t0 = Profile::Clock::now();
+  make_solvers();
+  add_setup("factorisation", seconds_since(t0));
+  wall_pressure();
+}
+
+// Morris et al. (1997), A Section 3.6: the factor beta = 1 + d_w / d_i of every pair with a wall
+// particle (walls.hpp; corner blocks carry their velocity, beta = 1).
+void IsphFluid::morris_factors() {
+  const int N = size();
+  beta_.resize(pairs_.size());
+  for (int i = 0; i < N; ++i)
+    for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k) {
+      const int w = pairs_.j[k] - N;
+      if (w < 0) continue;
+      const int side = walls_.side[w];
+      beta_[k] = side < 0 ? 1.0 : morris_wall_factor(lat_, side, walls_.dist[w], x_star_(i, 0), x_star_(i, 1), INFINITY);
+    }
+}
+
+void IsphFluid::geometry(bool force) {
+  auto t0 = Profile::Clock::now();
+  const bool built = verlet_.update(x_star_, im_, pairs_, force);
+  prof_.add(k_neighbours_, seconds_since(t0));
+  assemble(built);
+}
+
+// The pairs with a wall particle closer than 2h, as loads.hpp takes them.
+void IsphFluid::find_wall_pairs() {
+  const int N = size();
+  ParticlePairs& P = wall_pairs_;
+  for (auto* v : {&P.i, &P.j}) v->clear();
+  for (auto* v : {&P.rx, &P.ry, &P.r, &P.W, &P.F}) v->clear();
+  for (int i = 0; i < N; ++i)
+    for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k)
+      if (pairs_.j[k] >= N && pairs_.r[k] < verlet_.reach()) {
+        double w = 0;
+        P.i.push_back(i);
+        P.j.push_back(pairs_.j[k]);
+        P.rx.push_back(pairs_.rx[k]);
+        P.ry.push_back(pairs_.ry[k]);
+        P.r.push_back(pairs_.r[k]);
+        P.F.push_back(KernelWF(W_).F(pairs_.r[k], &w));
+        P.W.push_back(w);
+      }
+}
+
+// The wall particles' pressure from the fluid's, A Eq. (30) normalised with the hydrostatic term of
+// Adami et al. (loads.hpp, WallPressure::Extrapolated): exact for a fluid at rest, and a wall
+// particle beside a surface particle (p = 0) still carries the pressure of the fluid below it.
+void IsphFluid::wall_pressure() {
+  wall_particle_pressure(WallPressure::Extrapolated, size(), wall_pairs_, V_, phi_, rho_, prm_.gravity, p_w_, work_);
+}
+
+void IsphFluid::project() {
+  wall_repulsion();
+  project_approximate();  // A Eqs. (23)-(24)
+  clip_tension();
+  // The wall particles' part of A Eq. (13) beyond 2 p_i (in the operator): p_w = p_i + rho g . (x_w - x_i)
+  // (see the header), sum_w V rho g . (x_w - x_i) grad_i W_iw, and its part of Eq. (23).
+  const double V = lat_.volume, k = prm_.dt / prm_.rho;
+  const ParticlePairs& P = wall_pairs_;
+  for (int q = 0; q < P.size(); ++q) {
+    const int i = P.i[q];
+    const double o = -prm_.rho * (prm_.gravity.x() * P.rx[q] + prm_.gravity.y() * P.ry[q]);  // x_w - x_i = -(rx, ry)
+    const double g = V * o * P.F[q];
+    grad_phi_(i, 0) += g * P.rx[q];
+    grad_phi_(i, 1) += g * P.ry[q];
+    u_(i, 0) -= k * g * P.rx[q];
+    u_(i, 1) -= k * g * P.ry[q];
+  }
+  surface_gradient();
+  wall_contact();
+  wall_pressure();
+}
+
+// Negative pressures set to zero, and u^{n+1} from the clipped p (as MPS, Koshizuka et al. 1998, A's
+// reference for the wall conditions): without it a particle near the surface whose neighbours are
+// nearly all surface particles gets p of either sign of ~1e6 Pa, alternating from step to step
+// (measured, dam break at 1250 particles: blow-up at t = 0.22 with dt = 5e-5, a particle through the
+// right wall at t = 0.34 with 1e-4; with it both run to 0.6).
+void IsphFluid::clip_tension() {
+  if (gauge_.dimension() > 0) return;  // a full tank: p is defined up to a constant (zero mean)
+  phi_ = phi_.cwiseMax(0.0);
+  gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+  u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
+}
+
+// Lennard-Jones repulsion of the inner wall row on u* (Monaghan's wall particles, A Section 3.6, with
+// Coelho et al.'s Eq. 20, D = 2 g H, r0 = dx): it keeps the particles next to a wall off it (measured,
+// still tank 40 x 20 to t = 2: max speed 0.041 m/s with it and the surface gradient below, 0.166
+// without both; the dam break runs to 0.6 s either way).
+void IsphFluid::wall_repulsion() {
+  const double D = 2.0 * prm_.gravity.norm() * fluid_height(prm_.free_surface.fill, prm_.domain, prm_.gravity);
+  if (D == 0) return;
+  const double r0 = std::min(lat_.dx, lat_.dy), dt = prm_.dt;
+  const ParticlePairs& P = wall_pairs_;
+  for (int q = 0; q < P.size(); ++q) {
+    const int w = P.j[q] - size();
+    if (!walls_.inner[w] || P.r[q] >= r0) continue;
+    const double a = r0 / P.r[q], a4 = a * a * a * a;
+    const double f = D * (a4 * a4 * a4 - a4) / (P.r[q] * P.r[q]);
+    u_star_(P.i[q], 0) += dt * f * P.rx[q];
+    u_star_(P.i[q], 1) += dt * f * P.ry[q];
+  }
+}
+
+// At surface particles the sum form of A Eq. (13) reads the missing neighbours beyond the surface as
+// p = 0, a force of order p_i / h on a particle next to the p = 0 row; there the gradient is the
+// renormalised difference form over the fluid neighbours (Randles & Libersky), on the directions
+// they span (see wall_repulsion for what it measured).
+void IsphFluid::surface_gradient() {
+  const int N = size();
+  const double k = prm_.dt / prm_.rho, reach = verlet_.reach();
+  for (int i : dirichlet_rows_) {
+    double m00 = 0, m01 = 0, m11 = 0, gx = 0, gy = 0;
+    for (int q = pairs_.offset[i]; q < pairs_.offset[i + 1]; ++q) {
+      const double r = pairs_.r[q];
+      const int j = pairs_.j[q];
+      if (r >= reach || j >= N) continue;
+      const double F = W_.F(r), rx = pairs_.rx[q], ry = pairs_.ry[q], dp = phi_[j] - phi_[i];
+      m00 -= volume_ * rx * rx * F; m01 -= volume_ * rx * ry * F; m11 -= volume_ * ry * ry * F;
+      gx += volume_ * dp * rx * F; gy += volume_ * dp * ry * F;
+    }
+    // M^+ g over the directions in which the neighbours span (eigenvalues above 0.1 of a full support's 1)
+    const double tr = m00 + m11, det = m00 * m11 - m01 * m01, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    double G[2] = {0, 0};
+    for (double lam : {0.5 * tr + disc, 0.5 * tr - disc}) {
+      if (lam < 0.1) continue;
+      double ex = m01, ey = lam - m00;  // eigenvector of [[m00, m01], [m01, m11]]
+      if (std::hypot(ex, ey) < 1e-12 * (1 + lam)) { ex = lam - m11; ey = m01; }
+      if (std::hypot(ex, ey) < 1e-12 * (1 + lam)) { ex = lam == 0.5 * tr + disc ? 1 : 0; ey = 1 - ex; }
+      const double n = std::hypot(ex, ey), c = (ex * gx + ey * gy) / (n * n * lam);
+      G[0] += c * ex;
+      G[1] += c * ey;
+    }
+    u_(i, 0) = u_star_(i, 0) - k * G[0];
+    u_(i, 1) = u_star_(i, 1) - k * G[1];
+    grad_phi_(i, 0) = G[0];
+    grad_phi_(i, 1) = G[1];
+  }
+}
+
+// No particle comes closer than half a spacing to a wall: where u^{n+1} would take it there, the
+// normal component of its velocity relative to the wall is cut to what reaches that distance (zero
+// when it is already there); its share goes into grad p, which the loads read.
+void IsphFluid::wall_contact() {
+  const Domain& d = prm_.domain;
+  const double k = prm_.dt / prm_.rho, dt = prm_.dt;
+  const double gap[2] = {0.5 * lat_.dx, 0.5 * lat_.dy};
+  for (int i = 0; i < size(); ++i)
+    for (int a = 0; a < 2; ++a)
+      for (int s = 0; s < 2; ++s) {
+        const Side side = a == 0 ? (s == 0 ? Left : Right) : (s == 0 ? Bottom : Top);
+        if (!d.is_wall(side)) continue;
+        const double xi = x_(i, a), lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
+        const double dist = s == 0 ? xi - lo : hi - xi;
+        const double uw = d.wall_velocity[side][a], into = s == 0 ? uw - u_(i, a) : u_(i, a) - uw;  // closing speed
+        const double allowed = std::max(0.0, (dist - gap[a]) / dt);
+        if (into <= allowed) continue;
+        const double un = s == 0 ? uw + allowed : uw - allowed;
+        grad_phi_(i, a) += (u_(i, a) - un) / k;
+        u_(i, a) = un;
+      }
+}
+
+// The operators, both systems and A Eq. (26)'s sums at the list's positions (one pass), then the free
+// surface and the Poisson matrix's Dirichlet rows.
+void IsphFluid::assemble(bool new_pattern) {
+  auto t0 = Profile::Clock::now();
+  new_pattern = new_pattern || pattern_stale_;
+  morris_factors();
+  find_wall_pairs();
+  PairRules rules;
+  rules.divergence_difference = true;  // A Eq. (14)
+  rules.wall_beta = beta_.data();
+  rules.V_fixed = lat_.volume;
+  rules.position_divergence = div_r_.data();
+  assembly_.assemble(pairs_, im_, size(), W_, volume_, verlet_.reach(), new_pattern, op_, {a_cn(), &A_cn_, &A_phi_},
+                     nullptr, rules);
+  if (new_pattern) operators_changed();
+  else operator_values_changed();
+  pattern_stale_ = false;
+  prof_.add(k_assembly_, seconds_since(t0));
+  ScopedTimer tm(prof_, k_surface_);
+  if (detect_) {
+    add_mirror_divergence();
+    detector_.flag_divergence(div_r_, surface_);  // A Eq. (26)
+  }
+  dirichlet_rows_.clear();
+  for (int i = 0; i < size(); ++i)
+    if (surface_[i]) dirichlet_rows_.push_back(i);
+  eliminate_dirichlet(A_phi_);  // A Section 3.5: p = 0 embedded in the matrix, symmetrically
+}
+
+// A Eq. (26)'s sum over the wall: the mirror images of the particle and its neighbours across each
+// wall within 2h (and across both at a corner), as LPSPH's images (boundary.hpp) would give it. The
+// wall particles themselves would complete the support of a surface particle next to a wall: those
+// above the water line are there too (measured, still tank 40 x 20: the two top corner particles went
+// unmarked, and the columns next to the side walls ran down at 0.3 m/s within 0.3 s).
+void IsphFluid::add_mirror_divergence() {
+  const Domain& d = prm_.domain;
+  const int N = size();
+  const double reach = verlet_.reach();
+  for (int i = 0; i < N; ++i) {
+    const double xi = x_star_(i, 0), yi = x_star_(i, 1);
+    // the wall line within reach along each axis (NaN: none)
+    const double lx = d.is_wall(Left) && xi - d.x0 < reach ? d.x0 : d.is_wall(Right) && d.x1 - xi < reach ? d.x1 : NAN;
+    const double ly = d.is_wall(Bottom) && yi - d.y0 < reach ? d.y0 : d.is_wall(Top) && d.y1 - yi < reach ? d.y1 : NAN;
+    if (std::isnan(lx) && std::isnan(ly)) continue;
+    auto add = [&](double rx, double ry) {  // an image at x_i - (rx, ry)
+      const double r = std::hypot(rx, ry);
+      if (r < reach) div_r_[i] -= volume_ * r * r * W_.F(r);  // -V (x_i - x_j') . grad_i W
+    };
+    for (int k = pairs_.offset[i] - 1; k < pairs_.offset[i + 1]; ++k) {
+      if (k >= pairs_.offset[i] && pairs_.j[k] >= N) continue;  // particles only (k = offset - 1: i itself)
+      const double rx = k < pairs_.offset[i] ? 0.0 : pairs_.rx[k], ry = k < pairs_.offset[i] ? 0.0 : pairs_.ry[k];
+      const double mx = 2.0 * (xi - lx) - rx, my = 2.0 * (yi - ly) - ry;  // x_i minus the mirrored x_j
+      if (!std::isnan(lx)) add(mx, ry);
+      if (!std::isnan(ly)) add(rx, my);
+      if (!std::isnan(lx) && !std::isnan(ly)) add(mx, my);  // the corner image
+    }
+  }
+}
+
+void IsphFluid::make_solvers() {
+  // The FFT preconditioners of pcg_fft exist only for the lattice itself (a full tank at rest).
+  const bool lattice = size() == lat_.size() && x_star_ == lat_.x;
+  if (!explicit_viscous_)
+    cn_ = crank_nicolson_solver(A_cn_, op_.lap_u.A, a_cn(), prm_.cn_solver, nullptr, Refactor::EveryStep,
+                                lattice ? LatticeReference{&lat_, &A_cn_} : LatticeReference{});
+  // auto: CG warm-started from the last p, preconditioned by a lagged CHOLMOD factor, with a free
+  // surface (measured, dam break 5000 particles to t = 0.15: 8.2 ms per step against 18.2 with a
+  // supernodal CHOLMOD factorisation every step, 34 simplicial); a full tank (the singular operator)
+  // takes the factorisation (CG stalls at a relative residual ~1e-13 there: Poiseuille 30^2).
+  SolverKind kind = prm_.poisson_solver;
+  if (kind == SolverKind::Auto && gauge_.dimension() > 0) kind = SolverKind::CholmodSupernodal;
+  SystemSolver p = singular_solver("Poisson", A_phi_, gauge_, kind, nullptr, Refactor::EveryStep,
+                                   lattice ? LatticeReference{&lat_, &A_phi_} : LatticeReference{});
+  poisson_ = std::move(p.solver);
+  poisson_unpinned_ = p.unpinned;
+}
+
+void IsphFluid::refactorise() {
+  auto t0 = Profile::Clock::now();
+  if (cn_) cn_->refactorize_in_place(A_cn_);
+  prof_.add(k_factor_cn_, seconds_since(t0));
+  t0 = Profile::Clock::now();
+  if (poisson_unpinned_) poisson_->refactorize_in_place(A_phi_);
+  else if (gauge_.dimension() > 0) poisson_->refactorize(gauge_.pinned(A_phi_, false));
+  else poisson_->refactorize(A_phi_);
+  prof_.add(k_factor_poisson_, seconds_since(t0));
+}
+
+void IsphFluid::begin_step() {
+  // The step's geometry at x* = x^n + dt u^n (the header); a particle out of the tank throws here,
+  // before anything has changed.
+  x_star_ = x_ + prm_.dt * u_;
+  keep_in_tank(prm_.domain, x_star_, t_ + prm_.dt, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");
+  geometry(false);
+  refactorise();
+}
+
+void IsphFluid::viscous_rhs(const Mat2& F) {
+  if (!explicit_viscous_) return ProjectionFluid::viscous_rhs(F);
+  ScopedTimer tm(prof_, k_rhs_);
+  // A Eq. (22) with Morris's Laplacian, Eq. (18): u* = u^n + dt (g + nu (lap u^n + B c^n)) + dt F^n / rho
+  apply2(op_.lap_u.A, u_, u_star_, vel_st_);  // lap u^n, both components in one pass
+  const double nu_dt = 2.0 * a_cn(), k = prm_.dt / prm_.rho;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < size(); ++i) u_star_(i, c) = (u_star_(i, c) + lap_wall_(i, c)) * nu_dt + u_(i, c) + k * F(i, c);
+  add_acceleration(u_star_);
+}
+
+void IsphFluid::end_step() {
+  ScopedTimer tm(prof_, k_move_);
+  x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}
+  keep_in_tank(prm_.domain, x_, t_, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");
+}
+
+void IsphFluid::velocity_offsets(const Mat2*, Mat2& c) const {
+  c = walls_.u;  // each wall particle's prescribed velocity (the pair rules weigh it: particle_operators.hpp)
+}
+
+void IsphFluid::set_positions(const Mat2& x) {
+  if (x.rows() != x_.rows()) throw std::invalid_argument("ISPH: positions have the wrong size");
+  x_ = x;
+  keep_in_tank(prm_.domain, x_, t_, "ISPH", "");
+  x_star_ = x_;
+  geometry(true);
+  refactorise();
+  ++revision_;
+}
+
+double IsphFluid::viscous_bound() const {
+  return 2.0 * a_cn() * op_.lap_u.A.diagonal().cwiseAbs().maxCoeff();
+}
+
+WallForces IsphFluid::wall_forces() const { return wall_forces_from_particles(lat_, walls_, p_w_); }
+
+std::vector<std::string> IsphFluid::describe() const {
+  const int N = size();
+  long within = 0;
+  for (int k = 0; k < pairs_.size(); ++k) within += pairs_.r[k] < verlet_.reach();
+  const long surface = std::count(surface_.begin(), surface_.end(), 1);
+  std::ostringstream m;
+  m << "ISPH (Afanasiev et al. 2011, Eqs. 22-25): " << N << " moving particles";
+  if (N != lat_.size()) m << " (the fluid region in a " << lat_.nx << " x " << lat_.ny << " lattice)";
+  m << ", " << walls_.size() << " Morris wall particles, h = " << W_.h << " (" << prm_.h_over_dx
+    << " (dx+dy)/2), " << static_cast<double>(within) / N << " neighbours per particle now; viscous predictor "
+    << (explicit_viscous_ ? "explicit (A Eq. 22)" : "Crank-Nicolson (Eq. 28)") << ", nu dt max|lap_ii| = "
+    << viscous_bound() << "; gravity (" << prm_.gravity.x() << ", " << prm_.gravity.y() << ")";
+  std::vector<std::string> lines{m.str()};
+  std::ostringstream s;
+  s << "ISPH: free surface ";
+  if (detect_) s << "by A Eq. (26), beta = " << prm_.free_surface.beta << ": " << surface << " particles now (p = 0)";
+  else s << "none (a full tank: the Poisson operator's constants fixed by the gauge)";
+  lines.push_back(s.str());
+  std::ostringstream v;
+  v << "ISPH: pairs from a Verlet list with the wall particles as fixed points (fluid/neighbours.hpp), skin "
+    << verlet_.skin() / W_.support() << " 2h; built " << verlet_.builds() << " times, moved " << verlet_.updates()
+    << " times";
+  lines.push_back(v.str());
+  for (const auto& si : solver_info()) lines.push_back(si.describe());
+  if (poisson_->mean_iterations() > 0) {
+    std::ostringstream it;
+    it << "ISPH: Poisson: " << poisson_->mean_iterations() << " CG iterations per solve, preconditioner factorised "
+       << poisson_->preconditioner_factorisations() << " times";
+    lines.push_back(it.str());
+  }
+  return lines;
+}
+
+std::vector<std::pair<std::string, double>> IsphFluid::figures() const {
+  std::vector<std::pair<std::string, double>> f{
+      {"surface_particles", static_cast<double>(std::count(surface_.begin(), surface_.end(), 1))},
+      {"wall_particles", static_cast<double>(walls_.size())},
+      {"verlet_builds", static_cast<double>(verlet_.builds())}};
+  if (poisson_->mean_iterations() > 0) {
+    f.emplace_back("poisson_cg_iterations", poisson_->mean_iterations());
+    f.emplace_back("poisson_preconditioner_factorisations", static_cast<double>(poisson_->preconditioner_factorisations()));
+  }
+  if (cn_ && cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
+  return f;
+}
+
+// ISPH adds to the core's state x^n, the positions x* of the last step's geometry and the Verlet
+// list's state (see the header).
+void IsphFluid::extra_state(NamedArrays& st) const {
+  const VerletList::State v = verlet_.state();
+  Eigen::MatrixXd c(1, 4);
+  c << v.skin, static_cast<double>(v.since_build), static_cast<double>(v.builds), static_cast<double>(v.updates);
+  st.emplace_back("x", x_);
+  st.emplace_back("x_star", x_star_);
+  st.emplace_back("verlet_x_build", v.x_build);
+  st.emplace_back("verlet", c);
+}
+
+void IsphFluid::restore_extra(const NamedArrays& st) {
+  const int N = size();
+  x_ = state_entry(st, "x", N, 2);
+  x_star_ = state_entry(st, "x_star", N, 2);
+  const Eigen::MatrixXd& c = state_entry(st, "verlet", 1, 4);
+  VerletList::State v{state_entry(st, "verlet_x_build", N, 2), c(0, 0), static_cast<long>(c(0, 1)),
+                      static_cast<long>(c(0, 2)), static_cast<long>(c(0, 3))};
+  verlet_.restore(v, x_star_, im_, pairs_);
+  pattern_stale_ = true;
+  assemble(true);  // the last step's geometry again: surface(), p() and the loads as before the checkpoint
+  refactorise();
+  wall_pressure();
+}
+
+}  // namespace sphib

@@ -1,0 +1,141 @@
+// ISPH with a free surface (fluid/isph.hpp, Afanasiev, Makarchuk & Popov 2011 ["A"], Sections
+// 3.3-3.6): a still tank, a short start-up Poiseuille flow against Eq. (36), the surface of A Eq. (26)
+// on a block, checkpoints, refusals and a particle leaving the tank. Tolerances are measured values
+// (Release build) with a margin, stated beside each test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "fluid/isph.hpp"
+#include "io/run.hpp"
+#include "io/scene.hpp"
+#include "scene_refusal.hpp"
+#include "still_tank_scene.hpp"
+
+using namespace sphib;
+
+namespace {
+
+// The free-surface tests' still tank by ISPH (dt = 1e-3: the explicit viscosity's bound is far).
+const std::vector<std::string> kIsph = {"method=isph", "time.dt=1e-3"};
+
+Scene tank(std::vector<std::string> sets = {}) {
+  sets.insert(sets.begin(), kIsph.begin(), kIsph.end());
+  return parse_scene(test::kStillTank, "tank.toml", sets);
+}
+
+std::string refused(std::vector<std::string> sets) {
+  sets.insert(sets.begin(), kIsph.begin(), kIsph.end());
+  return test::refusal(test::kStillTank, sets);
+}
+
+
+}  // namespace
+
+// Water at rest, 20 x 10 particles, 500 steps (t = 0.5): the wall forces stay hydrostatic and the
+// particles nearly still. Measured: max speed 0.0146 m/s (free fall would reach 4.9 m/s; without the
+// wall repulsion and the surface gradient of isph.cpp 0.17 at 40 x 20), side force 1020 N/m against
+// rho g H^2 / 2 = 1226 (-16.8%: Eq. 32's sum over the inner wall row of a 10-row column, 1146 at
+// t = 0), right - left 0.25 N/m, bottom 4862 against rho g H L = 4905 (-0.9%), |load| at most 27.9.
+TEST(Isph, StillTankStaysNearRestWithHydrostaticLoads) {
+  Scene s = tank();
+  IsphFluid f(s.sim.fluid);
+  const double side = 1000.0 * 9.81 * 0.5 * 0.5 / 2.0, bottom = 1000.0 * 9.81 * 0.5;
+  const WallForces F0 = f.wall_forces();
+  EXPECT_TRUE(std::isnan(F0[Top]));  // open
+  const Mat2 F = Mat2::Zero(f.size(), 2);
+  double worst_load = 0;
+  for (int n = 0; n < 500; ++n) {
+    f.step(F);
+    const WallForces Fn = f.wall_forces();
+    worst_load = std::max({worst_load, std::fabs(Fn[Left] - F0[Left]), std::fabs(Fn[Right] - F0[Right])});
+  }
+  const WallForces Fe = f.wall_forces();
+  EXPECT_LT(f.u().rowwise().norm().maxCoeff(), 0.03);
+  EXPECT_NEAR(Fe[Left], side, 0.20 * side);
+  EXPECT_NEAR(Fe[Right], Fe[Left], 1e-3 * side);  // the tank is symmetric (to the solver's round-off)
+  EXPECT_NEAR(Fe[Bottom], bottom, 0.02 * bottom);
+  EXPECT_LT(worst_load, 40.0);
+  // the pressure at the bottom row: hydrostatic rho g (y_top - y) to the top row's p = 0 (measured
+  // within 1.01%)
+  const Vec& p = f.p();
+  for (int i = 0; i < f.size(); ++i)
+    if (f.x()(i, 1) < 0.03) EXPECT_NEAR(p[i], 1000.0 * 9.81 * (0.475 - f.x()(i, 1)), 0.02 * 4660.0) << i;
+}
+
+// A block of 12 x 6 particles in the corner of the tank: A Eq. (26) with beta = 0.75 marks
+// exactly its top row and its right column (the free sides), none next to the walls (the Morris wall
+// particles complete their support). Measured: 17 particles, the ring of the free sides.
+TEST(Isph, SurfaceOfABlockIsItsFreeSides) {
+  Scene s = tank({"fill.x=[0.0, 0.6]", "fill.y=[0.0, 0.3]"});
+  IsphFluid f(s.sim.fluid);
+  ASSERT_EQ(f.size(), 12 * 6);
+  const std::vector<char>& flags = *f.surface();
+  for (int k = 0; k < f.size(); ++k) {
+    const bool free_side = f.x()(k, 0) > 0.55 || f.x()(k, 1) > 0.25;
+    EXPECT_EQ(flags[k] != 0, free_side) << "particle at " << f.x()(k, 0) << ", " << f.x()(k, 1);
+  }
+}
+
+// The start-up Poiseuille flow of A Section 6.1 (cases/poiseuille_afanasiev_isph.toml) at N = 15^2 to
+// t = 0.1: the relative L2 error against Eq. (36) at the same time. Measured 0.0156; the centre-line
+// speed 7.7e-6 m/s.
+TEST(Isph, ShortPoiseuilleMatchesEq36) {
+  namespace fs = std::filesystem;
+  Scene s = load_scene(std::string(SPHIB_SOURCE_DIR) + "/cases/poiseuille_afanasiev_isph.toml",
+                       {"grid.nx=15", "grid.ny=15", "time.end=0.1"});
+  RunOptions opt;
+  opt.out_dir = (fs::temp_directory_path() / "sphib_isph_poiseuille").string();
+  fs::remove_all(opt.out_dir);
+  const nlohmann::json j = run_scene(s, opt);
+  EXPECT_LT(j["profile_error"].get<double>(), 0.025);
+  EXPECT_GT(j["max_speed"].get<double>(), 5e-6);  // the flow has started (steady: 1.25e-5)
+  fs::remove_all(opt.out_dir);
+}
+
+// Checkpoints with the direct Poisson solver: a restored ISPH continues bit for bit (the Verlet
+// list's state restored: the same candidates, patterns and factorisations).
+TEST(Isph, CheckpointContinuesBitForBit) {
+  Scene s = tank({"fill.x=[0.0, 0.4]", "solver.poisson=cholmod_supernodal"});
+  // the column collapses (measured 19.9): something to compare
+  EXPECT_GT(test::restart_continues_bit_for_bit<IsphFluid>(s.sim.fluid, 30), 1.0);
+}
+
+TEST(Isph, BadInputIsRefusedByKey) {
+  auto expect = [](const std::string& m, const std::string& key, const std::string& what) {
+    EXPECT_NE(m.find(key), std::string::npos) << m;
+    EXPECT_NE(m.find(what), std::string::npos) << m;
+  };
+  expect(refused({"free_surface.beta=1.2"}), "free_surface.beta", "out of range");
+  expect(refused({"free_surface.beta=0"}), "free_surface.beta", "out of range");
+  expect(refused({"fill.y=[0.0, 1.5]"}), "fill.y", "is not inside the tank");
+  expect(refused({"fluid.gravity=[1.0, -9.81]", "domain.periodic_x=true"}), "fluid.gravity", "periodic x");
+  expect(refused({"free_surface.detection=dilts"}), "free_surface.detection", "not available for isph");
+  expect(refused({"free_surface.detection=none"}), "free_surface.detection", "Dirichlet");
+  expect(refused({"isph.viscous=implicit"}), "isph.viscous", "implicit");
+  expect(refused({"solver.crank_nicolson=cholmod_supernodal"}), "solver.crank_nicolson", "explicit");
+  expect(refused({"solver.poisson=pcg_fft"}), "solver.poisson", "pcg_fft");
+  expect(refused({"fluid.projection=exact"}), "fluid.projection", "exact");
+}
+
+// A drop thrown sideways in an open box leaves it: the run stops naming the particle and the side.
+TEST(Isph, ParticleLeavingTheTankStops) {
+  Scene s = tank({"domain.open=[\"left\", \"right\", \"bottom\", \"top\"]", "fluid.gravity=[0.0, 0.0]",
+                         "fill.shape=circle", "fill.centre=[0.525, 0.525]", "fill.radius=0.12"});
+  s.sim.initial_velocity = [](double, double) { return Eigen::Vector2d(2.0, 0.0); };
+  Simulation sim(s.sim);
+  try {
+    for (int n = 0; n < 1000; ++n) {
+      sim.step();
+      ASSERT_TRUE(sim.fluid().u().allFinite() && sim.fluid().p().allFinite());
+    }
+    FAIL() << "the drop did not leave";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("ISPH: particle"), std::string::npos) << m;
+    EXPECT_NE(m.find("left the tank through its open right side"), std::string::npos) << m;
+  }
+}
