@@ -75,12 +75,9 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
   phi_ = prm_.rho * prm_.gravity.norm() * (depth.array() - depth.minCoeff());
   // Without a free surface (a full tank) the Poisson operator has the constants as its null space.
   if (!has_free_surface(prm_.domain, fs)) gauge_ = Gauge(lat_, NullSpace::Constants);
-  k_neighbours_ = prof_.phase("neighbours (Verlet list with the wall particles)");
-  k_assembly_ = prof_.phase("operators, systems, A Eq. (26) sums");
+  k_ = moving_phases("move particles (A Eq. 25)", "neighbours (Verlet list with the wall particles)",
+                     "operators, systems, A Eq. (26) sums");
   k_surface_ = prof_.phase("free surface: Dirichlet rows (A Eq. 26)");
-  k_factor_cn_ = prof_.phase("new matrix: Crank-Nicolson solver");
-  k_factor_poisson_ = prof_.phase("new matrix: Poisson solver");
-  k_move_ = prof_.phase("move particles (A Eq. 25)");
   auto t0 = Profile::Clock::now();
   geometry(true);
   add_setup("neighbours", 0.0);
@@ -108,7 +105,7 @@ void IsphFluid::morris_factors() {
 void IsphFluid::geometry(bool force) {
   auto t0 = Profile::Clock::now();
   const bool built = verlet_.update(x_star_, im_, pairs_, force);
-  prof_.add(k_neighbours_, seconds_since(t0));
+  prof_.add(k_.neighbours, seconds_since(t0));
   assemble(built);
 }
 
@@ -268,7 +265,7 @@ void IsphFluid::assemble(bool new_pattern) {
   if (new_pattern) operators_changed();
   else operator_values_changed();
   pattern_stale_ = false;
-  prof_.add(k_assembly_, seconds_since(t0));
+  prof_.add(k_.assembly, seconds_since(t0));
   ScopedTimer tm(prof_, k_surface_);
   if (detect_) {
     add_mirror_divergence();
@@ -331,12 +328,12 @@ void IsphFluid::make_solvers() {
 void IsphFluid::refactorise() {
   auto t0 = Profile::Clock::now();
   if (cn_) cn_->refactorize_in_place(A_cn_);
-  prof_.add(k_factor_cn_, seconds_since(t0));
+  prof_.add(k_.factor_cn, seconds_since(t0));
   t0 = Profile::Clock::now();
   if (poisson_unpinned_) poisson_->refactorize_in_place(A_phi_);
   else if (gauge_.dimension() > 0) poisson_->refactorize(gauge_.pinned(A_phi_, false));
   else poisson_->refactorize(A_phi_);
-  prof_.add(k_factor_poisson_, seconds_since(t0));
+  prof_.add(k_.factor_poisson, seconds_since(t0));
 }
 
 void IsphFluid::begin_step() {
@@ -360,7 +357,7 @@ void IsphFluid::viscous_rhs(const Mat2& F) {
 }
 
 void IsphFluid::end_step() {
-  ScopedTimer tm(prof_, k_move_);
+  ScopedTimer tm(prof_, k_.move);
   x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}
   keep_in_tank(prm_.domain, x_, t_, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");
 }

@@ -137,7 +137,8 @@ class IsphFluid final : public ProjectionFluid {
   SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
   bool detect_ = false;
   std::vector<char> surface_;
-  int k_neighbours_, k_assembly_, k_surface_, k_factor_cn_, k_factor_poisson_, k_move_;
+  MovingPhases k_;
+  int k_surface_;
 };
 
 }  // namespace sphib

@@ -36,12 +36,9 @@ LagrangianFluid::LagrangianFluid(const FluidParams& params)
   check_params(prm_);
   S_ = Vec::Zero(lat_.size());
   gauge_ = Gauge(lat_, NullSpace::Constants);  // of the Poisson operator, the Morris Laplacian
-  k_move_ = prof_.phase("move particles (Eq. 37)");
+  k_ = moving_phases("move particles (Eq. 37)", "neighbours and images (Verlet list)",
+                     "operators, systems, kernel sums (Eqs. 27-34)");
   k_reinit_ = prof_.phase("reinitialisation (Eq. 61)");
-  k_neighbours_ = prof_.phase("neighbours and images (Verlet list)");
-  k_assembly_ = prof_.phase("operators, systems, kernel sums (Eqs. 27-34)");
-  k_factor_cn_ = prof_.phase("new matrix: Crank-Nicolson solver");
-  k_factor_poisson_ = prof_.phase("new matrix: Poisson solver");
   const RebuildSeconds s = rebuild(0.0);  // the first analysis and factorisations
   add_setup("neighbours", s.neighbours);
   add_setup("assembly", s.assembly);
@@ -184,17 +181,17 @@ void LagrangianFluid::begin_step() {
   x_star_ = x_ + dt * u_;
   wrap_into_domain(x_star_, t_ + dt);
   const RebuildSeconds s = rebuild(t_ + dt);
-  prof_.add(k_neighbours_, s.neighbours);
-  prof_.add(k_assembly_, s.assembly);
-  prof_.add(k_factor_cn_, s.factorisation_cn);
-  prof_.add(k_factor_poisson_, s.factorisation_poisson);
-  ScopedTimer tm(prof_, k_move_);
+  prof_.add(k_.neighbours, s.neighbours);
+  prof_.add(k_.assembly, s.assembly);
+  prof_.add(k_.factor_cn, s.factorisation_cn);
+  prof_.add(k_.factor_poisson, s.factorisation_poisson);
+  ScopedTimer tm(prof_, k_.move);
   x_ += (0.5 * dt) * u_;  // Eq. (37), the u^n half
 }
 
 void LagrangianFluid::end_step() {
   {
-    ScopedTimer tm(prof_, k_move_);
+    ScopedTimer tm(prof_, k_.move);
     x_ += (0.5 * prm_.dt) * u_;  // Eq. (37), the u^{n+1} half
     wrap_into_domain(x_, t_);
   }

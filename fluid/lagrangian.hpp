@@ -103,7 +103,8 @@ class LagrangianFluid final : public ProjectionFluid {
   Vec S_;
   double S_low_ = 1.0;
   long n_refactor_ = 0, n_reused_cn_ = 0, n_reused_poisson_ = 0, n_reinit_ = 0;
-  int k_move_, k_reinit_, k_neighbours_, k_assembly_, k_factor_cn_, k_factor_poisson_;
+  MovingPhases k_;
+  int k_reinit_;
 };
 
 }  // namespace sphib

@@ -24,6 +24,17 @@ ProjectionFluid::ProjectionFluid(const FluidParams& params, int particles, doubl
   k_pressure_ = prof_.phase("pressure (Eq. 35)");
 }
 
+ProjectionFluid::MovingPhases ProjectionFluid::moving_phases(const char* move, const char* neighbours,
+                                                            const char* assembly) {
+  MovingPhases k;
+  k.move = prof_.phase(move);
+  k.neighbours = prof_.phase(neighbours);
+  k.assembly = prof_.phase(assembly);
+  k.factor_cn = prof_.phase("new matrix: Crank-Nicolson solver");
+  k.factor_poisson = prof_.phase("new matrix: Poisson solver");
+  return k;
+}
+
 void ProjectionFluid::operators_changed(const RowStencil* vel_st, const RowStencil* phi_st) {
   vel_st_ = vel_st;
   phi_st_ = phi_st;

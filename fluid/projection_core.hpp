@@ -88,6 +88,13 @@ class ProjectionFluid : public FluidSolver {
   // N particles of volume V each (a fluid region filling part of the lattice's domain: ISPH).
   ProjectionFluid(const FluidParams& params, int N, double V);
 
+  // The profile phases of the moving-particle methods (LPSPH, ISPH): the labels of the first three
+  // are the method's (its equations); the two factorisation phases are named alike for both.
+  struct MovingPhases {
+    int move, neighbours, assembly, factor_cn, factor_poisson;
+  };
+  MovingPhases moving_phases(const char* move, const char* neighbours, const char* assembly);
+
   // --- what a method provides -------------------------------------------------------------------
   virtual void begin_step() {}  // the step's geometry (may throw a breakdown before anything changes)
   virtual void convection() {}  // fills conv_ (N^{n+1/2}); the rhs subtracts it when convective_
