@@ -13,6 +13,9 @@ namespace sphib {
 // markers' kernel loops; LaneMask2 holds a comparison's result (all bits set where true).
 using Lanes2 = double __attribute__((vector_size(16)));
 using LaneMask2 = long long __attribute__((vector_size(16)));
+// Four lanes for the AVX2 clones of the markers' loops (two SSE2 halves in the default ones).
+using Lanes4 = double __attribute__((vector_size(32)));
+using LaneMask4 = long long __attribute__((vector_size(32)));
 
 inline Lanes2 lanes2(double a) { return Lanes2{a, a}; }
 inline Lanes2 sqrt2(Lanes2 x) {
@@ -26,6 +29,23 @@ inline Lanes2 sqrt2(Lanes2 x) {
 inline Lanes2 select2(LaneMask2 m, Lanes2 a, Lanes2 b) {
   return reinterpret_cast<Lanes2>((m & reinterpret_cast<LaneMask2>(a)) | (~m & reinterpret_cast<LaneMask2>(b)));
 }
+// (The four-lane helpers are inline: passed in registers only inside the AVX2 clones.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <class L> struct LaneMaskOf { using type = LaneMask2; };
+template <> struct LaneMaskOf<Lanes4> { using type = LaneMask4; };
+inline Lanes4 lanes(Lanes4, double a) { return Lanes4{a, a, a, a}; }
+inline Lanes2 lanes(Lanes2, double a) { return lanes2(a); }
+inline Lanes2 lane_sqrt(Lanes2 x) { return sqrt2(x); }
+inline Lanes4 lane_sqrt(Lanes4 x) {  // the square root of each lane, as sqrt2 takes it
+  const Lanes2 lo = sqrt2(Lanes2{x[0], x[1]}), hi = sqrt2(Lanes2{x[2], x[3]});
+  return Lanes4{lo[0], lo[1], hi[0], hi[1]};
+}
+inline Lanes2 select(LaneMask2 m, Lanes2 a, Lanes2 b) { return select2(m, a, b); }
+inline Lanes4 select(LaneMask4 m, Lanes4 a, Lanes4 b) {
+  return reinterpret_cast<Lanes4>((m & reinterpret_cast<LaneMask4>(a)) | (~m & reinterpret_cast<LaneMask4>(b)));
+}
+#pragma GCC diagnostic pop
 
 struct CubicSplineKernel {
   double h;
@@ -65,44 +85,53 @@ struct CubicSplineKernel {
   // the constant factors folded, so that W takes one square root and no division, F and G one
   // division between them. Equal to W() and F() to a few units in the last place of W(0) and F(0)
   // (tests/test_fluid.cpp, Kernel.TwoLaneFormsMatchTheScalarOnes); 0 from 2h (1 + 1e-12) on.
-  Lanes2 W2(Lanes2 r2) const { return Pieces(*this, r2).W(); }
-  void W_F2(Lanes2 r2, Lanes2& w, Lanes2& f) const {
-    const Pieces p(*this, r2);
+  // The four-lane forms (L = Lanes4) compute each lane by the same expressions, so the same values.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+  template <class L>
+  L W2(L r2) const { return Pieces<L>(*this, r2).W(); }
+  template <class L>
+  void W_F2(L r2, L& w, L& f) const {
+    const Pieces<L> p(*this, r2);
     w = p.W();
     f = p.F();
   }
   // ... and G = (1/r) dF/dr: the Hessian of W(|x|) is F I + G x x^T (0 at r = 0, where G x x^T -> 0).
-  void W_F_G2(Lanes2 r2, Lanes2& w, Lanes2& f, Lanes2& g) const {
-    const Pieces p(*this, r2);
+  template <class L>
+  void W_F_G2(L r2, L& w, L& f, L& g) const {
+    const Pieces<L> p(*this, r2);
     w = p.W();
     f = p.F();
     g = p.G();
   }
 
  private:
+  template <class L>
   struct Pieces {
-    Pieces(const CubicSplineKernel& K, Lanes2 r2)
-        : k(K), q(sqrt2(r2) * lanes2(1.0 / K.h)), t(lanes2(2.0) - q), inner(q < lanes2(1.0)), inside(q < lanes2(2.0)) {}
-    Lanes2 W() const {
-      const Lanes2 w_in = lanes2(k.w0) * (lanes2(2.0 / 3.0) - q * q + lanes2(0.5) * q * q * q);  // q < 1
-      const Lanes2 w_out = lanes2(k.w0 / 6.0) * t * t * t;                                        // 1 <= q < 2
-      return select2(inside, select2(inner, w_in, w_out), lanes2(0.0));
+    static L c(double a) { return lanes(L{}, a); }
+    Pieces(const CubicSplineKernel& K, L r2)
+        : k(K), q(lane_sqrt(r2) * c(1.0 / K.h)), t(c(2.0) - q), inner(q < c(1.0)), inside(q < c(2.0)) {}
+    L W() const {
+      const L w_in = c(k.w0) * (c(2.0 / 3.0) - q * q + c(0.5) * q * q * q);  // q < 1
+      const L w_out = c(k.w0 / 6.0) * t * t * t;                              // 1 <= q < 2
+      return select(inside, select(inner, w_in, w_out), c(0.0));
     }
-    Lanes2 F() const {  // (1/r) dW/dr
-      const double c = k.w0 / (k.h * k.h);
-      const Lanes2 f_in = lanes2(c) * (lanes2(-2.0) + lanes2(1.5) * q), f_out = lanes2(-0.5 * c) * t * t * qinv();
-      return select2(inside, select2(inner, f_in, f_out), lanes2(0.0));
+    L F() const {  // (1/r) dW/dr
+      const double cf = k.w0 / (k.h * k.h);
+      const L f_in = c(cf) * (c(-2.0) + c(1.5) * q), f_out = c(-0.5 * cf) * t * t * qinv();
+      return select(inside, select(inner, f_in, f_out), c(0.0));
     }
-    Lanes2 G() const {  // (1/r) dF/dr: 1.5 c / (h^2 q) for q < 1, 0.5 c t (q + 2) / (h^2 q^3) for 1 <= q < 2
-      const double c = k.w0 / (k.h * k.h * k.h * k.h);
-      const Lanes2 qi = qinv(), g_in = lanes2(1.5 * c) * qi, g_out = lanes2(0.5 * c) * t * (q + lanes2(2.0)) * qi * qi * qi;
-      return select2(inside & (q > lanes2(0.0)), select2(inner, g_in, g_out), lanes2(0.0));
+    L G() const {  // (1/r) dF/dr: 1.5 c / (h^2 q) for q < 1, 0.5 c t (q + 2) / (h^2 q^3) for 1 <= q < 2
+      const double cg = k.w0 / (k.h * k.h * k.h * k.h);
+      const L qi = qinv(), g_in = c(1.5 * cg) * qi, g_out = c(0.5 * cg) * t * (q + c(2.0)) * qi * qi * qi;
+      return select(inside & (q > c(0.0)), select(inner, g_in, g_out), c(0.0));
     }
-    Lanes2 qinv() const { return lanes2(1.0) / q; }  // (inf at q = 0, in lanes not selected)
+    L qinv() const { return c(1.0) / q; }  // (inf at q = 0, in lanes not selected)
     const CubicSplineKernel& k;
-    Lanes2 q, t;
-    LaneMask2 inner, inside;
+    L q, t;
+    typename LaneMaskOf<L>::type inner, inside;
   };
+#pragma GCC diagnostic pop
 };
 
 }  // namespace sphib

@@ -49,37 +49,27 @@ void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out,
     });
     return out.reserve(out.n + 1);
   }
-  // for_each_near's lattice loop, its columns' offsets and wrapped indices computed once per query
-  // (the same expressions, so the same values), and a count in place of its branch on r^2
-  int lo[2], hi[2];
-  lattice_range(qx, qy, radius, lo, hi);
-  const int nx = lat_.n[0], ny = lat_.n[1], ncol = std::max(hi[0] - lo[0] + 1, 0);
-  constexpr int kCols = 256;
-  if (ncol > kCols) throw std::invalid_argument("CellGrid::gather_near: the query spans more than 256 lattice columns");
-  out.reserve(ncol * std::max(hi[1] - lo[1] + 1, 0) + 1);
-  int col[kCols];
-  double cdx[kCols], cdx2[kCols];
-  int iw = periodic_[0] ? ((lo[0] % nx) + nx) % nx : lo[0];
-  for (int c = 0; c < ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
-    col[c] = iw;
-    cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
-    cdx2[c] = cdx[c] * cdx[c];
-  }
+  // for_each_near's lattice loop over the query's box, and a count in place of its branch on r^2
+  LatticeBox box;
+  lattice_box(qx, qy, radius, box);
+  const int ncol = box.ncol;
+  out.reserve(ncol * box.nrow + 1);
+  double cdx2[LatticeBox::kMax];
+  for (int c = 0; c < ncol; ++c) cdx2[c] = box.cdx[c] * box.cdx[c];
   const double r2max = radius * radius;
   int* __restrict j = out.j.data();
   double* __restrict dx = out.dx.data();
   double* __restrict dy = out.dy.data();
   double* __restrict r2 = out.r2.data();
   int n = 0;
-  for (int b = lo[1]; b <= hi[1]; ++b) {
-    const double ry = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]), ry2 = ry * ry;
-    if (ry2 >= r2max) continue;
-    const int row = nx * (periodic_[1] ? ((b % ny) + ny) % ny : b);
+  for (int r = 0; r < box.nrow; ++r) {
+    const double ry = box.ry[r], ry2 = ry * ry;
+    const int row = box.base[r];
     for (int c = 0; c < ncol; ++c) {
       const double d2 = cdx2[c] + ry2;
-      j[n] = row + col[c];
+      j[n] = row + box.col[c];
       if (offsets) {  // (a loop-invariant branch: the compiler makes two loops)
-        dx[n] = cdx[c];
+        dx[n] = box.cdx[c];
         dy[n] = ry;
       }
       r2[n] = d2;
@@ -87,6 +77,28 @@ void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out,
     }
   }
   out.n = n;
+}
+
+void CellGrid::lattice_box(double qx, double qy, double radius, LatticeBox& box) const {
+  int lo[2], hi[2];
+  lattice_range(qx, qy, radius, lo, hi);
+  const int nx = lat_.n[0], ny = lat_.n[1];
+  box.ncol = std::max(hi[0] - lo[0] + 1, 0);
+  if (box.ncol > LatticeBox::kMax || hi[1] - lo[1] + 1 > LatticeBox::kMax)
+    throw std::invalid_argument("CellGrid: a marker's query spans more than 256 lattice columns or rows");
+  int iw = periodic_[0] ? ((lo[0] % nx) + nx) % nx : lo[0];
+  for (int c = 0; c < box.ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
+    box.col[c] = iw;
+    box.cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
+  }
+  const double r2max = radius * radius;
+  box.nrow = 0;
+  for (int b = lo[1]; b <= hi[1]; ++b) {
+    const double ry = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]);
+    if (ry * ry >= r2max) continue;
+    box.base[box.nrow] = nx * (periodic_[1] ? ((b % ny) + ny) % ny : b);
+    box.ry[box.nrow++] = ry;
+  }
 }
 
 void CellGrid::build(const Mat2& points) {

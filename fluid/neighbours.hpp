@@ -43,6 +43,20 @@ class CellGrid {
   // lattice mode leaves out.dx and out.dy unset (a caller that needs only j and r2).
   void gather_near(double qx, double qy, double radius, NearPoints& out, bool offsets = true) const;
 
+  // Lattice mode: the lattice points of the query's box, by rows (for loops over whole rows): the
+  // columns' wrapped indices and offsets qx - x, and the rows within the radius, each as nx times its
+  // wrapped index and its offset qy - y. The expressions of for_each_near, so the same values.
+  struct LatticeBox {
+    static constexpr int kMax = 256;
+    int ncol = 0, nrow = 0;
+    int col[kMax];
+    double cdx[kMax];
+    int base[kMax];
+    double ry[kMax];
+  };
+  bool lattice_mode() const { return lat_.n[0] > 0; }
+  void lattice_box(double qx, double qy, double radius, LatticeBox& box) const;  // throws past kMax
+
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
     const double r2max = radius * radius;

@@ -17,8 +17,7 @@ void MembraneDiagnostics::fit(const Mat2& X) {
   if (X.rows() != nb_)
     throw std::invalid_argument("MembraneDiagnostics: X has " + std::to_string(X.rows()) +
                                 " markers, expected nb = " + std::to_string(nb_));
-  sx_.fit(X.data());
-  sy_.fit(X.data() + nb_);
+  PeriodicSpline::fit_pair(sx_, X.data(), sy_, X.data() + nb_);
 }
 
 // Sums g(x, y, x_s, y_s) over Gauss points of every segment, times the weights.
@@ -67,12 +66,14 @@ double MembraneDiagnostics::length() const {
   });
 }
 
-double MembraneDiagnostics::energy(double T0) const {
-  return 0.5 * T0 * integrate(sx_, sy_, [](double, double, double xs, double ys) {
+double elastic_energy(const PeriodicSpline& sx, const PeriodicSpline& sy, double T0) {
+  return 0.5 * T0 * integrate(sx, sy, [](double, double, double xs, double ys) {
     const double e = std::sqrt(xs * xs + ys * ys) - 1.0;  // T/T0, Eq. (47)
     return e * e;
   });
 }
+
+double MembraneDiagnostics::energy(double T0) const { return elastic_energy(sx_, sy_, T0); }
 
 double MembraneDiagnostics::half_chord(int d, double level) const {
   // Crossings of the spline with {coordinate d == level}; returns half the spread of the

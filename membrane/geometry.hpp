@@ -17,6 +17,9 @@ struct MembraneShape {
   double energy = 0.0;        // T0/2 int_0^L0 (|X_s| - 1)^2 ds
 };
 
+/// T0/2 int (|X_s| - 1)^2 ds of the curve (sx(s), sy(s)) (Eq. 47's tension; f = -dE/dX).
+double elastic_energy(const PeriodicSpline& sx, const PeriodicSpline& sy, double T0);
+
 /// Spline-based shape diagnostics of one membrane. Holds its splines: after construction
 /// fit() and the queries do not allocate.
 class MembraneDiagnostics {

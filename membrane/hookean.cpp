@@ -28,7 +28,7 @@ Membrane make_membrane(Mat2 X, double r0, double T0) {
 }
 
 HookeanForce::HookeanForce(int nb, double L0, HookeanScheme scheme)
-    : nb_(nb), L0_(L0), scheme_(scheme), spline_(nb, L0), X_s_(nb, 2), W_(nb, 2) {}
+    : nb_(nb), L0_(L0), scheme_(scheme), sx_(nb, L0), sy_(nb, L0), wx_(nb, L0), wy_(nb, L0), X_s_(nb, 2), W_(nb, 2) {}
 
 void HookeanForce::compute(const Mat2& X, double T0, Mat2& f, Vec& T) {
   if (X.rows() != nb_)
@@ -38,10 +38,10 @@ void HookeanForce::compute(const Mat2& X, double T0, Mat2& f, Vec& T) {
   T.resize(nb_);
   const int n = nb_;
 
-  for (int d = 0; d < 2; ++d) {  // X_s (and X_ss) at the knots, one spline per coordinate
-    spline_.fit(X.data() + d * n);
-    spline_.d1_at_knots(X_s_.data() + d * n);
-    if (scheme_ == HookeanScheme::Analytic) spline_.d2_at_knots(W_.data() + d * n);
+  PeriodicSpline::fit_pair(sx_, X.data(), sy_, X.data() + n);  // one spline per coordinate
+  for (int d = 0; d < 2; ++d) {  // X_s (and X_ss) at the knots
+    spline(d).d1_at_knots(X_s_.data() + d * n);
+    if (scheme_ == HookeanScheme::Analytic) spline(d).d2_at_knots(W_.data() + d * n);
   }
 
   if (scheme_ == HookeanScheme::ProductSpline) {
@@ -53,10 +53,9 @@ void HookeanForce::compute(const Mat2& X, double T0, Mat2& f, Vec& T) {
       W_(k, 0) = T_over_norm * xs;
       W_(k, 1) = T_over_norm * ys;
     }
-    for (int d = 0; d < 2; ++d) {  // f = d(T tau)/ds, Eq. (50)
-      spline_.fit(W_.data() + d * n);
-      spline_.d1_at_knots(f.data() + d * n);
-    }
+    PeriodicSpline::fit_pair(wx_, W_.data(), wy_, W_.data() + n);  // f = d(T tau)/ds, Eq. (50)
+    wx_.d1_at_knots(f.data());
+    wy_.d1_at_knots(f.data() + n);
     return;
   }
 

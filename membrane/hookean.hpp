@@ -39,12 +39,19 @@ class HookeanForce {
   int nb() const { return nb_; }
   double ds() const { return L0_ / nb_; }
   HookeanScheme scheme() const { return scheme_; }
+  /// The splines of X's coordinates (d = 0, 1) that the last compute() fitted, and whether that
+  /// was to these markers (bit for bit): the diagnostics of the same X can use them.
+  const PeriodicSpline& spline(int d) const { return d == 0 ? sx_ : sy_; }
+  bool fitted_to(const Mat2& X) const {
+    return X.rows() == nb_ && sx_.fitted_to(X.data()) && sy_.fitted_to(X.data() + nb_);
+  }
 
  private:
   int nb_;
   double L0_;
   HookeanScheme scheme_;
-  PeriodicSpline spline_;  // refitted per coordinate: X, Y, then (T tau)_x, (T tau)_y
+  PeriodicSpline sx_, sy_;  // of X and Y
+  PeriodicSpline wx_, wy_;  // of W's coordinates (ProductSpline)
   Mat2 X_s_, W_;           // X_s at the knots; W = T tau (ProductSpline) or X_ss (Analytic)
 };
 

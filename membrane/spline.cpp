@@ -1,6 +1,7 @@
 #include "membrane/spline.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -28,28 +29,65 @@ PeriodicSpline::PeriodicSpline(int n, double L) : n_(n), L_(L) {
   w_ = Vec::Zero(n);
 }
 
-void PeriodicSpline::fit(const double* y, int stride) {
-  const int n = n_;
-  const int m = static_cast<int>(pw_.size());
-  for (int k = 0; k < n; ++k) y_[k] = y[static_cast<std::ptrdiff_t>(k) * stride];
+// The sweeps of C splines of the same n and h, interleaved value by value (each spline's arithmetic
+// is that of a fit on its own).
+template <int C>
+void PeriodicSpline::fit_splines(PeriodicSpline* const* sp, const double* const* y, int stride) {
+  const PeriodicSpline& P = *sp[0];
+  const int n = P.n_;
+  const int m = static_cast<int>(P.pw_.size());
+  const double rho = P.rho_;
+  const double* pw = P.pw_.data();
+  double *Y[C], *M[C], *w[C];
+  for (int c = 0; c < C; ++c) {
+    Y[c] = sp[c]->y_.data();
+    M[c] = sp[c]->M_.data();
+    w[c] = sp[c]->w_.data();
+    for (int k = 0; k < n; ++k) Y[c][k] = y[c][static_cast<std::ptrdiff_t>(k) * stride];
+  }
 
-  // r_k = 6 (y_{k+1} - 2 y_k + y_{k-1}) / h^2, stored in M_ for now.
-  const double c = 6.0 / (h_ * h_);
-  M_[0] = c * (y_[1] - 2.0 * y_[0] + y_[n - 1]);
-  for (int k = 1; k < n - 1; ++k) M_[k] = c * (y_[k + 1] - 2.0 * y_[k] + y_[k - 1]);
-  M_[n - 1] = c * (y_[0] - 2.0 * y_[n - 1] + y_[n - 2]);
+  // r_k = 6 (y_{k+1} - 2 y_k + y_{k-1}) / h^2, stored in M for now.
+  const double r = 6.0 / (P.h_ * P.h_);
+  for (int c = 0; c < C; ++c) {
+    const double* y_ = Y[c];
+    double* M_ = M[c];
+    M_[0] = r * (y_[1] - 2.0 * y_[0] + y_[n - 1]);
+    for (int k = 1; k < n - 1; ++k) M_[k] = r * (y_[k + 1] - 2.0 * y_[k] + y_[k - 1]);
+    M_[n - 1] = r * (y_[0] - 2.0 * y_[n - 1] + y_[n - 2]);
+  }
 
   // (I + rho S) w = rho r:  w_k = rho (r_k - w_{k+1}), closed periodically.
-  double acc = 0.0;
-  for (int j = 0; j < m; ++j) acc += pw_[j] * M_[(n - 1 + j) % n];
-  w_[n - 1] = rho_ * acc;
-  for (int k = n - 2; k >= 0; --k) w_[k] = rho_ * (M_[k] - w_[k + 1]);
+  double acc[C] = {};
+  for (int j = 0; j < m; ++j)
+    for (int c = 0; c < C; ++c) acc[c] += pw[j] * M[c][(n - 1 + j) % n];
+  for (int c = 0; c < C; ++c) w[c][n - 1] = rho * acc[c];
+  for (int k = n - 2; k >= 0; --k)
+    for (int c = 0; c < C; ++c) w[c][k] = rho * (M[c][k] - w[c][k + 1]);
 
   // (I + rho S^T) M = w:  M_k = w_k - rho M_{k-1}, closed periodically.
-  acc = 0.0;
-  for (int j = 0; j < m; ++j) acc += pw_[j] * w_[(n - j) % n];
-  M_[0] = acc;
-  for (int k = 1; k < n; ++k) M_[k] = w_[k] - rho_ * M_[k - 1];
+  for (int c = 0; c < C; ++c) acc[c] = 0.0;
+  for (int j = 0; j < m; ++j)
+    for (int c = 0; c < C; ++c) acc[c] += pw[j] * w[c][(n - j) % n];
+  for (int c = 0; c < C; ++c) M[c][0] = acc[c];
+  for (int k = 1; k < n; ++k)
+    for (int c = 0; c < C; ++c) M[c][k] = w[c][k] - rho * M[c][k - 1];
+}
+
+void PeriodicSpline::fit(const double* y, int stride) {
+  PeriodicSpline* sp[1] = {this};
+  fit_splines<1>(sp, &y, stride);
+}
+
+void PeriodicSpline::fit_pair(PeriodicSpline& a, const double* ya, PeriodicSpline& b, const double* yb) {
+  if (a.n_ != b.n_ || a.h_ != b.h_)
+    throw std::invalid_argument("PeriodicSpline::fit_pair: the splines differ in n or period");
+  PeriodicSpline* sp[2] = {&a, &b};
+  const double* y[2] = {ya, yb};
+  fit_splines<2>(sp, y, 1);
+}
+
+bool PeriodicSpline::fitted_to(const double* y) const {
+  return std::memcmp(y_.data(), y, sizeof(double) * static_cast<size_t>(n_)) == 0;
 }
 
 void PeriodicSpline::locate(double s, int& k, double& t) const {

@@ -31,6 +31,12 @@ class PeriodicSpline {
 
   /// Interpolate y[k*stride], k = 0..n-1. O(n), no heap allocation.
   void fit(const double* y, int stride = 1);
+  /// a.fit(ya) and b.fit(yb) (unit strides) in one pass: the two sweeps' recurrences are serial,
+  /// so running both splines' side by side halves the time; the same arithmetic, the same bits.
+  /// a and b must have the same n and period.
+  static void fit_pair(PeriodicSpline& a, const double* ya, PeriodicSpline& b, const double* yb);
+  /// Whether the last fit() interpolated exactly (bit for bit) these values y[k], k = 0..n-1.
+  bool fitted_to(const double* y) const;
 
   // Evaluation at any s (wrapped into [0, L)).
   double value(double s) const;
@@ -53,6 +59,8 @@ class PeriodicSpline {
  private:
   int wrap(int k) const { return ((k % n_) + n_) % n_; }
   void locate(double s, int& k, double& t) const;  // s = s_k + t, 0 <= t < h
+  template <int C>
+  static void fit_splines(PeriodicSpline* const* sp, const double* const* y, int stride);
 
   int n_;
   double L_, h_;

@@ -42,8 +42,13 @@ Guards::Guards(const SimulationParams& params, const Simulation& sim)
 double Guards::elastic_energy(const Simulation& sim) {
   double E = 0;
   for (size_t k = 0; k < D_.size(); ++k) {
-    D_[k].fit(sim.membranes()[k].m.X);
-    E += D_[k].energy(sim.membranes()[k].m.T0);
+    const MembraneState& s = sim.membranes()[k];
+    if (s.hooke.fitted_to(s.m.X)) {  // the force's splines of these markers (every step: its end fits them)
+      E += sphib::elastic_energy(s.hooke.spline(0), s.hooke.spline(1), s.m.T0);
+      continue;
+    }
+    D_[k].fit(s.m.X);
+    E += D_[k].energy(s.m.T0);
   }
   return E;
 }

@@ -5,6 +5,7 @@
 #include <random>
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -130,6 +131,33 @@ TEST(SplineTest, InterpolatesWrapsAndHonoursStride) {
     EXPECT_NEAR(A.value(s + 2 * L), A.value(s), 1e-13);
     EXPECT_NEAR(A.d1(s - 3 * L), A.d1(s), 1e-12);
   }
+}
+
+TEST(SplineTest, PairFitGivesTheBitsOfTwoSingleFits) {
+  // fit_pair interleaves two splines' sweeps; each must be exactly its own fit(): same knot
+  // derivatives bit for bit, and fitted_to recognises the values fitted (and no others).
+  const int n = 37;
+  const double L = 2.5;
+  Mat2 Y(n, 2);
+  for (int k = 0; k < n; ++k) {
+    Y(k, 0) = std::cos(2 * kPi * k / n) + 0.01 * (k % 5);
+    Y(k, 1) = std::exp(std::sin(2 * kPi * k / n)) - 0.03 * (k % 4);
+  }
+  PeriodicSpline A(n, L), B(n, L), P(n, L), Q(n, L);
+  A.fit(Y.data());
+  B.fit(Y.data() + n);
+  PeriodicSpline::fit_pair(P, Y.data(), Q, Y.data() + n);
+  Vec a(n), b(n), p(n), q(n);
+  A.d1_at_knots(a.data());
+  B.d2_at_knots(b.data());
+  P.d1_at_knots(p.data());
+  Q.d2_at_knots(q.data());
+  EXPECT_EQ(std::memcmp(a.data(), p.data(), sizeof(double) * n), 0);
+  EXPECT_EQ(std::memcmp(b.data(), q.data(), sizeof(double) * n), 0);
+  EXPECT_TRUE(P.fitted_to(Y.data()));
+  EXPECT_FALSE(P.fitted_to(Y.data() + n));
+  PeriodicSpline R(n + 1, L);
+  EXPECT_THROW(PeriodicSpline::fit_pair(P, Y.data(), R, Y.data()), std::invalid_argument);
 }
 
 TEST(SplineTest, ConvergesOnSineAtOrders4_3_2) {
@@ -389,6 +417,25 @@ TEST(GeometryTest, StretchedCircleEnergy) {
   const Membrane rest = make_membrane(circle(nb, 0.0, 0.0, r0), r0, T0);
   D.fit(rest.X);
   EXPECT_LT(D.energy(T0), 1e-14);
+}
+
+TEST(GeometryTest, HookeanForceSplinesGiveTheDiagnosticsEnergy) {
+  // The guards take the elastic energy from the force's splines when they were fitted to the
+  // markers: the same value bit for bit as a diagnostics fit of the same X.
+  const int nb = 64;
+  const Membrane m = make_membrane(ellipse(nb, 0.1, -0.2, 0.75, 0.5), 0.6, 2.0);
+  HookeanForce H(nb, m.L0);
+  Mat2 f;
+  Vec T;
+  H.compute(m, f, T);
+  ASSERT_TRUE(H.fitted_to(m.X));
+  MembraneDiagnostics D(nb, m.L0);
+  D.fit(m.X);
+  const double E = D.energy(m.T0), E_h = elastic_energy(H.spline(0), H.spline(1), m.T0);
+  EXPECT_EQ(std::memcmp(&E, &E_h, sizeof E), 0);
+  Mat2 X = m.X;
+  X(3, 1) += 1e-9;
+  EXPECT_FALSE(H.fitted_to(X));
 }
 
 TEST(GeometryTest, PolygonPredicates) {
