@@ -46,6 +46,10 @@ struct WcsphParams {
 // ISPH with a free surface (Afanasiev, Makarchuk & Popov 2011, Sections 3.4-3.6; isph.hpp).
 struct IsphParams {
   std::string viscous = "explicit";  // explicit (A Eq. 22) | crank_nicolson (Eq. 28 of the projection core)
+  // The Poisson CG (solver_policy.hpp, lagged_pcg): |r| <= poisson_rtol |b|, and a new preconditioner
+  // factorisation after a solve that needed more than poisson_refresh iterations (isph.cpp, make_solvers).
+  double poisson_rtol = 1e-8;
+  int poisson_refresh = 8;
 };
 
 // The Poisson operator of the projection (Eq. 32). Exact: D G, the divergence of the gradient the

@@ -34,10 +34,8 @@ std::unique_ptr<LinearSolver> lattice_preconditioner(const std::string& system, 
 // Moving particles: CG preconditioned by `start` (pcg_fft) or, when it is null, by a lagged CHOLMOD
 // factor (pcg_cholmod); `note` says why (auto).
 std::unique_ptr<LinearSolver> lagged_solver(const std::string& system, const SpMat& A, std::unique_ptr<LinearSolver> start,
-                                            NullSpaceHooks null, const std::string& note) {
-  LaggedPcgOptions opt;
-  opt.rtol = 1e-14;
-  opt.refresh_iterations = 8;
+                                            NullSpaceHooks null, const std::string& note,
+                                            const LaggedPcgOptions& opt = moving_cg_options()) {
   auto factorise = [](const std::string& s, const SpMat& D) { return direct(s, D, SolverKind::Auto, Refactor::EveryStep); };
   auto solver = lagged_pcg(system, A, std::move(start), factorise, std::move(null), opt);
   if (!note.empty()) solver->annotate(note, 0.0);
@@ -90,7 +88,8 @@ std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat&
 }
 
 SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
-                             const Lattice* fixed, Refactor refactor, const LatticeReference& near) {
+                             const Lattice* fixed, Refactor refactor, const LatticeReference& near,
+                             const LaggedPcgOptions& cg) {
   std::string why;
   SystemSolver r;
   if (lagged(kind) && refactor == Refactor::Once)
@@ -113,7 +112,7 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
     const std::string note = kind != SolverKind::Auto ? ""
                              : start ? " (auto: moving particles near a lattice with an FFT solver)"
                                      : " (auto: moving particles; no FFT lattice solver: " + why + ")";
-    r.solver = lagged_solver(system, A, std::move(start), std::move(null), note);
+    r.solver = lagged_solver(system, A, std::move(start), std::move(null), note, cg);
     r.unpinned = true;
     return r;
   }

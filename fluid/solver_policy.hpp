@@ -48,6 +48,14 @@
 
 namespace sphib {
 
+// The lagged CG of the moving particles (see above): rtol 1e-14, refreshed above 8 iterations.
+inline LaggedPcgOptions moving_cg_options() {
+  LaggedPcgOptions o;
+  o.rtol = 1e-14;
+  o.refresh_iterations = 8;
+  return o;
+}
+
 // A matrix factorised once for the whole run (EPSPH), or again every step (moving particles:
 // LinearSolver::refactorize, the symbolic analysis kept while the pattern stays).
 enum class Refactor { Once, EveryStep };
@@ -73,7 +81,10 @@ std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat&
 // A symmetric positive semi-definite operator A whose null space is that of gauge g. With
 // Refactor::EveryStep and a direct solver the pinned matrix keeps A's pattern (refactorize with
 // g.pinned(A, false)); an unpinned solver (FFT, the preconditioned CG) is refactorised with A itself.
+// `cg`: the lagged CG's tolerance and refresh rule (default rtol 1e-14, 8 iterations; ISPH sets its
+// own: isph.cpp, make_solvers).
 SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
-                             const Lattice* fixed, Refactor refactor, const LatticeReference& near = {});
+                             const Lattice* fixed, Refactor refactor, const LatticeReference& near = {},
+                             const LaggedPcgOptions& cg = moving_cg_options());
 
 }  // namespace sphib

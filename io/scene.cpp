@@ -477,6 +477,12 @@ void read_fluid(Reader& r, Scene& s) {
   f.isph.viscous = r.choice("isph.viscous", "explicit", {"explicit", "crank_nicolson"},
                             "ISPH's viscous predictor: explicit (Afanasiev et al. Eq. 22) or crank_nicolson (the "
                             "projection core's Eq. 28)");
+  f.isph.poisson_rtol = r.number("isph.poisson_rtol", 1e-8, "(0, 1e-4]",
+                                 "ISPH's Poisson CG stops at |r| <= rtol |b| (or a backward error of 1e-14)", false, 0.0,
+                                 true, 1e-4);
+  f.isph.poisson_refresh = static_cast<int>(r.integer(
+      "isph.poisson_refresh", 8, 1, "ISPH's Poisson CG: a new preconditioner factorisation after a solve that needed more "
+                                    "than this many iterations"));
   f.wcsph.wall_pressure = r.choice("wcsph.wall_pressure", "rest", {"rest", "eq30", "extrapolated"},
                                    "pressure of the wall particles (predictor_corrector): rest (p(rho0)), eq30 (Afanasiev et al. "
                                    "Eq. 30), extrapolated (Eq. 30 normalised, with the hydrostatic term of Adami et al. 2012)");

@@ -116,6 +116,10 @@ TEST(Isph, BadInputIsRefusedByKey) {
   expect(refused({"free_surface.detection=dilts"}), "free_surface.detection", "not available for isph");
   expect(refused({"free_surface.detection=none"}), "free_surface.detection", "Dirichlet");
   expect(refused({"isph.viscous=implicit"}), "isph.viscous", "implicit");
+  expect(refused({"isph.poisson_rtol=0"}), "isph.poisson_rtol", "out of range");
+  expect(refused({"isph.poisson_rtol=0.01"}), "isph.poisson_rtol", "out of range");
+  expect(refused({"isph.poisson_refresh=0"}), "isph.poisson_refresh", "out of range");
+  expect(refused({"isph.poisson_refresh=2.5"}), "isph.poisson_refresh", "integer");
   expect(refused({"solver.crank_nicolson=cholmod_supernodal"}), "solver.crank_nicolson", "explicit");
   expect(refused({"solver.poisson=pcg_fft"}), "solver.poisson", "pcg_fft");
   expect(refused({"fluid.projection=exact"}), "fluid.projection", "exact");
