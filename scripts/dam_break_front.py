@@ -37,7 +37,8 @@ def main(runs):
         T, Z = d["t"] * np.sqrt(2 * g / a), d["front_x"] / a
         dev = lambda dT: [rms_against(np.r_[0.0, T + dT], np.r_[Z[0], Z], e) for e in exps.values()]  # noqa: E731
         best = min(np.arange(0.0, 1.0, 0.01), key=lambda s: np.mean(dev(s)))
-        hit = d["t"][np.argmax(d["load_right"] != 0)] if "load_right" in d else float("nan")
+        loaded = d["load_right"] != 0 if "load_right" in d else np.zeros(1, bool)
+        hit = d["t"][np.argmax(loaded)] if loaded.any() else float("nan")  # nan: not by the run's end
         print("%s: rms %s; dZ/dT(1.5-2.5) %.3f; right wall loaded at t = %.4f; delay dT = %.2f (%.1f ms): rms %s"
               % (run, " ".join("%.3f" % v for v in dev(0.0)), np.interp(2.5, T, Z) - np.interp(1.5, T, Z), hit,
                  best, 1e3 * best / np.sqrt(2 * g / a), " ".join("%.3f" % v for v in dev(best))))
