@@ -94,13 +94,20 @@ std::unique_ptr<Analysis> wall_loads(const Simulation& sim);
 // particle's initial radius.
 std::unique_ptr<Analysis> droplet_axis(const Simulation& sim, double t_error = 0.8);
 
-// dam_break.cpp: front_x, the leading edge on the floor (the largest x + dx/2 of the particles
-// within two spacings of the bottom wall) from the left wall; with the surge-front experiments of
+// dam_break.cpp: front_x, the leading edge on the floor (surge_front_x + dx/2 with a band of two
+// spacings above the bottom wall and the kernel's support 2h as the reach) from the left wall; with the surge-front experiments of
 // reference_dir/dam_break_front.csv (Z = x/a against T = t sqrt(2g/a), a the column's width) the
 // summary's front_deviation_<series> (rms of Z - Z_exp over the experiment's points up to Z = 3.5;
 // <series> the file's name with '.' as '_': martin_moyce_1952_a1_125in).
 // Throws std::runtime_error naming a reference file it cannot read.
 std::unique_ptr<Analysis> dam_break_front(const Simulation& sim, const std::string& reference_dir);
+
+// The leading edge of a surge on the floor y = y0: the largest x of the particles (rows of x) within
+// `band` above the floor that have another particle closer than `reach`. A particle with no other
+// particle within the kernel's support is a splash that has left the surge, not its front (measured,
+// ISPH dam break at 5000 particles, t = 0.195: one floor particle 2.8 dx ahead of the rest). If every
+// particle in the band is alone, their largest x; -infinity when the band is empty.
+double surge_front_x(const Mat2& x, double y0, double band, double reach);
 
 // steady.cpp: du_rms, dp_rms (Eqs. 81-82); done once both are below eps dt.
 std::unique_ptr<Analysis> steady_state(double eps);

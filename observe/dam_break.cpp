@@ -57,11 +57,7 @@ class DamBreakFront final : public Analysis {
 
  private:
   double front(const FluidSolver& fl) const {
-    const Mat2& x = fl.x();
-    double xf = -INFINITY;
-    for (int i = 0; i < x.rows(); ++i)
-      if (x(i, 1) - floor_ < band_) xf = std::max(xf, x(i, 0));
-    return xf + half_dx_ - x0_;
+    return surge_front_x(fl.x(), floor_, band_, fl.kernel().support()) + half_dx_ - x0_;
   }
   // The sampled column c at time t, linear between samples.
   static double interpolate(const Series& s, int ct, int c, double t) {
@@ -78,6 +74,19 @@ class DamBreakFront final : public Analysis {
 };
 
 }  // namespace
+
+double surge_front_x(const Mat2& x, double y0, double band, double reach) {
+  std::vector<int> floor;  // the particles in the band, leading one first
+  for (int i = 0; i < x.rows(); ++i)
+    if (x(i, 1) - y0 < band) floor.push_back(i);
+  if (floor.empty()) return -INFINITY;
+  std::sort(floor.begin(), floor.end(), [&](int a, int b) { return x(a, 0) > x(b, 0); });
+  const double r2 = reach * reach;
+  for (int i : floor)
+    for (int j = 0; j < x.rows(); ++j)
+      if (j != i && (x.row(j) - x.row(i)).squaredNorm() < r2) return x(i, 0);
+  return x(floor.front(), 0);
+}
 
 std::unique_ptr<Analysis> dam_break_front(const Simulation& sim, const std::string& reference_dir) {
   return std::make_unique<DamBreakFront>(sim, reference_dir);

@@ -377,6 +377,13 @@ def reference_dir(h5):
     return None
 
 
+def read_front_reference(path):
+    """The (T, Z) rows of a surge-front experiment in cases/reference (comment lines and header skipped)."""
+    with open(path) as f:
+        rows = [r for r in f.read().splitlines() if r and not r.startswith("#")][1:]
+    return np.array([[float(c) for c in r.split(",")] for r in rows], ndmin=2)
+
+
 def plot_free_surface_series(h5, names, run_dir, cols, compare=None):
     """Loads, droplet axis, dam-break front, inclined-plane profile: those the run has. `compare`: a
     second run directory whose loads are drawn dashed beside this run's (Fig. 10: ISPH and SPH)."""
@@ -414,9 +421,7 @@ def plot_free_surface_series(h5, names, run_dir, cols, compare=None):
                                     ("koshizuka_oka_1996", "^", "Koshizuka & Oka (1996)")):
             path = ref and os.path.join(ref, "dam_break_front_%s.csv" % name)
             if path and os.path.isfile(path):
-                with open(path) as f:
-                    rows = [r for r in f.read().splitlines() if r and not r.startswith("#")][1:]
-                d = np.array([[float(c) for c in r.split(",")] for r in rows], ndmin=2)
+                d = read_front_reference(path)
                 ax.plot(d[:, 0], d[:, 1], marker, mfc="none", label=label)
         T, Z = t * np.sqrt(2 * g / a), cols["front_x"] / a
         T_wall = float(T[np.argmax(Z >= 0.99 * np.nanmax(Z))])  # the front meets the far wall

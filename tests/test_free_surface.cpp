@@ -15,6 +15,7 @@
 #include "fluid/wcsph.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
+#include "observe/analysis.hpp"
 #include "scene_refusal.hpp"
 #include "still_tank_scene.hpp"
 
@@ -304,6 +305,22 @@ TEST(FreeSurface, CheckpointContinuesBitForBit) {
   Scene s = parse_scene(kStillTank, "still.toml", {"fill.x=[0.0, 0.4]", "wcsph.smooth_every=7"});
   // the column collapses: something to compare
   EXPECT_GT(test::restart_continues_bit_for_bit<WcsphFluid>(s.sim.fluid, 30), 1e-3);
+}
+
+// The surge front on the floor: a block of 10 x 4 particles (spacing 1, the first row half a spacing
+// above the floor y = 0) ends at x = 9. A particle on the floor 2.8 spacings ahead of it, as in the ISPH
+// dam break at t = 0.195, is alone within the support 2h = 2.6 and is no front; 2 spacings ahead it is
+// (it then has the block's corner particle within reach). A particle ahead above the band never is.
+TEST(FreeSurface, SurgeFrontSkipsDetachedParticles) {
+  Mat2 x(42, 2);
+  for (int k = 0; k < 40; ++k) x.row(k) << k % 10, 0.5 + k / 10;
+  x.row(40) << 30.0, 5.0;  // above the band
+  x.row(41) << 11.8, 0.5;
+  EXPECT_EQ(surge_front_x(x, 0.0, 2.0, 2.6), 9.0);
+  x(41, 0) = 11.0;
+  EXPECT_EQ(surge_front_x(x, 0.0, 2.0, 2.6), 11.0);
+  EXPECT_EQ(surge_front_x(x.topRows(1), 0.0, 2.0, 2.6), 0.0);  // alone: its own x
+  EXPECT_EQ(surge_front_x(x.middleRows(40, 1), 0.0, 2.0, 2.6), -INFINITY);  // nothing in the band
 }
 
 // The dam break (cases/dam_break_wcsph.toml) at a/10: 200 steps run, the front leaves the column's
