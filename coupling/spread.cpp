@@ -25,10 +25,20 @@ namespace {
   for (int r = 0; r < box.nrow; ++r) {
     const double ry2 = box.ry[r] * box.ry[r];
     for (int c = 0; c < nlanes; c += 4) {
+#if defined(__clang__)
+      // clang refuses a 256-bit vector argument in the default clone (no AVX there, a different
+      // ABI): two two-lane halves instead, each lane by the same expressions, so the same values.
+      for (int half = c; half < c + 4; half += 2) {
+        const Lanes2 wc = W.W2(Lanes2{cdx2[half], cdx2[half + 1]} + lanes2(ry2));  // W(x_i - X_k, h*)
+        w[half] = wc[0];
+        w[half + 1] = wc[1];
+      }
+#else
       Lanes4 d2;
       __builtin_memcpy(&d2, cdx2 + c, sizeof d2);
       const Lanes4 wc = W.W2(d2 + lanes(Lanes4{}, ry2));  // W(x_i - X_k, h*), 0 beyond 2h*
       __builtin_memcpy(w + c, &wc, sizeof wc);
+#endif
     }
     double* __restrict fxr = Fx + box.base[r];
     double* __restrict fyr = Fy + box.base[r];
