@@ -4,6 +4,9 @@
 // and their checkpoint check.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "fluid/solver.hpp"
 
 namespace sphib::test {
@@ -26,6 +29,27 @@ double restart_continues_bit_for_bit(const FluidParams& params, int steps) {
   EXPECT_EQ((b.x() - a.x()).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((b.u() - a.u()).cwiseAbs().maxCoeff(), 0.0);
   return a.kinetic_energy();
+}
+
+// A tank of fluid left alone for `steps` steps: its wall forces (Eq. 32) at the start and the end and
+// the largest change of the side walls' forces on the way.
+struct StillTankRun {
+  WallForces start, end;
+  double worst_side_change = 0;
+};
+template <class Fluid>
+StillTankRun run_still_tank(Fluid& f, int steps) {
+  StillTankRun r;
+  r.start = f.wall_forces();
+  const Mat2 F = Mat2::Zero(f.size(), 2);
+  for (int n = 0; n < steps; ++n) {
+    f.step(F);
+    const WallForces Fn = f.wall_forces();
+    r.worst_side_change = std::max({r.worst_side_change, std::fabs(Fn[Left] - r.start[Left]),
+                                    std::fabs(Fn[Right] - r.start[Right])});
+  }
+  r.end = f.wall_forces();
+  return r;
 }
 
 inline const char* kStillTank = R"(
