@@ -7,6 +7,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <stdexcept>
+#include <string>
+
+#include "coupling/simulation.hpp"
 #include "fluid/solver.hpp"
 
 namespace sphib::test {
@@ -50,6 +54,24 @@ StillTankRun run_still_tank(Fluid& f, int steps) {
   }
   r.end = f.wall_forces();
   return r;
+}
+
+// Steps `sim` (a drop thrown towards an open side) until keep_in_tank stops it; its message, or ""
+// after a test failure (non-finite fields, or the drop still inside after `steps` steps).
+inline std::string message_when_it_leaves(Simulation& sim, int steps) {
+  try {
+    for (int n = 0; n < steps; ++n) {
+      sim.step();
+      if (!(sim.fluid().u().allFinite() && sim.fluid().p().allFinite())) {
+        ADD_FAILURE() << "non-finite fields at step " << n;
+        return "";
+      }
+    }
+    ADD_FAILURE() << "the drop did not leave";
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 inline const char* kStillTank = R"(
