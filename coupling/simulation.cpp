@@ -73,11 +73,12 @@ Simulation::Simulation(const SimulationParams& params)
     for (int i = 0; i < N; ++i) u0.row(i) = prm_.initial_velocity(x(i, 0), x(i, 1)).transpose();
     fluid_->set_velocity(u0);
   }
-  F_body_ = Mat2::Zero(N, 2);
-  F_ = F_body_;
-  if (!prm_.body_force_field) {
-    F_body_.col(0).setConstant(prm_.body_force.x());
-    F_body_.col(1).setConstant(prm_.body_force.y());
+  F_ = Mat2::Zero(N, 2);
+  if (prm_.body_force_field) {
+    F_body_ = F_;
+  } else {  // a uniform body force fills F_ (external_force)
+    F_.col(0).setConstant(prm_.body_force.x());
+    F_.col(1).setConstant(prm_.body_force.y());
   }
   k_force_ = prof_.phase("membrane force (Eqs. 47-50)");
   k_spread_ = prof_.phase("spreading (Eq. 53)");
@@ -141,8 +142,11 @@ void Simulation::external_force(double t) {
   if (prm_.body_force_field) {
     const Mat2& x = fluid_->x();
     for (int i = 0; i < x.rows(); ++i) F_body_.row(i) = prm_.body_force_field(x(i, 0), x(i, 1), t).transpose();
+    F_ = F_body_;
+  } else {  // uniform: filled, not copied (half the memory traffic)
+    F_.col(0).setConstant(prm_.body_force.x());
+    F_.col(1).setConstant(prm_.body_force.y());
   }
-  F_ = F_body_;
   if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // LPSPH, WCSPH: O(N)
 }
 

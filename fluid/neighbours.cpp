@@ -79,6 +79,14 @@ void CellGrid::gather_near(double qx, double qy, double radius, NearPoints& out,
   out.n = n;
 }
 
+namespace {
+// i mod n in [0, n), without a division for the usual i in [-n, 2n)
+inline int wrap_index(int i, int n) {
+  if (i >= 0) return i < n ? i : (i < 2 * n ? i - n : i % n);
+  return i >= -n ? i + n : ((i % n) + n) % n;
+}
+}  // namespace
+
 void CellGrid::lattice_box(double qx, double qy, double radius, LatticeBox& box) const {
   int lo[2], hi[2];
   lattice_range(qx, qy, radius, lo, hi);
@@ -86,7 +94,7 @@ void CellGrid::lattice_box(double qx, double qy, double radius, LatticeBox& box)
   box.ncol = std::max(hi[0] - lo[0] + 1, 0);
   if (box.ncol > LatticeBox::kMax || hi[1] - lo[1] + 1 > LatticeBox::kMax)
     throw std::invalid_argument("CellGrid: a marker's query spans more than 256 lattice columns or rows");
-  int iw = periodic_[0] ? ((lo[0] % nx) + nx) % nx : lo[0];
+  int iw = periodic_[0] ? wrap_index(lo[0], nx) : lo[0];
   for (int c = 0; c < box.ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
     box.col[c] = iw;
     box.cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
@@ -96,7 +104,7 @@ void CellGrid::lattice_box(double qx, double qy, double radius, LatticeBox& box)
   for (int b = lo[1]; b <= hi[1]; ++b) {
     const double ry = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]);
     if (ry * ry >= r2max) continue;
-    box.base[box.nrow] = nx * (periodic_[1] ? ((b % ny) + ny) % ny : b);
+    box.base[box.nrow] = nx * (periodic_[1] ? wrap_index(b, ny) : b);
     box.ry[box.nrow++] = ry;
   }
 }
