@@ -126,6 +126,33 @@ bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
   return false;
 }
 
+double Simulation::coupling_floor_seconds(int reps) const {
+  if (mem_.empty()) return 0.0;
+  std::vector<HookeanForce> hooke;  // copies: the states' splines stay as they are
+  for (const auto& s : mem_) hooke.push_back(s.hooke);
+  Mat2 f, F = F_, U;
+  Vec T;
+  Jacobians dU;
+  double total = best_of(reps, [&] {
+    for (size_t k = 0; k < mem_.size(); ++k) hooke[k].compute(mem_[k].m.X, mem_[k].m.T0, f, T);  // Eqs. (47)-(50)
+  });
+  total += best_of(reps, [&] {
+    for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F);  // Eq. (53)
+  });
+  bool free = false;
+  for (const auto& s : mem_) free |= !s.fixed;
+  if (!free) return total;
+  if (interp_ == MarkerInterpolation::DivergenceFree) total += fluid_->stream_function_floor_seconds(reps);
+  total += best_of(reps, [&] {
+    for (const auto& s : mem_) {
+      if (s.fixed) continue;
+      U.resize(s.m.X.rows(), 2);  // (allocates once for equal Nb)
+      marker_velocity(s.m.X, U, prm_.markers.linearise ? &dU : nullptr);
+    }
+  });
+  return total;
+}
+
 // One IB time step, t_n -> t_{n+1} (ARCHITECTURE.md, "One IB time step"):
 //   F^n = body force + S f^n;  PMIII: u^n -> u^{n+1};  X^{n+1} by the trapezoidal rule;  f^{n+1}.
 void Simulation::step() {

@@ -191,6 +191,11 @@ double EulerianFluid::floor_seconds(int reps) const {
   return total;
 }
 
+double EulerianFluid::stream_function_floor_seconds(int reps) const {
+  stream_function();  // its right-hand side and solver, as a step makes them
+  return streams_->markers_floor_seconds(reps);
+}
+
 // EPSPH adds to the core's state the convection N^n kept for AB2 (Eq. 39) and, with the exact
 // projection, C^T u* and its flux (the markers' stream function of u^{n+1}).
 void EulerianFluid::extra_state(NamedArrays& st) const {

@@ -43,6 +43,8 @@ class EulerianFluid final : public ProjectionFluid {
   // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and projection solves
   // and the fused sparse products, on the current fields), each timed alone, best of `reps`.
   double floor_seconds(int reps = 20) const override;
+  double stream_function_floor_seconds(int reps = 20) const override;
+  double step_seconds() const override { return ProjectionFluid::step_seconds() - prof_.seconds(k_psi_); }
 
  private:
   void viscous_rhs(const Mat2& F) override;  // Eqs. (28), (39)-(41) in one pass (fluid/fused_passes.hpp)

@@ -211,6 +211,11 @@ double ExactProjection::floor_seconds(const Mat2& u_star, Mat2& work, int reps) 
   return total;
 }
 
+double ExactProjection::markers_floor_seconds(int reps) const {
+  Vec f = psi_m_, b = b_m_;
+  return best_of(reps, [&] { mpsi_solver_->solve(b.data(), f.data(), 1); });
+}
+
 void ExactProjection::save(NamedArrays& st) const {
   Eigen::MatrixXd q(1, 1);
   q(0, 0) = Q_;

@@ -55,6 +55,8 @@ class ExactProjection {
   // The bare kernels of one exact projection (C^T u*, the psi solve, its curl), each timed alone,
   // best of `reps` (the fluid step's floor).
   double floor_seconds(const Mat2& u_star, Mat2& work, int reps) const;
+  // The markers' psi_m solve alone, best of `reps` (after markers()).
+  double markers_floor_seconds(int reps) const;
   bool has_psi_solver() const { return psi_solver_ != nullptr; }
   const LinearSolver& psi_solver() const { return *psi_solver_; }
   int divergence_stencil_rows() const { return div_st_.stencil_rows(); }

@@ -76,6 +76,7 @@ class ProjectionFluid : public FluidSolver {
   const Operators& operators() const { return op_; }
   virtual std::vector<SolverInfo> solver_info() const;
   Profile& profile() const final { return prof_; }
+  double step_seconds() const override { return prof_.total() - prof_.seconds(k_pressure_); }
   double setup_seconds(const std::string& what) const final;  // "neighbours", "assembly", "factorisation"
 
   // The state after step n: u^n, phi^n, grad phi^n (Eq. 42 needs it), the last two u* (the warm

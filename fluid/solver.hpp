@@ -131,6 +131,9 @@ class FluidSolver {
   virtual std::vector<std::string> describe() const = 0;
   virtual std::vector<std::pair<std::string, double>> figures() const = 0;
   virtual Profile& profile() const = 0;
+  // The wall time of its steps so far: profile()'s phases of step(), not those made on demand
+  // (the pressure for output, the markers' stream function for the coupling).
+  virtual double step_seconds() const { return profile().total(); }
   virtual double setup_seconds(const std::string& what) const = 0;
   // What the method keeps for the whole run (`sphib check`'s memory estimate): the non-zeros of
   // its operator matrices and of its factors (with the matrices it keeps), its neighbour pairs.
@@ -142,6 +145,9 @@ class FluidSolver {
   // The floor of a step: the bare kernels it cannot avoid, each timed alone on the current fields,
   // best of `reps` (0: the method measures none).
   virtual double floor_seconds(int /*reps*/ = 20) const { return 0.0; }
+  // The markers' stream function's bare solve (stream_function()), timed alone the same way: part
+  // of the coupling's floor (Simulation::coupling_floor_seconds); 0 without one.
+  virtual double stream_function_floor_seconds(int /*reps*/ = 20) const { return 0.0; }
 
   // Free surfaces (free_surface.hpp): the particles the last surface detection marked (1) or not
   // (0); nullptr for a method or scene without a free surface.

@@ -135,11 +135,19 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
     for (size_t k = 0; k < P->names().size(); ++k) j["profile_seconds"][P->names()[k]] = P->seconds(static_cast<int>(k));
   for (const auto& line : fl.describe()) j["log"].push_back(line);
   // Step time against its floor (the fluid's bare solves and products, timed alone on the final
-  // state): the fluid step, and the whole step (the loop: fluid, membranes, coupling, checks, output).
+  // state): the fluid step (its own phases), and the whole step (the loop: fluid, membranes,
+  // coupling, checks, output); with membranes, also against the fluid's and the coupling's floors
+  // together (Simulation::coupling_floor_seconds), and the coupling's share of that whole floor.
   if (const double floor = timing.steps > 0 && end.fault.empty() ? fl.floor_seconds() : 0.0; floor > 0) {
+    const double step = timing.loop / timing.steps;
     j["floor_seconds_per_step"] = floor;
-    j["fluid_step_over_floor"] = fl.profile().total() / timing.steps / floor;
-    j["step_over_floor"] = timing.loop / timing.steps / floor;
+    j["fluid_step_over_floor"] = fl.step_seconds() / timing.steps / floor;
+    j["step_over_floor"] = step / floor;
+    if (const double cf = sim.coupling_floor_seconds(); cf > 0) {
+      j["coupling_floor_seconds_per_step"] = cf;
+      j["coupling_floor_share"] = cf / (floor + cf);
+      j["step_over_whole_floor"] = step / (floor + cf);
+    }
   }
   // The membranes and their coupling (force, spreading, interpolation, marker update with the
   // markers' stream function) as a share of the whole step.
