@@ -315,24 +315,58 @@ template <int D>
   }
 }
 
+#pragma GCC diagnostic ignored "-Wpsabi"  // (Pair4 lives only inside the inlined rows: no call passes one)
+typedef double Pair4 __attribute__((vector_size(32)));
+typedef double Pair4u __attribute__((vector_size(32), aligned(8), may_alias));
+// (f[0], f[0], f[1], f[1]): two wavenumbers' factor for their real and imaginary parts
+[[gnu::always_inline]] inline Pair4 twice(const double* f) { return Pair4{f[0], f[0], f[1], f[1]}; }
+[[gnu::always_inline]] inline Pair4 load_pair4(const double* p) { return *reinterpret_cast<const Pair4u*>(p); }
+
+// substitute_row for complex rows, (re, im) of wavenumber k at 2k and 2k + 1, whose factors are
+// the same for both parts and stored once per wavenumber (k): two wavenumbers at a time, each
+// value by substitute_row's expressions (the same bits), the factors read once instead of twice.
+template <int D>
+[[gnu::always_inline]] inline void substitute_row_pairs(double* __restrict hi, const double* const* hj,
+                                                        const double* const* l, const double* __restrict r,
+                                                        int nk) {
+  int k = 0;
+  for (; k + 2 <= nk; k += 2) {
+    const int m = 2 * k;
+    Pair4 a = load_pair4(hi + m);
+    if (D > 0) a = a - twice(l[0] + k) * load_pair4(hj[0] + m);
+    if (D > 1) a = a - twice(l[1] + k) * load_pair4(hj[1] + m);
+    if (D > 2) a = a - twice(l[2] + k) * load_pair4(hj[2] + m);
+    if (D > 3) a = a - twice(l[3] + k) * load_pair4(hj[3] + m);
+    *reinterpret_cast<Pair4u*>(hi + m) = a * twice(r + k);
+  }
+  for (; k < nk; ++k)
+    for (int m = 2 * k; m < 2 * k + 2; ++m) {
+      double a = hi[m];
+      for (int d = 0; d < D; ++d) a -= l[d][k] * hj[d][m];
+      hi[m] = a * r[k];
+    }
+}
+
 // L y = b, then L' x = y, in place, for every wavenumber: h row i at h + i n (n values per row),
-// the factors as BandedSolver::arrange_factors stores them. Rows reaching more than 4 neighbours
+// the factors as BandedSolver::arrange_factors stores them (nk per row and band: with pairs, h's
+// rows hold (re, im) of each of nk wavenumbers, n = 2 nk; else n = nk). Rows reaching more than 4 neighbours
 // (half-bandwidths above 4: wide kernels) take the loop over d of whole-row updates (the same
 // arithmetic).
-[[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int n,
-                                                                const double* lrow, const double* lcol,
+[[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int nk,
+                                                                bool pairs, const double* lrow, const double* lcol,
                                                                 const double* rdiag) {
+  const int n = pairs ? 2 * nk : nk, P = pairs ? 1 : 0;  // value m of a row has factor m >> P
   auto row = [&](int i, int dir, const double* f, int dmax) __attribute__((always_inline)) {
     double* hi = h + static_cast<std::size_t>(i) * n;
-    const double* r = rdiag + static_cast<std::size_t>(i) * n;
-    auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * n; };     // h_{i -+ d}
-    auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * n; };  // l_d
+    const double* r = rdiag + static_cast<std::size_t>(i) * nk;
+    auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * n; };      // h_{i -+ d}
+    auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * nk; };  // l_d
     if (dmax > 4) {
       for (int d = 1; d <= dmax; ++d) {
         const double *hj = hd(d), *l = ld(d);
-        for (int m = 0; m < n; ++m) hi[m] -= l[m] * hj[m];
+        for (int m = 0; m < n; ++m) hi[m] -= l[m >> P] * hj[m];
       }
-      for (int m = 0; m < n; ++m) hi[m] *= r[m];
+      for (int m = 0; m < n; ++m) hi[m] *= r[m >> P];
       return;
     }
     const double* hj[4] = {hi, hi, hi, hi};
@@ -340,6 +374,16 @@ template <int D>
     for (int d = 1; d <= dmax; ++d) {
       hj[d - 1] = hd(d);
       l[d - 1] = ld(d);
+    }
+    if (pairs) {
+      switch (dmax) {
+        case 0: substitute_row_pairs<0>(hi, hj, l, r, nk); break;
+        case 1: substitute_row_pairs<1>(hi, hj, l, r, nk); break;
+        case 2: substitute_row_pairs<2>(hi, hj, l, r, nk); break;
+        case 3: substitute_row_pairs<3>(hi, hj, l, r, nk); break;
+        default: substitute_row_pairs<4>(hi, hj, l, r, nk);
+      }
+      return;
     }
     switch (dmax) {
       case 0: substitute_row<0>(hi, hj, l, r, n); break;
@@ -599,7 +643,7 @@ class BandedSolver final : public LatticeSolver {
   // 1 / L_k(i, i). Singular blocks: row and column 0 (dropped, x = 0 there) are zeros, so no
   // wavenumber is special.
   void arrange_factors(const std::vector<double>& band) {
-    const int ny = ny_, w = w_, V = complex_ ? 2 : 1;
+    const int ny = ny_, w = w_, V = 1;  // (once per wavenumber: substitute_bands pairs re and im)
     const std::size_t nv = static_cast<std::size_t>(V) * nk_;
     lrow_.assign(static_cast<std::size_t>(ny) * ldab_ * nv, 0.0);
     lcol_.assign(lrow_.size(), 0.0);
@@ -646,14 +690,14 @@ class BandedSolver final : public LatticeSolver {
   // bands of 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per step at 64 x 64).
   template <int V>
   void substitute(double* h) const {
-    substitute_bands(h, ny_, w_, ldab_, V * nk_, lrow_.data(), lcol_.data(), rdiag_.data());
+    substitute_bands(h, ny_, w_, ldab_, nk_, V == 2, lrow_.data(), lcol_.data(), rdiag_.data());
   }
 
   XWaves waves_;
   int nk_, w_ = 0, ldab_ = 1;
   RowDct dct_;
   std::vector<char> drop_;                   // per wavenumber: B_k singular, row 0 dropped
-  std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest, V times (see arrange_factors)
+  std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see arrange_factors)
 };
 
 // y periodic: the transform along y too (FFT, with the x transform a 2-D one), A diagonal.
