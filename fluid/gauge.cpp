@@ -74,17 +74,24 @@ void row_values(const Modes& modes, const double c[2][2], double w, int iy, doub
   }
 }
 
-// f += w * sum over `modes` of c[sy][sx] (-1)^{sx i_x + sy i_y}
-template <class Modes>
-void add_modes(double* f, int nx, int ny, const Modes& modes, const double c[2][2], double w) {
+// f += v[i_y mod 2][i_x mod 2] (v: the values added at even and odd i_x of even and odd rows)
+[[gnu::target_clones("avx2", "default")]] void add_alternating(double* f, int nx, int ny, const double (*v)[2]) {
   for (int iy = 0; iy < ny; ++iy) {
-    double even, odd;  // the value added at even and odd i_x in this row
-    row_values(modes, c, w, iy, even, odd);
+    const double even = v[iy & 1][0], odd = v[iy & 1][1];
     double* r = f + static_cast<std::size_t>(nx) * iy;
     int ix = 0;
     for (; ix + 1 < nx; ix += 2) { r[ix] += even; r[ix + 1] += odd; }
     if (ix < nx) r[ix] += even;
   }
+}
+
+// f += w * sum over `modes` of c[sy][sx] (-1)^{sx i_x + sy i_y} (row_values depends on i_y only by
+// its parity)
+template <class Modes>
+void add_modes(double* f, int nx, int ny, const Modes& modes, const double c[2][2], double w) {
+  double v[2][2];
+  for (int p = 0; p < 2; ++p) row_values(modes, c, w, p, v[p][0], v[p][1]);
+  add_alternating(f, nx, ny, v);
 }
 
 }  // namespace
