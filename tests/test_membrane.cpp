@@ -419,6 +419,34 @@ TEST(GeometryTest, StretchedCircleEnergy) {
   EXPECT_LT(D.energy(T0), 1e-14);
 }
 
+// elastic_energy (two segments side by side, chunks of 64) is bit for bit the plain loop over
+// segments and Gauss points, at nb with an odd tail (65), chunks and a rest (150) and one chunk (64).
+TEST(GeometryTest, ElasticEnergyIsThePlainGaussSum) {
+  for (const int nb : {64, 65, 150}) {
+    const double T0 = 3.0;
+    const Membrane m = make_membrane(ellipse(nb, 0.1, -0.2, 0.7, 0.4), 0.5, T0);
+    HookeanForce H(nb, m.L0);
+    Mat2 f;
+    Vec T;
+    H.compute(m, f, T);
+    const PeriodicSpline &sx = H.spline(0), &sy = H.spline(1);
+    const double h = sx.h();
+    double sum = 0.0, cx[4], cy[4];
+    for (int k = 0; k < nb; ++k) {
+      sx.segment(k, cx);
+      sy.segment(k, cy);
+      for (int q = 0; q < 5; ++q) {
+        const double t = 0.5 * h * (1.0 + gauss5::x[q]);
+        const double xs = cx[1] + t * (2.0 * cx[2] + 3.0 * t * cx[3]);
+        const double ys = cy[1] + t * (2.0 * cy[2] + 3.0 * t * cy[3]);
+        const double e = std::sqrt(xs * xs + ys * ys) - 1.0;
+        sum += gauss5::w[q] * (e * e);
+      }
+    }
+    EXPECT_EQ(elastic_energy(sx, sy, T0), 0.5 * T0 * (0.5 * h * sum)) << "nb " << nb;
+  }
+}
+
 TEST(GeometryTest, HookeanForceSplinesGiveTheDiagnosticsEnergy) {
   // The guards take the elastic energy from the force's splines when they were fitted to the
   // markers: the same value bit for bit as a diagnostics fit of the same X.
