@@ -78,14 +78,22 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s) {
   // built by cell list, O(N), when the particles have moved by about the skin, else moved. The reach
   // is 2h less 1e-12 relative: pairs at exactly 2h (lattice distances when 2h/dx is an integer, e.g.
   // h = 3 dx) have W = F = 0 but would enter and leave with the round-off of every move.
-  const bool built = verlet_.update(x_star_, im_, pairs_, jump);
-  if (s) s->neighbours = seconds_since(t0);
-  t0 = Profile::Clock::now();
   // Operators at the new positions (Eqs. 27-34), as build_operators makes them, the pattern only
   // after a build of the list; with them the two systems of the step, I - a lap (Eq. 28) and the
   // Poisson matrix -lap phi (Eq. 32: the symmetric semi-definite -lap phi = -(rho/dt) div u*).
-  assembly_.assemble(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), built, op_, {a_cn(), &A_cn_, &A_phi_},
-                     sums ? S_.data() : nullptr);
+  // Row block by row block behind the list's moves, while the blocks' pairs are in cache (the
+  // neighbours' time then includes the moves, the assembly's the blocks' operators).
+  const ProjectionSystems sys{a_cn(), &A_cn_, &A_phi_};
+  double assembly_seconds = 0;
+  const bool built = verlet_.update(x_star_, im_, pairs_, jump, [&](int i0, int i1, bool new_list) {
+    const auto ta = Profile::Clock::now();
+    if (i0 == 0) assembly_.prepare(pairs_, im_, lat_.size(), new_list, op_, sys);
+    assembly_.assemble_rows(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), i0, i1, op_, sys,
+                            sums ? S_.data() : nullptr);
+    assembly_seconds += seconds_since(ta);
+  });
+  if (s) s->neighbours = seconds_since(t0) - assembly_seconds;
+  t0 = Profile::Clock::now();
   // The core's derived data (projection_core.hpp): after a build of the list all of it; between
   // builds the images, their walls and the patterns are the same, and only the wall part of the
   // Laplacian, B c^n (Eq. 42 with c^n = 2 u_b), follows the values (zero for walls at rest).
@@ -95,7 +103,7 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s) {
     lap_wall_.setZero();
     add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
   }
-  if (s) s->assembly = seconds_since(t0);
+  if (s) s->assembly = assembly_seconds + seconds_since(t0);
   return built;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Neighbour search with a cell grid (periodic axes wrap by the minimum-image convention).
 // EPSPH builds the particle pair list once; markers query the same kind of grid each step in O(Nb).
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -207,6 +208,26 @@ class VerletList {
   // built. im and P are the list's state, kept by the caller (a fluid's own members, no copies):
   // pass the same objects every time, unchanged in between.
   bool update(const Mat2& x, Images& im, PairList& P, bool force = false);
+  // The same, followed row block by row block: after the pairs of rows [i0, i1) have been moved
+  // (blocks of kRowBlock rows, in order) or the list built (one call, [0, N)), rows(i0, i1, built)
+  // is called, so that a pass over those pairs (LPSPH's assembly) finds them in cache.
+  static constexpr int kRowBlock = 64;
+  template <class Rows>
+  bool update(const Mat2& x, Images& im, PairList& P, bool force, Rows&& rows) {
+    const int N = static_cast<int>(x.rows());
+    if (build_due(x, force)) {
+      build(x, im, P);
+      rows(0, N, true);
+      return true;
+    }
+    move_images(x, im);
+    for (int i0 = 0; i0 < N; i0 += kRowBlock) {
+      const int i1 = std::min(N, i0 + kRowBlock);
+      move_pairs(x, im, P, i0, i1);
+      rows(i0, i1, false);
+    }
+    return false;
+  }
 
   // Of the images im (the list's, at x), those that make_images(x, reach) makes: within reach.
   int images_within_reach(const Images& im, const Mat2& x) const;
@@ -230,6 +251,10 @@ class VerletList {
  private:
   void build(const Mat2& x, Images& im, PairList& P);
   void move(const Mat2& x, Images& im, PairList& P) const;
+  void move_images(const Mat2& x, Images& im) const;
+  void move_pairs(const Mat2& x, const Images& im, PairList& P, int i0, int i1) const;  // rows [i0, i1)
+  // Whether update() builds (then the next skin is chosen); else it counts a move.
+  bool build_due(const Mat2& x, bool force);
   bool needs_build(const Mat2& x, double& spread) const;  // spread: the diagonal of the displacement box
   int walls_near(double x, double y, double range) const;
 

@@ -40,10 +40,21 @@ struct PairTerms {
 void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
                                  double reach, bool new_pattern, Operators& op, const Systems& sys,
                                  double* kernel_sums, const PairRules& rules) {
+  prepare(P, im, N, new_pattern, op, sys);
+  assemble_rows(P, im, N, W, V, reach, 0, N, op, sys, kernel_sums, rules);
+}
+
+void ParticleOperators::prepare(const PairList& P, const Images& im, int N, bool new_pattern, Operators& op,
+                                const Systems& sys) {
   if (new_pattern || static_cast<int>(diag_.size()) != N) {
     make_pattern(P, im, N);
     shape(op, N, im.size(), sys);
   }
+}
+
+void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N, const CubicSplineKernel& W,
+                                      double V, double reach, int i0, int i1, Operators& op, const Systems& sys,
+                                      double* kernel_sums, const PairRules& rules) {
   Values v{op.lap_u.A.valuePtr(), op.grad_ux.A.valuePtr(), op.grad_uy.A.valuePtr(),
            op.lap_phi.valuePtr(), op.grad_phix.valuePtr(), op.grad_phiy.valuePtr(),
            op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
@@ -53,8 +64,8 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
   // One pass over the pairs: each pair's terms into every operator, in the order of the separate
   // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
   // its bits; an image j carries f_j = sign f_parent + c_j (velocity; sign +1 for phi).
-  int b = 0;  // B's entries are the image pairs, in order
-  for (int i = 0; i < N; ++i) {
+  int b = outer_b_[i0];  // B's entries are the image pairs, in order
+  for (int i = i0; i < i1; ++i) {
     if (!row_images_[i]) {
       if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
       else row_plain<false>(P, i, Wl, V, reach, v);

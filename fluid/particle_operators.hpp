@@ -89,6 +89,13 @@ class ParticleOperators {
   void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
                 bool new_pattern, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr,
                 const PairRules& rules = {});
+  // The same in two parts, for a pass that follows the Verlet list's moves row block by row block
+  // (VerletList::update with rows): prepare() the pattern (when new) and shape, then rows [i0, i1)
+  // in order over all rows; the same values as assemble().
+  void prepare(const PairList& P, const Images& im, int N, bool new_pattern, Operators& op, const Systems& sys = {});
+  void assemble_rows(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
+                     int i0, int i1, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr,
+                     const PairRules& rules = {});
   // The position of the diagonal entry of row i in the values of op's A matrices.
   const std::vector<int>& diagonal() const { return diag_; }
 
