@@ -88,9 +88,11 @@ class LagrangianFluid final : public ProjectionFluid {
   void extra_state(NamedArrays& st) const override;  // positions and counters
   void restore_extra(const NamedArrays& st) override;
   // Images, pairs, kernel sums (breakdown at time t), operators, factorisations at x_star_.
-  RebuildSeconds rebuild(double t, bool jump = false);  // jump: the positions did not move by a step
+  // ahead: also the step's first products behind the assembly (products_ahead)
+  RebuildSeconds rebuild(double t, bool jump = false, bool ahead = false);  // jump: the positions did not move by a step
   void check_kernel_sums(double t);
-  bool geometry(bool jump, bool sums, RebuildSeconds* s);
+  bool geometry(bool jump, bool sums, RebuildSeconds* s, bool ahead = false);
+  void products_ahead(int i0, int i1);  // rows [i0, i1)
   int neighbours_within(int i) const;  // of particle i, closer than 2h
   void wrap_into_domain(Mat2& x, double t) const;  // periodic wrap; a particle beyond a wall throws
   void onto_lattice();       // Eq. (61): fields to the lattice points, x_ = lattice
@@ -99,6 +101,9 @@ class LagrangianFluid final : public ProjectionFluid {
   VerletList verlet_;
   ParticleOperators assembly_;
   SpMat A_cn_, A_phi_;  // the two systems of the step (Eqs. 28, 32), kept: values only while the pattern stays
+  Mat2 cn_x0_, cn_ax0_;  // products_ahead's: the Crank-Nicolson start and A_cn times it
+  Vec phi_x0_, phi_ax0_;  // phi^n (the Poisson start) and A_phi phi^n
+  std::vector<double> x4_;  // u^n and the Crank-Nicolson start interleaved, 4 per particle
   Mat2 x_star_good_;  // the last x* whose kernel sums passed (a breakdown puts the geometry back there)
   Vec S_;
   double S_low_ = 1.0;

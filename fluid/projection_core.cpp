@@ -111,7 +111,8 @@ void ProjectionFluid::viscous_rhs(const Mat2& F) {
   const int N = size();
   ScopedTimer tm(prof_, k_rhs_);
   // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
-  apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
+  if (!lap_u_ahead_) apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
+  lap_u_ahead_ = false;
   add_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, rhs_);
   const double k = dt / prm_.rho, kc = convective_ ? dt : 0.0;
   for (int c = 0; c < 2; ++c)

@@ -161,6 +161,9 @@ class ProjectionFluid : public FluidSolver {
   long n_ = 0;
   bool first_ = true;  // no N^{n-1} yet (AB2 starts with Euler)
   bool convective_ = false;  // the method discretises convection (EPSPH); moving particles carry it
+  // rhs_ already holds lap_u.A u^n, apply2's bits, for this step's viscous_rhs (LPSPH computes it
+  // behind the assembly); viscous_rhs clears it
+  bool lap_u_ahead_ = false;
 
   mutable Profile prof_;  // timing only: also updated by the lazily recovered pressure
   int k_images_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_;
