@@ -67,7 +67,8 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
   int b = outer_b_[i0];  // B's entries are the image pairs, in order
   for (int i = i0; i < i1; ++i) {
     if (!row_images_[i]) {
-      if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
+      if (v.cn && v.ph && !sys.lap_phi_rows) row_plain<true, false>(P, i, Wl, V, reach, v);
+      else if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
       else row_plain<false>(P, i, Wl, V, reach, v);
     } else {
       row_with_images(P, im, i, N, Wl, V, reach, v, rules, b);
@@ -76,8 +77,8 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
 }
 
 // A row without images has one pair per column: each entry is written once, the diagonal summed in
-// registers.
-template <bool kSystems>
+// registers. kLapPhi false: lap_phi's entries are left (ProjectionSystems::lap_phi_rows).
+template <bool kSystems, bool kLapPhi>
 void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
   double dl = 0, dgx = 0, dgy = 0, sw = v.w_0, dr = 0;  // sw: W(0) + sum_j W_ij, in pair order
@@ -90,7 +91,8 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
     dl += t.lap;
     dgx += t.gx;
     dgy += t.gy;
-    v.lu[s] = v.lp[s] = l;
+    v.lu[s] = l;
+    if (kLapPhi) v.lp[s] = l;
     v.gxu[s] = v.gxp[s] = t.gx;
     v.gyu[s] = v.gyp[s] = t.gy;
     if (kSystems) {
@@ -99,7 +101,8 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
     }
   }
   const int d = diag_[i];
-  v.lu[d] = v.lp[d] = dl;
+  v.lu[d] = dl;
+  if (kLapPhi) v.lp[d] = dl;
   v.gxp[d] = dgx;
   v.gyp[d] = dgy;
   v.gxu[d] = v.sd * dgx;  // u_i's part: + (sum form) or - (difference form)

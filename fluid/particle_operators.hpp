@@ -72,10 +72,14 @@ struct PairRules {
 // The two systems of a projection step, assembled with the operators when given (their pattern):
 // A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
 // (Eq. 32).
+// lap_phi_rows = false (with A_phi): lap_phi's values are written only in the rows with images; the
+// caller makes the others as -A_phi (bit for bit: A_phi = -lap_phi) when it needs them (LPSPH: for
+// the pressure, ProjectionFluid::operators()).
 struct ProjectionSystems {
   double a_cn = 0;
   SpMat* A_cn = nullptr;
   SpMat* A_phi = nullptr;
+  bool lap_phi_rows = true;
 };
 
 class ParticleOperators {
@@ -103,7 +107,7 @@ class ParticleOperators {
   struct Values;  // the value arrays a step writes (particle_operators.cpp)
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
-  template <bool kSystems>
+  template <bool kSystems, bool kLapPhi = true>
   void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
   void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
                        double reach, const Values& v, const PairRules& rules, int& b) const;

@@ -172,11 +172,21 @@ void ProjectionFluid::project_approximate() {
   u_.noalias() = u_star_ - (dt / rho) * grad_phi_;
 }
 
+const Operators& ProjectionFluid::operators() const {
+  if (lap_phi_stale_ && lap_phi_from_) {
+    const SpMat& A = *lap_phi_from_;  // the same pattern (ParticleOperators::shape)
+    if (op_.lap_phi.nonZeros() != A.nonZeros()) throw std::logic_error("lap_phi: A_phi has another pattern");
+    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) op_.lap_phi.valuePtr()[k] = -A.valuePtr()[k];
+    lap_phi_stale_ = false;
+  }
+  return op_;
+}
+
 const Vec& ProjectionFluid::p() const {
   if (p_revision_ != revision_) {
     ScopedTimer tm(prof_, k_pressure_);
     if (explicit_viscous_) p_ = phi();  // Afanasiev et al. Eqs. (23)-(24): phi is p^{n+1}
-    else pressure_from_phi(op_.lap_phi, phi(), a_cn(), p_);  // Eq. (35)
+    else pressure_from_phi(operators().lap_phi, phi(), a_cn(), p_);  // Eq. (35)
     p_revision_ = revision_;
   }
   return p_;

@@ -73,7 +73,7 @@ class ProjectionFluid : public FluidSolver {
 
   const Images& images() const { return im_; }        // of the last step's positions
   const PairList& pairs() const { return pairs_; }
-  const Operators& operators() const { return op_; }
+  const Operators& operators() const;  // (lap_phi made first where the method keeps it in A_phi)
   virtual std::vector<SolverInfo> solver_info() const;
   Profile& profile() const final { return prof_; }
   double setup_seconds(const std::string& what) const final;  // "neighbours", "assembly", "factorisation"
@@ -139,7 +139,12 @@ class ProjectionFluid : public FluidSolver {
   // the step's geometry (the method builds it; operators_changed() derives the rest)
   Images im_;
   PairList pairs_;
-  Operators op_;
+  mutable Operators op_;  // mutable: lap_phi made when asked for (lap_phi_from_)
+  // A method whose assembly leaves lap_phi's values (ProjectionSystems::lap_phi_rows: LPSPH) points
+  // this to its A_phi = -lap_phi and sets lap_phi_stale_ after each assembly; operators() and p()
+  // then make lap_phi = -A_phi (the same bits) when first asked for.
+  const SpMat* lap_phi_from_ = nullptr;
+  mutable bool lap_phi_stale_ = false;
   const RowStencil* vel_st_ = nullptr;  // stencils of the velocity / phi patterns (EPSPH)
   const RowStencil* phi_st_ = nullptr;
   std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
