@@ -107,11 +107,11 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s, bool ahe
   // Poisson matrix -lap phi (Eq. 32: the symmetric semi-definite -lap phi = -(rho/dt) div u*).
   // Row block by row block behind the list's moves, while the blocks' pairs are in cache (the
   // neighbours' time then includes the moves, the assembly's the blocks' operators).
-  // lap_phi's values only where rows have images; the others are -A_phi when the pressure (or a
-  // caller of operators()) asks for them: one array less to write per step.
+  // The phi operators' values only in the rows with images; in the others they are -A_phi and
+  // grad_ux.A, grad_uy.A (projection_core.hpp, phi_ops_from_): three arrays less to write per step.
   const ProjectionSystems sys{a_cn(), &A_cn_, &A_phi_, false};
-  lap_phi_from_ = &A_phi_;
-  lap_phi_stale_ = true;
+  phi_ops_from_ = &A_phi_;
+  phi_ops_stale_ = true;
   double assembly_seconds = 0;
   const bool built = verlet_.update(x_star_, im_, pairs_, jump, [&](int i0, int i1, bool new_list) {
     const auto ta = Profile::Clock::now();

@@ -1,6 +1,7 @@
 #include "fluid/particle_operators.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace sphib {
 
@@ -60,6 +61,8 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
            op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
            sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn,
            kernel_sums, V, W.W(0.0), rules.divergence_difference ? -1.0 : 1.0, rules.position_divergence};
+  if (!sys.phi_rows && (!sys.A_phi || rules.divergence_difference))
+    throw std::logic_error("ParticleOperators: phi_rows = false needs A_phi and the sum form");
   const KernelWF Wl(W);
   // One pass over the pairs: each pair's terms into every operator, in the order of the separate
   // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
@@ -67,7 +70,7 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
   int b = outer_b_[i0];  // B's entries are the image pairs, in order
   for (int i = i0; i < i1; ++i) {
     if (!row_images_[i]) {
-      if (v.cn && v.ph && !sys.lap_phi_rows) row_plain<true, false>(P, i, Wl, V, reach, v);
+      if (v.cn && v.ph && !sys.phi_rows) row_plain<true, false>(P, i, Wl, V, reach, v);
       else if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
       else row_plain<false>(P, i, Wl, V, reach, v);
     } else {
@@ -77,8 +80,8 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
 }
 
 // A row without images has one pair per column: each entry is written once, the diagonal summed in
-// registers. kLapPhi false: lap_phi's entries are left (ProjectionSystems::lap_phi_rows).
-template <bool kSystems, bool kLapPhi>
+// registers. kPhi false: the phi operators' entries are left (ProjectionSystems::phi_rows).
+template <bool kSystems, bool kPhi>
 void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
   double dl = 0, dgx = 0, dgy = 0, sw = v.w_0, dr = 0;  // sw: W(0) + sum_j W_ij, in pair order
@@ -92,9 +95,13 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
     dgx += t.gx;
     dgy += t.gy;
     v.lu[s] = l;
-    if (kLapPhi) v.lp[s] = l;
-    v.gxu[s] = v.gxp[s] = t.gx;
-    v.gyu[s] = v.gyp[s] = t.gy;
+    v.gxu[s] = t.gx;
+    v.gyu[s] = t.gy;
+    if (kPhi) {
+      v.lp[s] = l;
+      v.gxp[s] = t.gx;
+      v.gyp[s] = t.gy;
+    }
     if (kSystems) {
       v.cn[s] = v.na * l;  // as crank_nicolson_matrix(): -a lap, then + 1 on the diagonal
       v.ph[s] = -l;
@@ -102,9 +109,11 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
   }
   const int d = diag_[i];
   v.lu[d] = dl;
-  if (kLapPhi) v.lp[d] = dl;
-  v.gxp[d] = dgx;
-  v.gyp[d] = dgy;
+  if (kPhi) {
+    v.lp[d] = dl;
+    v.gxp[d] = dgx;
+    v.gyp[d] = dgy;
+  }
   v.gxu[d] = v.sd * dgx;  // u_i's part: + (sum form) or - (difference form)
   v.gyu[d] = v.sd * dgy;
   if (v.divr) v.divr[i] = dr;

@@ -72,14 +72,15 @@ struct PairRules {
 // The two systems of a projection step, assembled with the operators when given (their pattern):
 // A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
 // (Eq. 32).
-// lap_phi_rows = false (with A_phi): lap_phi's values are written only in the rows with images; the
-// caller makes the others as -A_phi (bit for bit: A_phi = -lap_phi) when it needs them (LPSPH: for
-// the pressure, ProjectionFluid::operators()).
+// phi_rows = false (with A_phi, the sum form): the values of the phi operators (lap_phi, grad_phix,
+// grad_phiy) are written only in the rows with images; in the others they are, bit for bit, -A_phi
+// and grad_ux.A, grad_uy.A (images carry phi and u alike only there), and the caller takes them
+// from those (LPSPH: ProjectionFluid's phi_ops_lazy_).
 struct ProjectionSystems {
   double a_cn = 0;
   SpMat* A_cn = nullptr;
   SpMat* A_phi = nullptr;
-  bool lap_phi_rows = true;
+  bool phi_rows = true;
 };
 
 class ParticleOperators {
@@ -107,7 +108,7 @@ class ParticleOperators {
   struct Values;  // the value arrays a step writes (particle_operators.cpp)
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
-  template <bool kSystems, bool kLapPhi = true>
+  template <bool kSystems, bool kPhi = true>
   void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
   void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
                        double reach, const Values& v, const PairRules& rules, int& b) const;

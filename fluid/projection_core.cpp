@@ -168,16 +168,31 @@ void ProjectionFluid::project_approximate() {
   }
   ScopedTimer tm(prof_, k_project_);
   // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
-  gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+  if (phi_ops_stale_ && phi_ops_from_) {  // (see phi_ops_from_) grad_u's rows, then the rows with images
+    gradient(op_.grad_ux.A, op_.grad_uy.A, phi_, grad_phi_, phi_st_);
+    gradient_rows(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, gx_b_rows_);
+  } else {
+    gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+  }
   u_.noalias() = u_star_ - (dt / rho) * grad_phi_;
 }
 
 const Operators& ProjectionFluid::operators() const {
-  if (lap_phi_stale_ && lap_phi_from_) {
-    const SpMat& A = *lap_phi_from_;  // the same pattern (ParticleOperators::shape)
+  if (phi_ops_stale_ && phi_ops_from_) {
+    const SpMat& A = *phi_ops_from_;  // the same pattern (ParticleOperators::shape)
     if (op_.lap_phi.nonZeros() != A.nonZeros()) throw std::logic_error("lap_phi: A_phi has another pattern");
     for (Eigen::Index k = 0; k < A.nonZeros(); ++k) op_.lap_phi.valuePtr()[k] = -A.valuePtr()[k];
-    lap_phi_stale_ = false;
+    const int* o = op_.grad_phix.outerIndexPtr();
+    auto image_row = gx_b_rows_.begin();  // the rows with images, increasing
+    for (int i = 0; i < size(); ++i) {
+      if (image_row != gx_b_rows_.end() && *image_row == i) {
+        ++image_row;
+        continue;
+      }
+      std::copy(op_.grad_ux.A.valuePtr() + o[i], op_.grad_ux.A.valuePtr() + o[i + 1], op_.grad_phix.valuePtr() + o[i]);
+      std::copy(op_.grad_uy.A.valuePtr() + o[i], op_.grad_uy.A.valuePtr() + o[i + 1], op_.grad_phiy.valuePtr() + o[i]);
+    }
+    phi_ops_stale_ = false;
   }
   return op_;
 }

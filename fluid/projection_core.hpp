@@ -139,12 +139,14 @@ class ProjectionFluid : public FluidSolver {
   // the step's geometry (the method builds it; operators_changed() derives the rest)
   Images im_;
   PairList pairs_;
-  mutable Operators op_;  // mutable: lap_phi made when asked for (lap_phi_from_)
-  // A method whose assembly leaves lap_phi's values (ProjectionSystems::lap_phi_rows: LPSPH) points
-  // this to its A_phi = -lap_phi and sets lap_phi_stale_ after each assembly; operators() and p()
-  // then make lap_phi = -A_phi (the same bits) when first asked for.
-  const SpMat* lap_phi_from_ = nullptr;
-  mutable bool lap_phi_stale_ = false;
+  mutable Operators op_;  // mutable: the phi operators made when asked for (phi_ops_from_)
+  // A method whose assembly writes the phi operators only in the rows with images
+  // (ProjectionSystems::phi_rows: LPSPH) points this to its A_phi = -lap_phi and sets phi_ops_stale_
+  // after each assembly: the projection's gradient then takes grad_ux.A, grad_uy.A in the other rows
+  // (the same values there), and operators() and p() fill lap_phi = -A_phi and those rows of
+  // grad_phix, grad_phiy (the same bits) when first asked for.
+  const SpMat* phi_ops_from_ = nullptr;
+  mutable bool phi_ops_stale_ = false;
   const RowStencil* vel_st_ = nullptr;  // stencils of the velocity / phi patterns (EPSPH)
   const RowStencil* phi_st_ = nullptr;
   std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
