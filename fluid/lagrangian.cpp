@@ -113,14 +113,16 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s, bool ahe
   phi_ops_from_ = &A_phi_;
   phi_ops_stale_ = true;
   double assembly_seconds = 0;
-  const bool built = verlet_.update(x_star_, im_, pairs_, jump, [&](int i0, int i1, bool new_list) {
+  // The moves hand the blocks' rx, ry, r to the pass and leave pairs_'s (pairs_current()).
+  const bool built = verlet_.update(x_star_, im_, pairs_, jump, [&](int i0, int i1, bool new_list, const PairGeometry& g) {
     const auto ta = Profile::Clock::now();
     if (i0 == 0) assembly_.prepare(pairs_, im_, lat_.size(), new_list, op_, sys);
-    assembly_.assemble_rows(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), i0, i1, op_, sys,
+    assembly_.assemble_rows(pairs_, g, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), i0, i1, op_, sys,
                             sums ? S_.data() : nullptr);
     if (ahead) products_ahead(i0, i1);
     assembly_seconds += seconds_since(ta);
   });
+  pairs_stale_ = !built;
   if (s) s->neighbours = seconds_since(t0) - assembly_seconds;
   t0 = Profile::Clock::now();
   // The core's derived data (projection_core.hpp): after a build of the list all of it; between
@@ -209,9 +211,16 @@ double LagrangianFluid::neighbours_per_particle() const {
 }
 
 int LagrangianFluid::neighbours_within(int i) const {
+  const PairList& P = pairs();
   int n = 0;
-  for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k) n += pairs_.r[k] < verlet_.reach();
+  for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) n += P.r[k] < verlet_.reach();
   return n;
+}
+
+void LagrangianFluid::pairs_current() const {
+  if (!pairs_stale_) return;
+  verlet_.move_pairs_to(x_star_, im_, pairs_);
+  pairs_stale_ = false;
 }
 
 void LagrangianFluid::wrap_into_domain(Mat2& X, double t) const {

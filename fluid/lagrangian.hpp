@@ -93,6 +93,7 @@ class LagrangianFluid final : public ProjectionFluid {
   void check_kernel_sums(double t);
   bool geometry(bool jump, bool sums, RebuildSeconds* s, bool ahead = false);
   void products_ahead(int i0, int i1);  // rows [i0, i1)
+  void pairs_current() const override;  // pairs_'s rx, ry, r at x_star_ (the moves leave them)
   int neighbours_within(int i) const;  // of particle i, closer than 2h
   void wrap_into_domain(Mat2& x, double t) const;  // periodic wrap; a particle beyond a wall throws
   void onto_lattice();       // Eq. (61): fields to the lattice points, x_ = lattice
@@ -104,6 +105,7 @@ class LagrangianFluid final : public ProjectionFluid {
   Mat2 cn_x0_, cn_ax0_;  // products_ahead's: the Crank-Nicolson start and A_cn times it
   Vec phi_x0_, phi_ax0_;  // phi^n (the Poisson start) and A_phi phi^n
   std::vector<double> x4_;  // u^n and the Crank-Nicolson start interleaved, 4 per particle
+  mutable bool pairs_stale_ = false;  // pairs_'s rx, ry, r lag behind x_star_ (pairs_current)
   Mat2 x_star_good_;  // the last x* whose kernel sums passed (a breakdown puts the geometry back there)
   Vec S_;
   double S_low_ = 1.0;

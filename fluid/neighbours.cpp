@@ -318,7 +318,11 @@ void VerletList::build(const Mat2& x, Images& im, PairList& P) {
 
 void VerletList::move(const Mat2& x, Images& im, PairList& P) const {
   move_images(x, im);
-  move_pairs(x, im, P, 0, static_cast<int>(x.rows()));
+  move_pairs_to(x, im, P);
+}
+
+void VerletList::move_pairs_to(const Mat2& x, const Images& im, PairList& P) const {
+  move_pairs(x, im, P, 0, static_cast<int>(x.rows()), P.rx.data(), P.ry.data(), P.r.data(), 0);
 }
 
 void VerletList::move_images(const Mat2& x, Images& im) const {
@@ -330,7 +334,8 @@ void VerletList::move_images(const Mat2& x, Images& im) const {
   }
 }
 
-void VerletList::move_pairs(const Mat2& x, const Images& im, PairList& P, int i0, int i1) const {
+void VerletList::move_pairs(const Mat2& x, const Images& im, const PairList& P, int i0, int i1, double* rx,
+                            double* ry, double* r, int k0) const {
   const int N = static_cast<int>(x.rows()), M = im.size();
   // x_i - x_j by minimum image, computed as the cell list does (fluid/neighbours.hpp: the query
   // shifted by a whole period, then the difference), so that the bits are a fresh search's.
@@ -345,9 +350,9 @@ void VerletList::move_pairs(const Mat2& x, const Images& im, PairList& P, int i0
       double dx = qx - xj, dy = qy - yj;
       if (px && std::fabs(dx) > 0.5 * Lx) dx = (dx > 0 ? qx - Lx : qx + Lx) - xj;
       if (py && std::fabs(dy) > 0.5 * Ly) dy = (dy > 0 ? qy - Ly : qy + Ly) - yj;
-      P.rx[k] = dx;
-      P.ry[k] = dy;
-      P.r[k] = std::sqrt(dx * dx + dy * dy);
+      rx[k - k0] = dx;
+      ry[k - k0] = dy;
+      r[k - k0] = std::sqrt(dx * dx + dy * dy);
     }
   }
 }

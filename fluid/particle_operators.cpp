@@ -25,13 +25,13 @@ namespace {
 struct PairTerms {
   double lap = 0, gx = 0, gy = 0, w = 0;  // w = W_ij (for the kernel sum)
   bool active = false;                    // closer than the reach
-  PairTerms(const PairList& P, int k, const KernelWF& W, double V, double reach) {
-    if (P.r[k] < reach) {
+  PairTerms(const PairGeometry& g, int k, const KernelWF& W, double V, double reach) {
+    if (g.r(k) < reach) {
       active = true;
-      const double F = W.F(P.r[k], &w);  // (1/r) dW/dr
+      const double F = W.F(g.r(k), &w);  // (1/r) dW/dr
       lap = 2.0 * V * F;
-      gx = V * P.rx[k] * F;
-      gy = V * P.ry[k] * F;
+      gx = V * g.rx(k) * F;
+      gy = V * g.ry(k) * F;
     }
   }
 };
@@ -42,7 +42,7 @@ void ParticleOperators::assemble(const PairList& P, const Images& im, int N, con
                                  double reach, bool new_pattern, Operators& op, const Systems& sys,
                                  double* kernel_sums, const PairRules& rules) {
   prepare(P, im, N, new_pattern, op, sys);
-  assemble_rows(P, im, N, W, V, reach, 0, N, op, sys, kernel_sums, rules);
+  assemble_rows(P, PairGeometry(P), im, N, W, V, reach, 0, N, op, sys, kernel_sums, rules);
 }
 
 void ParticleOperators::prepare(const PairList& P, const Images& im, int N, bool new_pattern, Operators& op,
@@ -53,7 +53,8 @@ void ParticleOperators::prepare(const PairList& P, const Images& im, int N, bool
   }
 }
 
-void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N, const CubicSplineKernel& W,
+void ParticleOperators::assemble_rows(const PairList& P, const PairGeometry& g, const Images& im, int N,
+                                      const CubicSplineKernel& W,
                                       double V, double reach, int i0, int i1, Operators& op, const Systems& sys,
                                       double* kernel_sums, const PairRules& rules) {
   Values v{op.lap_u.A.valuePtr(), op.grad_ux.A.valuePtr(), op.grad_uy.A.valuePtr(),
@@ -70,11 +71,11 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
   int b = outer_b_[i0];  // B's entries are the image pairs, in order
   for (int i = i0; i < i1; ++i) {
     if (!row_images_[i]) {
-      if (v.cn && v.ph && !sys.phi_rows) row_plain<true, false>(P, i, Wl, V, reach, v);
-      else if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
-      else row_plain<false>(P, i, Wl, V, reach, v);
+      if (v.cn && v.ph && !sys.phi_rows) row_plain<true, false>(P, g, i, Wl, V, reach, v);
+      else if (v.cn && v.ph) row_plain<true>(P, g, i, Wl, V, reach, v);
+      else row_plain<false>(P, g, i, Wl, V, reach, v);
     } else {
-      row_with_images(P, im, i, N, Wl, V, reach, v, rules, b);
+      row_with_images(P, g, im, i, N, Wl, V, reach, v, rules, b);
     }
   }
 }
@@ -82,13 +83,13 @@ void ParticleOperators::assemble_rows(const PairList& P, const Images& im, int N
 // A row without images has one pair per column: each entry is written once, the diagonal summed in
 // registers. kPhi false: the phi operators' entries are left (ProjectionSystems::phi_rows).
 template <bool kSystems, bool kPhi>
-void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
+void ParticleOperators::row_plain(const PairList& P, const PairGeometry& g, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
   double dl = 0, dgx = 0, dgy = 0, sw = v.w_0, dr = 0;  // sw: W(0) + sum_j W_ij, in pair order
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
-    const PairTerms t(P, k, W, V, reach);
+    const PairTerms t(g, k, W, V, reach);
     if (t.active) sw += t.w;
-    dr -= t.gx * P.rx[k] + t.gy * P.ry[k];  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
+    dr -= t.gx * g.rx(k) + t.gy * g.ry(k);  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
     const int s = slot_[k];
     const double l = t.active ? -1.0 * t.lap : 0.0;
     dl += t.lap;
@@ -127,7 +128,8 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
 // A row with images may meet a column twice (a neighbour and an image's parent, or i and its own
 // image): zeroed, then summed in place. A fixed point (parent < 0) takes the pair-local rules of the
 // header.
-void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W,
+void ParticleOperators::row_with_images(const PairList& P, const PairGeometry& g, const Images& im, int i, int N,
+                                        const KernelWF& W,
                                         double V, double reach, const Values& v, const PairRules& rules,
                                         int& b) const {
   const int d = diag_[i], o0 = outer_[i], o1 = outer_[i + 1];
@@ -136,8 +138,8 @@ void ParticleOperators::row_with_images(const PairList& P, const Images& im, int
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const int j = P.j[k];
     const bool image = j >= N, fixed = image && im.parent[j - N] < 0;
-    const PairTerms t(P, k, W, fixed ? rules.V_fixed : V, reach);
-    if (!fixed) dr -= t.gx * P.rx[k] + t.gy * P.ry[k];  // A Eq. (26), the particles' part
+    const PairTerms t(g, k, W, fixed ? rules.V_fixed : V, reach);
+    if (!fixed) dr -= t.gx * g.rx(k) + t.gy * g.ry(k);  // A Eq. (26), the particles' part
     if (fixed) {  // a Morris wall particle: f_w = s f_i + weight c_w (header)
       if (t.active) sw += t.w;
       const double beta = t.active ? rules.wall_beta[k] : 0.0;

@@ -98,7 +98,9 @@ class ParticleOperators {
   // (VerletList::update with rows): prepare() the pattern (when new) and shape, then rows [i0, i1)
   // in order over all rows; the same values as assemble().
   void prepare(const PairList& P, const Images& im, int N, bool new_pattern, Operators& op, const Systems& sys = {});
-  void assemble_rows(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
+  // g: the pairs' rx, ry, r (P's, or a block's: VerletList::update with rows).
+  void assemble_rows(const PairList& P, const PairGeometry& g, const Images& im, int N, const CubicSplineKernel& W,
+                     double V, double reach,
                      int i0, int i1, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr,
                      const PairRules& rules = {});
   // The position of the diagonal entry of row i in the values of op's A matrices.
@@ -109,8 +111,8 @@ class ParticleOperators {
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
   template <bool kSystems, bool kPhi = true>
-  void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
-  void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
+  void row_plain(const PairList& P, const PairGeometry& g, int i, const KernelWF& W, double V, double reach, const Values& v) const;
+  void row_with_images(const PairList& P, const PairGeometry& g, const Images& im, int i, int N, const KernelWF& W, double V,
                        double reach, const Values& v, const PairRules& rules, int& b) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
   std::vector<char> row_images_;                                      // row i has image pairs

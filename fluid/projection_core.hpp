@@ -72,7 +72,10 @@ class ProjectionFluid : public FluidSolver {
   double max_abs_divergence() const override;
 
   const Images& images() const { return im_; }        // of the last step's positions
-  const PairList& pairs() const { return pairs_; }
+  const PairList& pairs() const {
+    pairs_current();
+    return pairs_;
+  }
   const Operators& operators() const;  // (lap_phi made first where the method keeps it in A_phi)
   virtual std::vector<SolverInfo> solver_info() const;
   Profile& profile() const final { return prof_; }
@@ -138,7 +141,8 @@ class ProjectionFluid : public FluidSolver {
   double volume_;  // of every particle (V_)
   // the step's geometry (the method builds it; operators_changed() derives the rest)
   Images im_;
-  PairList pairs_;
+  mutable PairList pairs_;  // mutable: a method may bring its rx, ry, r up to date when asked (pairs_current)
+  virtual void pairs_current() const {}  // LPSPH: its Verlet moves leave pairs_'s rx, ry, r
   mutable Operators op_;  // mutable: the phi operators made when asked for (phi_ops_from_)
   // A method whose assembly writes the phi operators only in the rows with images
   // (ProjectionSystems::phi_rows: LPSPH) points this to its A_phi = -lap_phi and sets phi_ops_stale_
