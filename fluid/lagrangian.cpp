@@ -19,6 +19,30 @@ void check_params(const FluidParams& p) {
   if (p.projection == Projection::Exact)
     throw std::invalid_argument("fluid: LPSPH has the approximate projection only (fluid.projection = \"approximate\")");
 }
+
+// products_ahead's pass: rows [i0, i1) of three operators of one pattern (o, col; values lap, cn, ph),
+// out[0..3] = the lap and cn sums over x4 (lanes: u, v, the two Crank-Nicolson starts), out[4] = ph
+// times phi as Eigen's product gives it (0 + the sum).
+struct Rows3 {
+  const int *o, *col;
+  const double *lap, *cn, *ph, *x4, *phi;
+};
+#pragma GCC diagnostic ignored "-Wpsabi"  // Lanes4 only inside this function (no call passes one)
+[[gnu::target_clones("avx2", "default")]] void rows3(const Rows3& in, double* const* out, int i0, int i1) {
+  using U4 = double __attribute__((vector_size(32), aligned(8), may_alias));
+  for (int i = i0; i < i1; ++i) {
+    Lanes4 s{0.0, 0.0, 0.0, 0.0};
+    double t = 0.0;
+    for (int p = in.o[i]; p < in.o[i + 1]; ++p) {
+      const int c = in.col[p];
+      const double a = in.lap[p], b = in.cn[p];
+      s = s + Lanes4{a, a, b, b} * *reinterpret_cast<const U4*>(in.x4 + 4 * c);
+      t += in.ph[p] * in.phi[c];
+    }
+    for (int m = 0; m < 4; ++m) out[m][i] = s[m];
+    out[4][i] = 0.0 + t;
+  }
+}
 }  // namespace
 
 // The Verlet skin (neighbours.hpp), adaptive between 0.01 and 0.3 of the support 2h. Measured on
@@ -72,20 +96,35 @@ void LagrangianFluid::check_kernel_sums(double t) {
 
 // Images and pairs at x_star_ (the Verlet list), the operators, the two systems and the kernel sums
 // (when asked) in one pass, and the core's derived data; returns whether the list was built.
-bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s) {
+bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s, bool ahead) {
   auto t0 = Profile::Clock::now();
   // Images of the current particles (Section 3.3) and the pairs by the Verlet list (neighbours.hpp):
   // built by cell list, O(N), when the particles have moved by about the skin, else moved. The reach
   // is 2h less 1e-12 relative: pairs at exactly 2h (lattice distances when 2h/dx is an integer, e.g.
   // h = 3 dx) have W = F = 0 but would enter and leave with the round-off of every move.
-  const bool built = verlet_.update(x_star_, im_, pairs_, jump);
-  if (s) s->neighbours = seconds_since(t0);
-  t0 = Profile::Clock::now();
   // Operators at the new positions (Eqs. 27-34), as build_operators makes them, the pattern only
   // after a build of the list; with them the two systems of the step, I - a lap (Eq. 28) and the
   // Poisson matrix -lap phi (Eq. 32: the symmetric semi-definite -lap phi = -(rho/dt) div u*).
-  assembly_.assemble(pairs_, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), built, op_, {a_cn(), &A_cn_, &A_phi_},
-                     sums ? S_.data() : nullptr);
+  // Row block by row block behind the list's moves, while the blocks' pairs are in cache (the
+  // neighbours' time then includes the moves, the assembly's the blocks' operators).
+  // The phi operators' values only in the rows with images; in the others they are -A_phi and
+  // grad_ux.A, grad_uy.A (projection_core.hpp, phi_ops_from_): three arrays less to write per step.
+  const ProjectionSystems sys{a_cn(), &A_cn_, &A_phi_, false};
+  phi_ops_from_ = &A_phi_;
+  phi_ops_stale_ = true;
+  double assembly_seconds = 0;
+  // The moves hand the blocks' rx, ry, r to the pass and leave pairs_'s (pairs_current()).
+  const bool built = verlet_.update(x_star_, im_, pairs_, jump, [&](int i0, int i1, bool new_list, const PairGeometry& g) {
+    const auto ta = Profile::Clock::now();
+    if (i0 == 0) assembly_.prepare(pairs_, im_, lat_.size(), new_list, op_, sys);
+    assembly_.assemble_rows(pairs_, g, im_, lat_.size(), W_, lat_.volume, verlet_.reach(), i0, i1, op_, sys,
+                            sums ? S_.data() : nullptr);
+    if (ahead) products_ahead(i0, i1);
+    assembly_seconds += seconds_since(ta);
+  });
+  pairs_stale_ = !built;
+  if (s) s->neighbours = seconds_since(t0) - assembly_seconds;
+  t0 = Profile::Clock::now();
   // The core's derived data (projection_core.hpp): after a build of the list all of it; between
   // builds the images, their walls and the patterns are the same, and only the wall part of the
   // Laplacian, B c^n (Eq. 42 with c^n = 2 u_b), follows the values (zero for walls at rest).
@@ -95,13 +134,44 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s) {
     lap_wall_.setZero();
     add_image_terms(op_.lap_u.B, lap_b_rows_, c_wall_, lap_wall_);
   }
-  if (s) s->assembly = seconds_since(t0);
+  if (s) s->assembly = assembly_seconds + seconds_since(t0);
   return built;
 }
 
-LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
+// The products that the step's first passes would make, row block by row block behind the assembly
+// while the rows' values are in cache, instead of three more passes over the matrices from memory
+// (at 64^2 each pass took about as long as a tenth of the step): lap_u.A u^n for Eq. (28)'s
+// right-hand side (viscous_rhs takes it), and for the starts of the two iterative solves the
+// products they begin with (start_product): A_cn times the extrapolation 2 u*_{n-1} - u*_{n-2}
+// that viscous_predictor computes, A_phi times phi^n. The same bits as those passes (product_rows).
+// One pass over the rows' common pattern: the four velocity sums as the lanes of one vector (the
+// inputs interleaved by rebuild, x4_), phi's beside them; each lane's arithmetic is its scalar sum's,
+// term by term (no FMA), as product_rows computes it.
+void LagrangianFluid::products_ahead(int i0, int i1) {
+  const int N = size();
+  const SpMat& L = op_.lap_u.A;
+  const Rows3 in{L.outerIndexPtr(), L.innerIndexPtr(), L.valuePtr(), A_cn_.valuePtr(), A_phi_.valuePtr(),
+                 x4_.data(), phi_x0_.data()};
+  double* out[5] = {rhs_.data(), rhs_.data() + N, cn_ax0_.data(), cn_ax0_.data() + N, phi_ax0_.data()};
+  rows3(in, out, i0, i1);
+}
+
+LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump, bool ahead) {
   RebuildSeconds s;
-  geometry(jump, true, &s);
+  if (ahead) {  // the starts of the solves, as viscous_predictor and project_approximate take them
+    cn_x0_ = 2.0 * u_star_ - u_star_old_;
+    phi_x0_ = phi_;
+    x4_.resize(4 * size());
+    for (int i = 0; i < size(); ++i) {
+      x4_[4 * i] = u_(i, 0);
+      x4_[4 * i + 1] = u_(i, 1);
+      x4_[4 * i + 2] = cn_x0_(i, 0);
+      x4_[4 * i + 3] = cn_x0_(i, 1);
+    }
+    cn_ax0_.resize(size(), 2);
+    phi_ax0_.resize(size());
+  }
+  geometry(jump, true, &s, ahead);
   check_kernel_sums(t);
   auto t0 = Profile::Clock::now();
 
@@ -126,6 +196,11 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump) {
     ++n_refactor_;
   }
   s.factorisation_poisson = seconds_since(t0);
+  if (ahead) {
+    lap_u_ahead_ = true;
+    cn_->start_product(A_cn_, cn_x0_.data(), cn_ax0_.data(), 2);
+    poisson_->start_product(A_phi_, phi_x0_.data(), phi_ax0_.data(), 1);
+  }
   return s;
 }
 
@@ -136,9 +211,16 @@ double LagrangianFluid::neighbours_per_particle() const {
 }
 
 int LagrangianFluid::neighbours_within(int i) const {
+  const PairList& P = pairs();
   int n = 0;
-  for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k) n += pairs_.r[k] < verlet_.reach();
+  for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) n += P.r[k] < verlet_.reach();
   return n;
+}
+
+void LagrangianFluid::pairs_current() const {
+  if (!pairs_stale_) return;
+  verlet_.move_pairs_to(x_star_, im_, pairs_);
+  pairs_stale_ = false;
 }
 
 void LagrangianFluid::wrap_into_domain(Mat2& X, double t) const {
@@ -180,7 +262,7 @@ void LagrangianFluid::begin_step() {
   // pairs, operators, factorisations. A breakdown throws here, before anything has changed.
   x_star_ = x_ + dt * u_;
   wrap_into_domain(x_star_, t_ + dt);
-  const RebuildSeconds s = rebuild(t_ + dt);
+  const RebuildSeconds s = rebuild(t_ + dt, false, true);
   prof_.add(k_.neighbours, s.neighbours);
   prof_.add(k_.assembly, s.assembly);
   prof_.add(k_.factor_cn, s.factorisation_cn);

@@ -20,7 +20,8 @@
 //     how often a preconditioner was factorised; a direct solver asked for (solver.* = cholmod_*)
 //     is refactorised every step, its symbolic analysis kept while the pattern stays.
 // Measured (bench/lpsph_comparison, README "Moving particles: LPSPH"): start-up Poiseuille, 10 000
-// steps, LPSPH/EPSPH CPU time 4.9 at Nx = 24 to 6.9 at Nx = 64 (55ee2fe, refactorising: 64 and 265).
+// steps, LPSPH/EPSPH CPU time 5.9 at Nx = 24 to 9.5 at Nx = 64 (836cd20; EPSPH has become faster
+// since 4.9 to 6.9; 55ee2fe, refactorising: 64 and 265).
 //
 // Where: the paper does not say at which positions the sums of a step are taken. We take the
 // predicted positions x* = x^n + dt u^n (the idea of Cummins & Rudman's SPH projection method), so
@@ -88,9 +89,12 @@ class LagrangianFluid final : public ProjectionFluid {
   void extra_state(NamedArrays& st) const override;  // positions and counters
   void restore_extra(const NamedArrays& st) override;
   // Images, pairs, kernel sums (breakdown at time t), operators, factorisations at x_star_.
-  RebuildSeconds rebuild(double t, bool jump = false);  // jump: the positions did not move by a step
+  // ahead: also the step's first products behind the assembly (products_ahead)
+  RebuildSeconds rebuild(double t, bool jump = false, bool ahead = false);  // jump: the positions did not move by a step
   void check_kernel_sums(double t);
-  bool geometry(bool jump, bool sums, RebuildSeconds* s);
+  bool geometry(bool jump, bool sums, RebuildSeconds* s, bool ahead = false);
+  void products_ahead(int i0, int i1);  // rows [i0, i1)
+  void pairs_current() const override;  // pairs_'s rx, ry, r at x_star_ (the moves leave them)
   int neighbours_within(int i) const;  // of particle i, closer than 2h
   void wrap_into_domain(Mat2& x, double t) const;  // periodic wrap; a particle beyond a wall throws
   void onto_lattice();       // Eq. (61): fields to the lattice points, x_ = lattice
@@ -99,6 +103,10 @@ class LagrangianFluid final : public ProjectionFluid {
   VerletList verlet_;
   ParticleOperators assembly_;
   SpMat A_cn_, A_phi_;  // the two systems of the step (Eqs. 28, 32), kept: values only while the pattern stays
+  Mat2 cn_x0_, cn_ax0_;  // products_ahead's: the Crank-Nicolson start and A_cn times it
+  Vec phi_x0_, phi_ax0_;  // phi^n (the Poisson start) and A_phi phi^n
+  std::vector<double> x4_;  // u^n and the Crank-Nicolson start interleaved, 4 per particle
+  mutable bool pairs_stale_ = false;  // pairs_'s rx, ry, r lag behind x_star_ (pairs_current)
   Mat2 x_star_good_;  // the last x* whose kernel sums passed (a breakdown puts the geometry back there)
   Vec S_;
   double S_low_ = 1.0;

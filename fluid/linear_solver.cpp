@@ -6,6 +6,7 @@
 #include <umfpack.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <chrono>
 #include <sstream>
@@ -380,8 +381,13 @@ class LaggedPcg final : public LinearSolver {
     if (R_.cols() != k) { R_.resize(n, k); Z_.resize(n, k); P_.resize(n, k); Q_.resize(n, k); }
     Eigen::Map<const Eigen::MatrixXd> b(B, n, k);
     Eigen::Map<Eigen::MatrixXd> x(X, n, k);
-    product(x.data(), R_.data(), k);
-    R_ = b - R_;
+    if (ahead_.A == A_ && ahead_.k == k && std::memcmp(ahead_.X0, X, sizeof(double) * n * k) == 0) {
+      R_ = b - Eigen::Map<const Eigen::MatrixXd>(ahead_.AX0, n, k);  // A X computed by the caller
+    } else {
+      product(x.data(), R_.data(), k);
+      R_ = b - R_;
+    }
+    ahead_ = {};
     double rz[8], bnorm[8], xnorm[8];
     bool done[8];
     int active = 0;
@@ -441,6 +447,7 @@ class LaggedPcg final : public LinearSolver {
   }
 
   double mean_iterations() const override { return solves_ ? static_cast<double>(iterations_) / solves_ : 0.0; }
+  void start_product(const SpMat& A, const double* X0, const double* AX0, int k) override { ahead_ = {&A, X0, AX0, k}; }
   void annotate(const std::string& note, double) override {  // kept through the refreshes
     note_ += note;
     describe_method();
@@ -518,6 +525,11 @@ class LaggedPcg final : public LinearSolver {
   Factorise factorise_;
   NullSpaceHooks null_;
   LaggedPcgOptions opt_;
+  struct Ahead {  // start_product's
+    const SpMat* A = nullptr;
+    const double *X0 = nullptr, *AX0 = nullptr;
+    int k = 0;
+  } ahead_;
   Eigen::MatrixXd R_, Z_, P_, Q_, W_;
   long iterations_ = 0, solves_ = 0, factorisations_ = 0, kept_ = 0;
   int last_iterations_ = 0;
@@ -553,6 +565,33 @@ std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& 
   // Auto, deterministic: simplicial up to 8e5 non-zeros in L, supernodal above (measured on this
   // machine: README, "Solvers, chosen automatically").
   return cholmod_by_factor_size(system, A, 8e5, "auto");
+}
+
+void product_rows(const SpMat& A, const double* X, double* Y, int k, int i0, int i1) {
+  const int n = static_cast<int>(A.rows());
+  const int *o = A.outerIndexPtr(), *col = A.innerIndexPtr();
+  const double* a = A.valuePtr();
+  if (k == 2) {  // stencil::accumulate_row's sums, both columns in one pass (apply2)
+    const double *x0 = X, *x1 = X + n;
+    for (int i = i0; i < i1; ++i) {
+      double s0 = 0.0, s1 = 0.0;
+      for (int p = o[i]; p < o[i + 1]; ++p) {
+        s0 += a[p] * x0[col[p]];
+        s1 += a[p] * x1[col[p]];
+      }
+      Y[i] = s0;
+      Y[n + i] = s1;
+    }
+    return;
+  }
+  for (int c = 0; c < k; ++c) {  // Eigen's row-major product: tmp from 0, then y = 0 + 1 tmp
+    const double* x = X + static_cast<size_t>(c) * n;
+    for (int i = i0; i < i1; ++i) {
+      double t = 0.0;
+      for (int p = o[i]; p < o[i + 1]; ++p) t += a[p] * x[col[p]];
+      Y[static_cast<size_t>(c) * n + i] = 0.0 + t;
+    }
+  }
 }
 
 std::unique_ptr<LinearSolver> lagged_pcg(const std::string& system, const SpMat& A, std::unique_ptr<LinearSolver> start,

@@ -223,10 +223,18 @@ void VerletList::restore(const State& s, const Mat2& x, Images& im, PairList& P)
 }
 
 bool VerletList::update(const Mat2& x, Images& im, PairList& P, bool force) {
+  if (build_due(x, force)) {
+    build(x, im, P);
+    return true;
+  }
+  move(x, im, P);
+  return false;
+}
+
+bool VerletList::build_due(const Mat2& x, bool force) {
   const bool first = builds_ == 0 || x.rows() != x_build_.rows();
   double spread = 0;
   if (!force && !first && !needs_build(x, spread)) {
-    move(x, im, P);
     ++updates_;
     ++since_build_;
     return false;
@@ -238,7 +246,6 @@ bool VerletList::update(const Mat2& x, Images& im, PairList& P, bool force) {
     const double v = spread / (since_build_ + 1);
     skin_ = std::clamp(std::sqrt(kBuildCost * v * reach_), skin_min_, skin_max_);
   }
-  build(x, im, P);
   since_build_ = 0;
   return true;
 }
@@ -318,28 +325,42 @@ void VerletList::build(const Mat2& x, Images& im, PairList& P) {
 }
 
 void VerletList::move(const Mat2& x, Images& im, PairList& P) const {
-  const int N = static_cast<int>(x.rows()), M = im.size();
+  move_images(x, im);
+  move_pairs_to(x, im, P);
+}
+
+void VerletList::move_pairs_to(const Mat2& x, const Images& im, PairList& P) const {
+  move_pairs(x, im, P, 0, static_cast<int>(x.rows()), P.rx.data(), P.ry.data(), P.r.data(), 0);
+}
+
+void VerletList::move_images(const Mat2& x, Images& im) const {
+  const int M = im.size();
   for (int m = 0; m < M && !fixed_mode_; ++m) {  // the mirror images of the parents (boundary.hpp), 2 w - x
     const int p = im.parent[m];
     im.x(m, 0) = mx_[m] ? 2.0 * (mx_[m] < 0 ? d_.x0 : d_.x1) - x(p, 0) : x(p, 0);
     im.x(m, 1) = my_[m] ? 2.0 * (my_[m] < 0 ? d_.y0 : d_.y1) - x(p, 1) : x(p, 1);
   }
+}
+
+void VerletList::move_pairs(const Mat2& x, const Images& im, const PairList& P, int i0, int i1, double* rx,
+                            double* ry, double* r, int k0) const {
+  const int N = static_cast<int>(x.rows()), M = im.size();
   // x_i - x_j by minimum image, computed as the cell list does (fluid/neighbours.hpp: the query
   // shifted by a whole period, then the difference), so that the bits are a fresh search's.
   const double Lx = d_.x1 - d_.x0, Ly = d_.y1 - d_.y0;
   const bool px = d_.periodic_x, py = d_.periodic_y;
-  const double *x0 = x.data(), *x1 = x.data() + N, *i0 = im.x.data(), *i1 = im.x.data() + M;
-  for (int i = 0; i < N; ++i) {
+  const double *x0 = x.data(), *x1 = x.data() + N, *j0 = im.x.data(), *j1 = im.x.data() + M;
+  for (int i = i0; i < i1; ++i) {
     const double qx = x0[i], qy = x1[i];
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
       const int j = P.j[k];
-      const double xj = j < N ? x0[j] : i0[j - N], yj = j < N ? x1[j] : i1[j - N];
+      const double xj = j < N ? x0[j] : j0[j - N], yj = j < N ? x1[j] : j1[j - N];
       double dx = qx - xj, dy = qy - yj;
       if (px && std::fabs(dx) > 0.5 * Lx) dx = (dx > 0 ? qx - Lx : qx + Lx) - xj;
       if (py && std::fabs(dy) > 0.5 * Ly) dy = (dy > 0 ? qy - Ly : qy + Ly) - yj;
-      P.rx[k] = dx;
-      P.ry[k] = dy;
-      P.r[k] = std::sqrt(dx * dx + dy * dy);
+      rx[k - k0] = dx;
+      ry[k - k0] = dy;
+      r[k - k0] = std::sqrt(dx * dx + dy * dy);
     }
   }
 }

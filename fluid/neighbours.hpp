@@ -1,6 +1,7 @@
 #pragma once
 // Neighbour search with a cell grid (periodic axes wrap by the minimum-image convention).
 // EPSPH builds the particle pair list once; markers query the same kind of grid each step in O(Nb).
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -166,6 +167,18 @@ struct PairList {
   int size() const { return static_cast<int>(j.size()); }
 };
 
+// x_i - x_j and r of pairs: a PairList's (k0 = 0), or a block's from pair k0 on (VerletList::update
+// with rows, whose moves leave P's arrays).
+struct PairGeometry {
+  const double *x, *y, *d;  // rx, ry, r of pair k at k - k0
+  int k0 = 0;
+  explicit PairGeometry(const PairList& P) : x(P.rx.data()), y(P.ry.data()), d(P.r.data()) {}
+  PairGeometry(const double* rx_, const double* ry_, const double* r_, int k0_) : x(rx_), y(ry_), d(r_), k0(k0_) {}
+  double rx(int k) const { return x[k - k0]; }
+  double ry(int k) const { return y[k - k0]; }
+  double r(int k) const { return d[k - k0]; }
+};
+
 // Throws std::invalid_argument if 2h exceeds half a periodic period (minimum image would fail).
 PairList find_pairs(const Lattice& lattice, const Mat2& image_x, double support);
 
@@ -207,6 +220,33 @@ class VerletList {
   // built. im and P are the list's state, kept by the caller (a fluid's own members, no copies):
   // pass the same objects every time, unchanged in between.
   bool update(const Mat2& x, Images& im, PairList& P, bool force = false);
+  // The same, followed row block by row block: after the pairs of rows [i0, i1) have been moved
+  // (blocks of kRowBlock rows, in order) or the list built (one call, [0, N)), rows(i0, i1, built, g)
+  // is called with their geometry g, so that a pass over those pairs (LPSPH's assembly) finds them
+  // in cache. A move writes the blocks' rx, ry, r into a buffer of the block (g), not into P (three
+  // arrays less written back to memory per step): until move_pairs_to(x, im, P), P's rx, ry, r are
+  // those of the last build or full move.
+  static constexpr int kRowBlock = 64;
+  template <class Rows>
+  bool update(const Mat2& x, Images& im, PairList& P, bool force, Rows&& rows) {
+    const int N = static_cast<int>(x.rows());
+    if (build_due(x, force)) {
+      build(x, im, P);
+      rows(0, N, true, PairGeometry(P));
+      return true;
+    }
+    move_images(x, im);
+    for (int i0 = 0; i0 < N; i0 += kRowBlock) {
+      const int i1 = std::min(N, i0 + kRowBlock), k0 = P.offset[i0], n = P.offset[i1] - k0;
+      if (static_cast<int>(block_.size()) < 3 * n) block_.resize(3 * n);
+      double *rx = block_.data(), *ry = rx + n, *r = ry + n;
+      move_pairs(x, im, P, i0, i1, rx, ry, r, k0);
+      rows(i0, i1, false, PairGeometry(rx, ry, r, k0));
+    }
+    return false;
+  }
+  // P's rx, ry, r moved to x (im: the list's images at x), as update() without rows writes them.
+  void move_pairs_to(const Mat2& x, const Images& im, PairList& P) const;
 
   // Of the images im (the list's, at x), those that make_images(x, reach) makes: within reach.
   int images_within_reach(const Images& im, const Mat2& x) const;
@@ -230,6 +270,12 @@ class VerletList {
  private:
   void build(const Mat2& x, Images& im, PairList& P);
   void move(const Mat2& x, Images& im, PairList& P) const;
+  void move_images(const Mat2& x, Images& im) const;
+  // rows [i0, i1): rx, ry, r of pair k into rx[k - k0], ry[k - k0], r[k - k0]
+  void move_pairs(const Mat2& x, const Images& im, const PairList& P, int i0, int i1, double* rx, double* ry,
+                  double* r, int k0) const;
+  // Whether update() builds (then the next skin is chosen); else it counts a move.
+  bool build_due(const Mat2& x, bool force);
   bool needs_build(const Mat2& x, double& spread) const;  // spread: the diagonal of the displacement box
   int walls_near(double x, double y, double range) const;
 
@@ -243,6 +289,7 @@ class VerletList {
   std::vector<int> walls_;            // per particle: the walls it has images across (walls_near)
   std::vector<signed char> mx_, my_;  // per image: mirrored across x = x0 (-1), x1 (+1), or not (0); y alike
   long builds_ = 0, updates_ = 0;
+  std::vector<double> block_;  // a block's rx, ry, r (update with rows)
 };
 
 }  // namespace sphib

@@ -1,6 +1,7 @@
 #include "fluid/particle_operators.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace sphib {
 
@@ -24,13 +25,13 @@ namespace {
 struct PairTerms {
   double lap = 0, gx = 0, gy = 0, w = 0;  // w = W_ij (for the kernel sum)
   bool active = false;                    // closer than the reach
-  PairTerms(const PairList& P, int k, const KernelWF& W, double V, double reach) {
-    if (P.r[k] < reach) {
+  PairTerms(const PairGeometry& g, int k, const KernelWF& W, double V, double reach) {
+    if (g.r(k) < reach) {
       active = true;
-      const double F = W.F(P.r[k], &w);  // (1/r) dW/dr
+      const double F = W.F(g.r(k), &w);  // (1/r) dW/dr
       lap = 2.0 * V * F;
-      gx = V * P.rx[k] * F;
-      gy = V * P.ry[k] * F;
+      gx = V * g.rx(k) * F;
+      gy = V * g.ry(k) * F;
     }
   }
 };
@@ -40,57 +41,80 @@ struct PairTerms {
 void ParticleOperators::assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V,
                                  double reach, bool new_pattern, Operators& op, const Systems& sys,
                                  double* kernel_sums, const PairRules& rules) {
+  prepare(P, im, N, new_pattern, op, sys);
+  assemble_rows(P, PairGeometry(P), im, N, W, V, reach, 0, N, op, sys, kernel_sums, rules);
+}
+
+void ParticleOperators::prepare(const PairList& P, const Images& im, int N, bool new_pattern, Operators& op,
+                                const Systems& sys) {
   if (new_pattern || static_cast<int>(diag_.size()) != N) {
     make_pattern(P, im, N);
     shape(op, N, im.size(), sys);
   }
+}
+
+void ParticleOperators::assemble_rows(const PairList& P, const PairGeometry& g, const Images& im, int N,
+                                      const CubicSplineKernel& W,
+                                      double V, double reach, int i0, int i1, Operators& op, const Systems& sys,
+                                      double* kernel_sums, const PairRules& rules) {
   Values v{op.lap_u.A.valuePtr(), op.grad_ux.A.valuePtr(), op.grad_uy.A.valuePtr(),
            op.lap_phi.valuePtr(), op.grad_phix.valuePtr(), op.grad_phiy.valuePtr(),
            op.lap_u.B.valuePtr(), op.grad_ux.B.valuePtr(), op.grad_uy.B.valuePtr(),
            sys.A_cn ? sys.A_cn->valuePtr() : nullptr, sys.A_phi ? sys.A_phi->valuePtr() : nullptr, -sys.a_cn,
            kernel_sums, V, W.W(0.0), rules.divergence_difference ? -1.0 : 1.0, rules.position_divergence};
+  if (!sys.phi_rows && (!sys.A_phi || rules.divergence_difference))
+    throw std::logic_error("ParticleOperators: phi_rows = false needs A_phi and the sum form");
   const KernelWF Wl(W);
   // One pass over the pairs: each pair's terms into every operator, in the order of the separate
   // scatters of build_operators (the f_i part on the diagonal, then f_j), so that every sum carries
   // its bits; an image j carries f_j = sign f_parent + c_j (velocity; sign +1 for phi).
-  int b = 0;  // B's entries are the image pairs, in order
-  for (int i = 0; i < N; ++i) {
+  int b = outer_b_[i0];  // B's entries are the image pairs, in order
+  for (int i = i0; i < i1; ++i) {
     if (!row_images_[i]) {
-      if (v.cn && v.ph) row_plain<true>(P, i, Wl, V, reach, v);
-      else row_plain<false>(P, i, Wl, V, reach, v);
+      if (v.cn && v.ph && !sys.phi_rows) row_plain<true, false>(P, g, i, Wl, V, reach, v);
+      else if (v.cn && v.ph) row_plain<true>(P, g, i, Wl, V, reach, v);
+      else row_plain<false>(P, g, i, Wl, V, reach, v);
     } else {
-      row_with_images(P, im, i, N, Wl, V, reach, v, rules, b);
+      row_with_images(P, g, im, i, N, Wl, V, reach, v, rules, b);
     }
   }
 }
 
 // A row without images has one pair per column: each entry is written once, the diagonal summed in
-// registers.
-template <bool kSystems>
-void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach,
+// registers. kPhi false: the phi operators' entries are left (ProjectionSystems::phi_rows).
+template <bool kSystems, bool kPhi>
+void ParticleOperators::row_plain(const PairList& P, const PairGeometry& g, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
   double dl = 0, dgx = 0, dgy = 0, sw = v.w_0, dr = 0;  // sw: W(0) + sum_j W_ij, in pair order
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
-    const PairTerms t(P, k, W, V, reach);
+    const PairTerms t(g, k, W, V, reach);
     if (t.active) sw += t.w;
-    dr -= t.gx * P.rx[k] + t.gy * P.ry[k];  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
+    dr -= t.gx * g.rx(k) + t.gy * g.ry(k);  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
     const int s = slot_[k];
     const double l = t.active ? -1.0 * t.lap : 0.0;
     dl += t.lap;
     dgx += t.gx;
     dgy += t.gy;
-    v.lu[s] = v.lp[s] = l;
-    v.gxu[s] = v.gxp[s] = t.gx;
-    v.gyu[s] = v.gyp[s] = t.gy;
+    v.lu[s] = l;
+    v.gxu[s] = t.gx;
+    v.gyu[s] = t.gy;
+    if (kPhi) {
+      v.lp[s] = l;
+      v.gxp[s] = t.gx;
+      v.gyp[s] = t.gy;
+    }
     if (kSystems) {
       v.cn[s] = v.na * l;  // as crank_nicolson_matrix(): -a lap, then + 1 on the diagonal
       v.ph[s] = -l;
     }
   }
   const int d = diag_[i];
-  v.lu[d] = v.lp[d] = dl;
-  v.gxp[d] = dgx;
-  v.gyp[d] = dgy;
+  v.lu[d] = dl;
+  if (kPhi) {
+    v.lp[d] = dl;
+    v.gxp[d] = dgx;
+    v.gyp[d] = dgy;
+  }
   v.gxu[d] = v.sd * dgx;  // u_i's part: + (sum form) or - (difference form)
   v.gyu[d] = v.sd * dgy;
   if (v.divr) v.divr[i] = dr;
@@ -104,7 +128,8 @@ void ParticleOperators::row_plain(const PairList& P, int i, const KernelWF& W, d
 // A row with images may meet a column twice (a neighbour and an image's parent, or i and its own
 // image): zeroed, then summed in place. A fixed point (parent < 0) takes the pair-local rules of the
 // header.
-void ParticleOperators::row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W,
+void ParticleOperators::row_with_images(const PairList& P, const PairGeometry& g, const Images& im, int i, int N,
+                                        const KernelWF& W,
                                         double V, double reach, const Values& v, const PairRules& rules,
                                         int& b) const {
   const int d = diag_[i], o0 = outer_[i], o1 = outer_[i + 1];
@@ -113,8 +138,8 @@ void ParticleOperators::row_with_images(const PairList& P, const Images& im, int
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const int j = P.j[k];
     const bool image = j >= N, fixed = image && im.parent[j - N] < 0;
-    const PairTerms t(P, k, W, fixed ? rules.V_fixed : V, reach);
-    if (!fixed) dr -= t.gx * P.rx[k] + t.gy * P.ry[k];  // A Eq. (26), the particles' part
+    const PairTerms t(g, k, W, fixed ? rules.V_fixed : V, reach);
+    if (!fixed) dr -= t.gx * g.rx(k) + t.gy * g.ry(k);  // A Eq. (26), the particles' part
     if (fixed) {  // a Morris wall particle: f_w = s f_i + weight c_w (header)
       if (t.active) sw += t.w;
       const double beta = t.active ? rules.wall_beta[k] : 0.0;

@@ -72,10 +72,15 @@ struct PairRules {
 // The two systems of a projection step, assembled with the operators when given (their pattern):
 // A_cn = I - a_cn lap_u (Eq. 28, as ProjectionFluid::crank_nicolson_matrix) and A_phi = -lap_phi
 // (Eq. 32).
+// phi_rows = false (with A_phi, the sum form): the values of the phi operators (lap_phi, grad_phix,
+// grad_phiy) are written only in the rows with images; in the others they are, bit for bit, -A_phi
+// and grad_ux.A, grad_uy.A (images carry phi and u alike only there), and the caller takes them
+// from those (LPSPH: ProjectionFluid's phi_ops_lazy_).
 struct ProjectionSystems {
   double a_cn = 0;
   SpMat* A_cn = nullptr;
   SpMat* A_phi = nullptr;
+  bool phi_rows = true;
 };
 
 class ParticleOperators {
@@ -89,6 +94,15 @@ class ParticleOperators {
   void assemble(const PairList& P, const Images& im, int N, const CubicSplineKernel& W, double V, double reach,
                 bool new_pattern, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr,
                 const PairRules& rules = {});
+  // The same in two parts, for a pass that follows the Verlet list's moves row block by row block
+  // (VerletList::update with rows): prepare() the pattern (when new) and shape, then rows [i0, i1)
+  // in order over all rows; the same values as assemble().
+  void prepare(const PairList& P, const Images& im, int N, bool new_pattern, Operators& op, const Systems& sys = {});
+  // g: the pairs' rx, ry, r (P's, or a block's: VerletList::update with rows).
+  void assemble_rows(const PairList& P, const PairGeometry& g, const Images& im, int N, const CubicSplineKernel& W,
+                     double V, double reach,
+                     int i0, int i1, Operators& op, const Systems& sys = {}, double* kernel_sums = nullptr,
+                     const PairRules& rules = {});
   // The position of the diagonal entry of row i in the values of op's A matrices.
   const std::vector<int>& diagonal() const { return diag_; }
 
@@ -96,9 +110,9 @@ class ParticleOperators {
   struct Values;  // the value arrays a step writes (particle_operators.cpp)
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
-  template <bool kSystems>
-  void row_plain(const PairList& P, int i, const KernelWF& W, double V, double reach, const Values& v) const;
-  void row_with_images(const PairList& P, const Images& im, int i, int N, const KernelWF& W, double V,
+  template <bool kSystems, bool kPhi = true>
+  void row_plain(const PairList& P, const PairGeometry& g, int i, const KernelWF& W, double V, double reach, const Values& v) const;
+  void row_with_images(const PairList& P, const PairGeometry& g, const Images& im, int i, int N, const KernelWF& W, double V,
                        double reach, const Values& v, const PairRules& rules, int& b) const;
   std::vector<int> outer_, inner_, slot_, diag_, outer_b_, inner_b_;  // the pattern
   std::vector<char> row_images_;                                      // row i has image pairs

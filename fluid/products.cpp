@@ -237,4 +237,16 @@ void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const Row
   product<1, 2, false>(Gx, val, in, out, st, block_gradient);
 }
 
+void gradient_rows(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const std::vector<int>& rows) {
+  const int n = static_cast<int>(Gx.rows());
+  const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
+  const double* in[1] = {f.data()};
+  double* out[2] = {g.data(), g.data() + n};
+  for (int i : rows) {  // as product's plain rows
+    double acc[2][kBlock];
+    stencil::accumulate_row<1, 2, false>(Gx.outerIndexPtr(), Gx.innerIndexPtr(), val, in, acc, i);
+    stencil::store<2>(acc, out, i, 1, 1);
+  }
+}
+
 }  // namespace sphib

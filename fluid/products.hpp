@@ -61,6 +61,8 @@ void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& 
 void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const RowStencil* st = nullptr);
 //   g = (Gx f, Gy f) (a scalar's gradient, Eq. 27)
 void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st = nullptr);
+//   the same in the rows `rows` of g only (the other rows untouched), the same bits as gradient()
+void gradient_rows(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const std::vector<int>& rows);
 bool same_pattern(const SpMat& A, const SpMat& B);
 
 // Image terms: an image operator B (N x M) has entries only in the rows near walls. y += B c

@@ -111,7 +111,8 @@ void ProjectionFluid::viscous_rhs(const Mat2& F) {
   const int N = size();
   ScopedTimer tm(prof_, k_rhs_);
   // Eq. (28): (I - a lap) u* = u^n + a lap u^n + a B (c^n + c*) - dt (u.grad u)^{n+1/2} + dt F^n / rho
-  apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
+  if (!lap_u_ahead_) apply2(op_.lap_u.A, u_, rhs_, vel_st_);  // lap u^n, both components in one pass
+  lap_u_ahead_ = false;
   add_image_terms(op_.lap_u.B, lap_b_rows_, c_star_, rhs_);
   const double k = dt / prm_.rho, kc = convective_ ? dt : 0.0;
   for (int c = 0; c < 2; ++c)
@@ -167,15 +168,40 @@ void ProjectionFluid::project_approximate() {
   }
   ScopedTimer tm(prof_, k_project_);
   // Eq. (34): u^{n+1} = u* - dt/rho grad phi^{n+1}, images phi_i' = phi_i
-  gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+  if (phi_ops_stale_ && phi_ops_from_) {  // (see phi_ops_from_) grad_u's rows, then the rows with images
+    gradient(op_.grad_ux.A, op_.grad_uy.A, phi_, grad_phi_, phi_st_);
+    gradient_rows(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, gx_b_rows_);
+  } else {
+    gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+  }
   u_.noalias() = u_star_ - (dt / rho) * grad_phi_;
+}
+
+const Operators& ProjectionFluid::operators() const {
+  if (phi_ops_stale_ && phi_ops_from_) {
+    const SpMat& A = *phi_ops_from_;  // the same pattern (ParticleOperators::shape)
+    if (op_.lap_phi.nonZeros() != A.nonZeros()) throw std::logic_error("lap_phi: A_phi has another pattern");
+    for (Eigen::Index k = 0; k < A.nonZeros(); ++k) op_.lap_phi.valuePtr()[k] = -A.valuePtr()[k];
+    const int* o = op_.grad_phix.outerIndexPtr();
+    auto image_row = gx_b_rows_.begin();  // the rows with images, increasing
+    for (int i = 0; i < size(); ++i) {
+      if (image_row != gx_b_rows_.end() && *image_row == i) {
+        ++image_row;
+        continue;
+      }
+      std::copy(op_.grad_ux.A.valuePtr() + o[i], op_.grad_ux.A.valuePtr() + o[i + 1], op_.grad_phix.valuePtr() + o[i]);
+      std::copy(op_.grad_uy.A.valuePtr() + o[i], op_.grad_uy.A.valuePtr() + o[i + 1], op_.grad_phiy.valuePtr() + o[i]);
+    }
+    phi_ops_stale_ = false;
+  }
+  return op_;
 }
 
 const Vec& ProjectionFluid::p() const {
   if (p_revision_ != revision_) {
     ScopedTimer tm(prof_, k_pressure_);
     if (explicit_viscous_) p_ = phi();  // Afanasiev et al. Eqs. (23)-(24): phi is p^{n+1}
-    else pressure_from_phi(op_.lap_phi, phi(), a_cn(), p_);  // Eq. (35)
+    else pressure_from_phi(operators().lap_phi, phi(), a_cn(), p_);  // Eq. (35)
     p_revision_ = revision_;
   }
   return p_;

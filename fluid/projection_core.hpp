@@ -72,8 +72,11 @@ class ProjectionFluid : public FluidSolver {
   double max_abs_divergence() const override;
 
   const Images& images() const { return im_; }        // of the last step's positions
-  const PairList& pairs() const { return pairs_; }
-  const Operators& operators() const { return op_; }
+  const PairList& pairs() const {
+    pairs_current();
+    return pairs_;
+  }
+  const Operators& operators() const;  // (lap_phi made first where the method keeps it in A_phi)
   virtual std::vector<SolverInfo> solver_info() const;
   Profile& profile() const final { return prof_; }
   double step_seconds() const override { return prof_.total() - prof_.seconds(k_pressure_); }
@@ -139,8 +142,16 @@ class ProjectionFluid : public FluidSolver {
   double volume_;  // of every particle (V_)
   // the step's geometry (the method builds it; operators_changed() derives the rest)
   Images im_;
-  PairList pairs_;
-  Operators op_;
+  mutable PairList pairs_;  // mutable: a method may bring its rx, ry, r up to date when asked (pairs_current)
+  virtual void pairs_current() const {}  // LPSPH: its Verlet moves leave pairs_'s rx, ry, r
+  mutable Operators op_;  // mutable: the phi operators made when asked for (phi_ops_from_)
+  // A method whose assembly writes the phi operators only in the rows with images
+  // (ProjectionSystems::phi_rows: LPSPH) points this to its A_phi = -lap_phi and sets phi_ops_stale_
+  // after each assembly: the projection's gradient then takes grad_ux.A, grad_uy.A in the other rows
+  // (the same values there), and operators() and p() fill lap_phi = -A_phi and those rows of
+  // grad_phix, grad_phiy (the same bits) when first asked for.
+  const SpMat* phi_ops_from_ = nullptr;
+  mutable bool phi_ops_stale_ = false;
   const RowStencil* vel_st_ = nullptr;  // stencils of the velocity / phi patterns (EPSPH)
   const RowStencil* phi_st_ = nullptr;
   std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
@@ -162,6 +173,9 @@ class ProjectionFluid : public FluidSolver {
   long n_ = 0;
   bool first_ = true;  // no N^{n-1} yet (AB2 starts with Euler)
   bool convective_ = false;  // the method discretises convection (EPSPH); moving particles carry it
+  // rhs_ already holds lap_u.A u^n, apply2's bits, for this step's viscous_rhs (LPSPH computes it
+  // behind the assembly); viscous_rhs clears it
+  bool lap_u_ahead_ = false;
 
   mutable Profile prof_;  // timing only: also updated by the lazily recovered pressure
   int k_images_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_;
