@@ -355,18 +355,30 @@ template <int D>
 [[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int nk,
                                                                 bool pairs, const double* lrow, const double* lcol,
                                                                 const double* rdiag) {
-  const int n = pairs ? 2 * nk : nk, P = pairs ? 1 : 0;  // value m of a row has factor m >> P
+  const int n = pairs ? 2 * nk : nk;  // with pairs, value m of a row has factor m / 2
   auto row = [&](int i, int dir, const double* f, int dmax) __attribute__((always_inline)) {
     double* hi = h + static_cast<std::size_t>(i) * n;
     const double* r = rdiag + static_cast<std::size_t>(i) * nk;
     auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * n; };      // h_{i -+ d}
     auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * nk; };  // l_d
+    if (dmax > 4 && pairs) {  // whole-row updates, two wavenumbers (four values) at a time
+      const int k2 = nk / 2 * 2;
+      for (int d = 1; d <= dmax; ++d) {
+        const double *hj = hd(d), *l = ld(d);
+        for (int k = 0; k < k2; k += 2)
+          *reinterpret_cast<Pair4u*>(hi + 2 * k) = load_pair4(hi + 2 * k) - twice(l + k) * load_pair4(hj + 2 * k);
+        for (int m = 2 * k2; m < n; ++m) hi[m] -= l[m >> 1] * hj[m];
+      }
+      for (int k = 0; k < k2; k += 2) *reinterpret_cast<Pair4u*>(hi + 2 * k) = load_pair4(hi + 2 * k) * twice(r + k);
+      for (int m = 2 * k2; m < n; ++m) hi[m] *= r[m >> 1];
+      return;
+    }
     if (dmax > 4) {
       for (int d = 1; d <= dmax; ++d) {
         const double *hj = hd(d), *l = ld(d);
-        for (int m = 0; m < n; ++m) hi[m] -= l[m >> P] * hj[m];
+        for (int m = 0; m < n; ++m) hi[m] -= l[m] * hj[m];
       }
-      for (int m = 0; m < n; ++m) hi[m] *= r[m >> P];
+      for (int m = 0; m < n; ++m) hi[m] *= r[m];
       return;
     }
     const double* hj[4] = {hi, hi, hi, hi};
