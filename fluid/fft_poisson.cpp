@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -387,22 +388,16 @@ template <int D>
       hj[d - 1] = hd(d);
       l[d - 1] = ld(d);
     }
-    if (pairs) {
-      switch (dmax) {
-        case 0: substitute_row_pairs<0>(hi, hj, l, r, nk); break;
-        case 1: substitute_row_pairs<1>(hi, hj, l, r, nk); break;
-        case 2: substitute_row_pairs<2>(hi, hj, l, r, nk); break;
-        case 3: substitute_row_pairs<3>(hi, hj, l, r, nk); break;
-        default: substitute_row_pairs<4>(hi, hj, l, r, nk);
-      }
-      return;
-    }
+    auto depth = [&](auto D) __attribute__((always_inline)) {  // D: dmax as a constant
+      if (pairs) substitute_row_pairs<decltype(D)::value>(hi, hj, l, r, nk);
+      else substitute_row<decltype(D)::value>(hi, hj, l, r, n);
+    };
     switch (dmax) {
-      case 0: substitute_row<0>(hi, hj, l, r, n); break;
-      case 1: substitute_row<1>(hi, hj, l, r, n); break;
-      case 2: substitute_row<2>(hi, hj, l, r, n); break;
-      case 3: substitute_row<3>(hi, hj, l, r, n); break;
-      default: substitute_row<4>(hi, hj, l, r, n);
+      case 0: depth(std::integral_constant<int, 0>{}); break;
+      case 1: depth(std::integral_constant<int, 1>{}); break;
+      case 2: depth(std::integral_constant<int, 2>{}); break;
+      case 3: depth(std::integral_constant<int, 3>{}); break;
+      default: depth(std::integral_constant<int, 4>{});
     }
   };
   for (int i = 0; i < ny; ++i) row(i, -1, lrow, std::min(w, i));                // L y = b
