@@ -1,5 +1,7 @@
 #include "fluid/neighbours.hpp"
 
+#include "fluid/kernel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -352,14 +354,32 @@ void VerletList::move_pairs(const Mat2& x, const Images& im, const PairList& P, 
   const double *x0 = x.data(), *x1 = x.data() + N, *j0 = im.x.data(), *j1 = im.x.data() + M;
   for (int i = i0; i < i1; ++i) {
     const double qx = x0[i], qy = x1[i];
-    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
+    auto difference = [&](int k, double& dx, double& dy) {  // rx, ry of pair k
       const int j = P.j[k];
       const double xj = j < N ? x0[j] : j0[j - N], yj = j < N ? x1[j] : j1[j - N];
-      double dx = qx - xj, dy = qy - yj;
+      dx = qx - xj, dy = qy - yj;
       if (px && std::fabs(dx) > 0.5 * Lx) dx = (dx > 0 ? qx - Lx : qx + Lx) - xj;
       if (py && std::fabs(dy) > 0.5 * Ly) dy = (dy > 0 ? qy - Ly : qy + Ly) - yj;
       rx[k - k0] = dx;
       ry[k - k0] = dy;
+    };
+    // The distances two pairs at a time in the lanes of one square root (the same correctly rounded
+    // sqrt(dx dx + dy dy) per lane, no FMA: the bits of the scalar form, whose square roots bound the
+    // pass: one sqrtsd per pair).
+    int k = P.offset[i];
+    const int e = P.offset[i + 1];
+    for (; k + 2 <= e; k += 2) {
+      double ax, ay, bx, by;
+      difference(k, ax, ay);
+      difference(k + 1, bx, by);
+      const Lanes2 dx{ax, bx}, dy{ay, by};
+      const Lanes2 d = sqrt2(dx * dx + dy * dy);
+      r[k - k0] = d[0];
+      r[k + 1 - k0] = d[1];
+    }
+    if (k < e) {
+      double dx, dy;
+      difference(k, dx, dy);
       r[k - k0] = std::sqrt(dx * dx + dy * dy);
     }
   }
