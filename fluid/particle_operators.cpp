@@ -71,7 +71,8 @@ void ParticleOperators::assemble_rows(const PairList& P, const PairGeometry& g, 
   int b = outer_b_[i0];  // B's entries are the image pairs, in order
   for (int i = i0; i < i1; ++i) {
     if (!row_images_[i]) {
-      if (v.cn && v.ph && !sys.phi_rows) row_plain<true, false>(P, g, i, Wl, V, reach, v);
+      if (v.cn && v.ph && !sys.phi_rows && !v.divr) row_plain<true, false, false>(P, g, i, Wl, V, reach, v);
+      else if (v.cn && v.ph && !sys.phi_rows) row_plain<true, false>(P, g, i, Wl, V, reach, v);
       else if (v.cn && v.ph) row_plain<true>(P, g, i, Wl, V, reach, v);
       else row_plain<false>(P, g, i, Wl, V, reach, v);
     } else {
@@ -81,15 +82,16 @@ void ParticleOperators::assemble_rows(const PairList& P, const PairGeometry& g, 
 }
 
 // A row without images has one pair per column: each entry is written once, the diagonal summed in
-// registers. kPhi false: the phi operators' entries are left (ProjectionSystems::phi_rows).
-template <bool kSystems, bool kPhi>
+// registers. kPhi false: the phi operators' entries are left (ProjectionSystems::phi_rows); kDivr
+// false: no div r asked for (v.divr null), and its sum is not made.
+template <bool kSystems, bool kPhi, bool kDivr>
 void ParticleOperators::row_plain(const PairList& P, const PairGeometry& g, int i, const KernelWF& W, double V, double reach,
                                   const Values& v) const {
   double dl = 0, dgx = 0, dgy = 0, sw = v.w_0, dr = 0;  // sw: W(0) + sum_j W_ij, in pair order
   for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
     const PairTerms t(g, k, W, V, reach);
     if (t.active) sw += t.w;
-    dr -= t.gx * g.rx(k) + t.gy * g.ry(k);  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
+    if (kDivr) dr -= t.gx * g.rx(k) + t.gy * g.ry(k);  // A Eq. (26): -V (x_i - x_j) . grad_i W_ij
     const int s = slot_[k];
     const double l = t.active ? -1.0 * t.lap : 0.0;
     dl += t.lap;
@@ -117,7 +119,7 @@ void ParticleOperators::row_plain(const PairList& P, const PairGeometry& g, int 
   }
   v.gxu[d] = v.sd * dgx;  // u_i's part: + (sum form) or - (difference form)
   v.gyu[d] = v.sd * dgy;
-  if (v.divr) v.divr[i] = dr;
+  if (kDivr && v.divr) v.divr[i] = dr;
   if (kSystems) {
     v.cn[d] = v.na * dl + 1.0;
     v.ph[d] = -dl;

@@ -110,7 +110,7 @@ class ParticleOperators {
   struct Values;  // the value arrays a step writes (particle_operators.cpp)
   void make_pattern(const PairList& P, const Images& im, int N);
   void shape(Operators& op, int N, int M, const Systems& sys) const;
-  template <bool kSystems, bool kPhi = true>
+  template <bool kSystems, bool kPhi = true, bool kDivr = true>
   void row_plain(const PairList& P, const PairGeometry& g, int i, const KernelWF& W, double V, double reach, const Values& v) const;
   void row_with_images(const PairList& P, const PairGeometry& g, const Images& im, int i, int N, const KernelWF& W, double V,
                        double reach, const Values& v, const PairRules& rules, int& b) const;
