@@ -643,30 +643,26 @@ class BandedSolver final : public LatticeSolver {
     return true;
   }
 
-  // The factors rearranged wavenumber-fastest, each value V times (V = 2 after the r2c FFT: the real
-  // and imaginary parts of h side by side, 1 after a DCT or DST), so that a substitution row is one
-  // contiguous loop over the V nk values of h: lrow[((i ldab + d) nk + k) V + v] = L_k(i, i - d)
-  // (forward substitution), lcol[...] = L_k(i + d, i) (backward), rdiag[(i nk + k) V + v] =
-  // 1 / L_k(i, i). Singular blocks: row and column 0 (dropped, x = 0 there) are zeros, so no
-  // wavenumber is special.
+  // The factors rearranged wavenumber-fastest, once per wavenumber (substitute_bands reads a
+  // wavenumber's factor for both the real and the imaginary part of h after the r2c FFT):
+  // lrow[(i ldab + d) nk + k] = L_k(i, i - d) (forward substitution), lcol[...] = L_k(i + d, i)
+  // (backward), rdiag[i nk + k] = 1 / L_k(i, i). Singular blocks: row and column 0 (dropped, x = 0
+  // there) are zeros, so no wavenumber is special.
   void arrange_factors(const std::vector<double>& band) {
-    const int ny = ny_, w = w_, V = 1;  // (once per wavenumber: substitute_bands pairs re and im)
-    const std::size_t nv = static_cast<std::size_t>(V) * nk_;
-    lrow_.assign(static_cast<std::size_t>(ny) * ldab_ * nv, 0.0);
+    const int ny = ny_, w = w_;
+    const std::size_t nk = nk_;
+    lrow_.assign(static_cast<std::size_t>(ny) * ldab_ * nk, 0.0);
     lcol_.assign(lrow_.size(), 0.0);
-    rdiag_.assign(static_cast<std::size_t>(ny) * nv, 0.0);
+    rdiag_.assign(static_cast<std::size_t>(ny) * nk, 0.0);
     for (int kk = 0; kk < nk_; ++kk) {
       const double* ab = band.data() + static_cast<std::size_t>(kk) * ldab_ * ny;
       const int i0 = drop_[kk] ? 1 : 0;
-      for (int v = 0; v < V; ++v) {
-        const std::size_t kv = static_cast<std::size_t>(V) * kk + v;
-        for (int i = i0; i < ny; ++i) {
-          rdiag_[static_cast<std::size_t>(i) * nv + kv] = 1.0 / ab[static_cast<std::size_t>(ldab_) * i];
-          for (int d = 1; d <= w; ++d) {
-            const std::size_t at = (static_cast<std::size_t>(i) * ldab_ + d) * nv + kv;
-            if (i - d >= i0) lrow_[at] = ab[d + static_cast<std::size_t>(ldab_) * (i - d)];
-            if (i + d < ny) lcol_[at] = ab[d + static_cast<std::size_t>(ldab_) * i];
-          }
+      for (int i = i0; i < ny; ++i) {
+        rdiag_[static_cast<std::size_t>(i) * nk + kk] = 1.0 / ab[static_cast<std::size_t>(ldab_) * i];
+        for (int d = 1; d <= w; ++d) {
+          const std::size_t at = (static_cast<std::size_t>(i) * ldab_ + d) * nk + kk;
+          if (i - d >= i0) lrow_[at] = ab[d + static_cast<std::size_t>(ldab_) * (i - d)];
+          if (i + d < ny) lcol_[at] = ab[d + static_cast<std::size_t>(ldab_) * i];
         }
       }
     }

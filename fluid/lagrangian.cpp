@@ -143,10 +143,11 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s, bool ahe
 // (at 64^2 each pass took about as long as a tenth of the step): lap_u.A u^n for Eq. (28)'s
 // right-hand side (viscous_rhs takes it), and for the starts of the two iterative solves the
 // products they begin with (start_product): A_cn times the extrapolation 2 u*_{n-1} - u*_{n-2}
-// that viscous_predictor computes, A_phi times phi^n. The same bits as those passes (product_rows).
+// that viscous_predictor computes, A_phi times phi^n. The same bits as those passes (the solver's
+// product: linear_solver.hpp, start_product).
 // One pass over the rows' common pattern: the four velocity sums as the lanes of one vector (the
 // inputs interleaved by rebuild, x4_), phi's beside them; each lane's arithmetic is its scalar sum's,
-// term by term (no FMA), as product_rows computes it.
+// term by term (no FMA), as apply2's plain rows and Eigen's row-major product compute it.
 void LagrangianFluid::products_ahead(int i0, int i1) {
   const int N = size();
   const SpMat& L = op_.lap_u.A;

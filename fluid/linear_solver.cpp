@@ -567,33 +567,6 @@ std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& 
   return cholmod_by_factor_size(system, A, 8e5, "auto");
 }
 
-void product_rows(const SpMat& A, const double* X, double* Y, int k, int i0, int i1) {
-  const int n = static_cast<int>(A.rows());
-  const int *o = A.outerIndexPtr(), *col = A.innerIndexPtr();
-  const double* a = A.valuePtr();
-  if (k == 2) {  // stencil::accumulate_row's sums, both columns in one pass (apply2)
-    const double *x0 = X, *x1 = X + n;
-    for (int i = i0; i < i1; ++i) {
-      double s0 = 0.0, s1 = 0.0;
-      for (int p = o[i]; p < o[i + 1]; ++p) {
-        s0 += a[p] * x0[col[p]];
-        s1 += a[p] * x1[col[p]];
-      }
-      Y[i] = s0;
-      Y[n + i] = s1;
-    }
-    return;
-  }
-  for (int c = 0; c < k; ++c) {  // Eigen's row-major product: tmp from 0, then y = 0 + 1 tmp
-    const double* x = X + static_cast<size_t>(c) * n;
-    for (int i = i0; i < i1; ++i) {
-      double t = 0.0;
-      for (int p = o[i]; p < o[i + 1]; ++p) t += a[p] * x[col[p]];
-      Y[static_cast<size_t>(c) * n + i] = 0.0 + t;
-    }
-  }
-}
-
 std::unique_ptr<LinearSolver> lagged_pcg(const std::string& system, const SpMat& A, std::unique_ptr<LinearSolver> start,
                                          Factorise factorise, NullSpaceHooks null, LaggedPcgOptions opt) {
   return std::make_unique<LaggedPcg>(system, A, std::move(start), std::move(factorise), std::move(null), opt);

@@ -51,8 +51,9 @@ class LinearSolver {
   // particles assemble their matrices in place every step). Direct solvers copy as refactorize().
   virtual bool refactorize_in_place(const SpMat& A) { return refactorize(A); }
   // The product A X0 for the start X0 of the next solve, computed by the caller where it is cheap
-  // (LPSPH: row block by row block behind the assembly, while A's values are in cache) with
-  // product_rows (below). An iterative solver whose matrix is A (the same object, read in place)
+  // (LPSPH: row block by row block behind the assembly, while A's values are in cache) with the
+  // bits of lagged_pcg's own product (two columns: apply2's rows, products.hpp; one: Eigen's A x, 0 +
+  // each row's sum). An iterative solver whose matrix is A (the same object, read in place)
   // and whose start equals X0 bit for bit takes AX0 (n x k) instead of computing A X0 itself, the
   // same bits; else, and for direct solvers, it is ignored. For that next solve only: the caller
   // keeps X0 and AX0 alive and A unchanged until then.
@@ -112,11 +113,6 @@ struct LaggedPcgOptions {
 };
 
 using Factorise = std::function<std::unique_ptr<LinearSolver>(const std::string& system, const SpMat& A)>;
-
-// Y = A X over the rows [i0, i1) of A (row-major), X and Y n x k column-major: the bits of the
-// product lagged_pcg takes (k = 2: apply2's rows, products.hpp; else each column as Eigen's A x,
-// 0 + the row's sum), so that a caller's start_product equals it.
-void product_rows(const SpMat& A, const double* X, double* Y, int k, int i0, int i1);
 
 std::unique_ptr<LinearSolver> lagged_pcg(const std::string& system, const SpMat& A, std::unique_ptr<LinearSolver> start,
                                          Factorise factorise, NullSpaceHooks null, LaggedPcgOptions opt);

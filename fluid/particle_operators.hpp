@@ -75,7 +75,7 @@ struct PairRules {
 // phi_rows = false (with A_phi, the sum form): the values of the phi operators (lap_phi, grad_phix,
 // grad_phiy) are written only in the rows with images; in the others they are, bit for bit, -A_phi
 // and grad_ux.A, grad_uy.A (images carry phi and u alike only there), and the caller takes them
-// from those (LPSPH: ProjectionFluid's phi_ops_lazy_).
+// from those (LPSPH: ProjectionFluid's phi_ops_from_, operators()).
 struct ProjectionSystems {
   double a_cn = 0;
   SpMat* A_cn = nullptr;

@@ -16,6 +16,7 @@
 
 #include "fluid/lagrangian.hpp"
 #include "fluid/particle_operators.hpp"
+#include "fluid/products.hpp"
 #include "fluid/solver_policy.hpp"
 #include "io/scene.hpp"
 
@@ -403,8 +404,8 @@ TEST(MovingParticles, LatticePreconditionerGivesWayToALaggedFactorFarFromTheLatt
 }
 
 // start_product (LPSPH computes A X0 behind the assembly, fluid/lagrangian.cpp): a lagged PCG given
-// product_rows's A X0 for its start X0 returns the bits of its own solve, for two columns (apply2's
-// product) and one (Eigen's); a wrong A X0 is taken when X0 is the start (so the check can fail) and
+// A X0 for its start X0, made as its own product makes it (two columns: apply2; one: Eigen's A x),
+// returns the bits of its own solve; a wrong A X0 is taken when X0 is the start (so the check can fail) and
 // ignored when it is not, as is a hint for another matrix object.
 TEST(MovingParticles, LaggedPcgTakesTheCallersStartProductBitForBit) {
   FluidParams p = box(true, 24);
@@ -430,7 +431,8 @@ TEST(MovingParticles, LaggedPcgTakesTheCallersStartProductBitForBit) {
   auto same = [](const double* u, const double* v, int n) { return std::memcmp(u, v, sizeof(double) * n) == 0; };
   for (int k : {2, 1}) {
     Mat2 ax(N, 2), wrong(N, 2), other = x0;
-    product_rows(A, x0.data(), ax.data(), k, 0, N);
+    if (k == 2) apply2(A, x0.data(), ax.data());
+    else ax.col(0) = A * x0.col(0);
     wrong = 2.0 * ax;
     other(7, 0) += 1e-3;
     auto solve = [&](const SpMat* hint_A, const double* X0, const double* AX0) {
