@@ -143,8 +143,8 @@ TEST(Api, FromCurveAndFromPolarSampleUniformlyInArclength) {
   };
   const Membrane m = make_membrane(from_curve(curve, 64), 0.5, 3.0);
   ASSERT_EQ(m.nb(), 64);
-  EXPECT_DOUBLE_EQ(m.T0, 3.0);
-  EXPECT_NEAR(m.L0, 2 * kPi * 0.5, 1e-14);
+  EXPECT_DOUBLE_EQ(m.mat.Es, 3.0);
+  EXPECT_NEAR(m.L0(), 2 * kPi * 0.5, 1e-14);
   double dmin = 1e9, dmax = 0;
   for (int k = 0; k < 64; ++k) {
     EXPECT_NEAR((m.X.row(k) - Eigen::RowVector2d(1.0, 0.0)).norm(), R, 1e-6);

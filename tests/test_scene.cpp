@@ -126,8 +126,8 @@ TEST(Scene, OverridesReachEveryContractKey) {
   EXPECT_DOUBLE_EQ(s.sim.fluid.mu, 0.3);
   ASSERT_EQ(s.sim.membranes.size(), 1u);
   const MembraneSetup& m = s.sim.membranes[0];
-  EXPECT_DOUBLE_EQ(m.membrane.T0, 10.0);
-  EXPECT_DOUBLE_EQ(m.membrane.L0, 2 * M_PI * 0.4);
+  EXPECT_DOUBLE_EQ(m.membrane.mat.Es, 10.0);
+  EXPECT_DOUBLE_EQ(m.membrane.L0(), 2 * M_PI * 0.4);
   EXPECT_EQ(m.membrane.nb(), 64);
   EXPECT_TRUE(m.fixed);
   const double h = 1.5 * 0.5 * (3.0 / 32 + 3.0 / 24);
