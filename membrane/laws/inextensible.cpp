@@ -1,7 +1,7 @@
 // A locally inextensible membrane (vesicles), by a stiff penalty on the stretch: T = Es (lambda - 1)
 // with Es large against the flow's and the bending's stresses, as in the penalty immersed-boundary
 // vesicles of Kim & Lai (2010, J. Comput. Phys. 229, 4840). The local length error is |lambda - 1| ~
-// T/Es, reported as the stretch error of the membrane's diagnostics. Chosen over a tension
+// T/Es, reported as the diagnostics column m<k>_strain_max (max_k |lambda_k - 1|). Chosen over a tension
 // multiplier, whose solve needs the fluid's response at every marker: the penalty's stiffness is what
 // the stiff-force filter (coupling/stiff_force.hpp) takes implicitly, so a stiff Es runs at the step
 // the flow needs.
