@@ -155,6 +155,14 @@ double Simulation::coupling_floor_seconds(int reps) const {
   double total = best_of(reps, [&] {
     for (size_t k = 0; k < mem_.size(); ++k) force[k].compute(mem_[k].m.X, f, T);  // Eqs. (47)-(50)
   });
+  if (k_stiff_ >= 0) {
+    Mat2 ft;
+    const FluidParams& p = fluid_->params();
+    total += best_of(reps, [&] {
+      for (const auto& s : mem_)
+        if (s.filter) s.filter->apply(s.force, s.f, s.U_n, {p.rho, p.mu, p.dt, s.h_star, interpolation_length()}, ft);
+    });
+  }
   total += best_of(reps, [&] {
     for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F);  // Eq. (53)
   });

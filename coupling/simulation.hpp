@@ -93,7 +93,8 @@ class Simulation {
   bool marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU = nullptr) const;
   // The coupling's floor: the bare kernels one step of it cannot avoid, each timed alone on the
   // current state, best of `reps` (as FluidSolver::floor_seconds for the fluid): the membrane
-  // forces, one spreading, the markers' stream function solve (divergence-free interpolation) and
+  // forces, the stiff-force filter (semi-implicit membranes), one spreading, the markers' stream
+  // function solve (divergence-free interpolations) and
   // one marker-velocity interpolation (with its gradient where the marker update linearises) per
   // free membrane. 0 without membranes.
   double coupling_floor_seconds(int reps = 20) const;

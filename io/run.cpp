@@ -75,8 +75,15 @@ std::string setup_report(const Scene& scene, const Simulation& sim, double setup
   for (size_t k = 0; k < sim.membranes().size(); ++k) {
     const auto& ms = sim.membranes()[k];
     m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0() << ", " << describe(ms.m.mat)
-      << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << ", markers per grid spacing "
-      << fl.lattice().dx / ms.m.ds();
+      << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << (ms.filter ? ", semi-implicit force" : "")
+      << ", markers per grid spacing " << fl.lattice().dx / ms.m.ds();
+  }
+  if (!sim.membranes().empty()) {
+    const MarkerInterpolation i = sim.interpolation();
+    m << "\n  marker velocity: "
+      << (i == MarkerInterpolation::Sph       ? "normalised SPH interpolation (Eq. 63)"
+          : i == MarkerInterpolation::BSpline ? "curl of the stream function, tensor cubic B-splines (divergence-free)"
+                                              : "curl of the stream function, SPH kernel (divergence-free)");
   }
   m << "\n  " << plan.steps << " steps to t = " << std::to_string(plan.steps * fp.dt) << ", output in " << out_dir;
   return m.str();
