@@ -98,6 +98,15 @@ Simulation::Simulation(const SimulationParams& params)
   k_markers_ = prof_.phase("marker update (Eqs. 56-60)");
   for (const auto& s : mem_)
     if (s.filter) k_stiff_ = prof_.phase("stiff-force filter (coupling/stiff_force.hpp)");
+  all_.start.assign(1, 0);
+  for (const auto& s : mem_) {
+    all_.start.push_back(all_.start.back() + s.m.nb());
+    all_.ds.push_back(s.m.ds());
+  }
+  if (prm_.contact.on() && !mem_.empty()) {
+    contact_ = std::make_unique<ContactForce>(prm_.contact, prm_.fluid.domain);
+    k_contact_ = prof_.phase("contact force (coupling/contact.hpp)");
+  }
   update_membrane_forces();  // f and T at t = 0 (a stretched membrane starts under tension)
 }
 
@@ -107,7 +116,8 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
   mem_[k].m.X = X;
   mem_[k].U_revision = -1;
   mem_[k].U_n_known = mem_[k].U_prev_known = false;  // a jump: no history for the predictor
-  mem_[k].force.compute(mem_[k].m.X, mem_[k].f, mem_[k].T);
+  if (contact_) update_membrane_forces();  // the contact of every membrane changes with these markers
+  else mem_[k].force.compute(mem_[k].m.X, mem_[k].f, mem_[k].T);
 }
 
 void Simulation::set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next) {
@@ -126,7 +136,20 @@ const Mat2* Simulation::next_marker_velocity(size_t k) const {
 }
 
 void Simulation::update_membrane_forces() {
+  elastic_forces();
+  if (contact_) contact_forces();
+}
+
+void Simulation::elastic_forces() {
   for (auto& s : mem_) s.force.compute(s.m.X, s.f, s.T);
+}
+
+void Simulation::contact_forces() {
+  all_.X.resize(all_.start.back(), 2);
+  for (size_t k = 0; k < mem_.size(); ++k) all_.X.middleRows(all_.start[k], mem_[k].m.nb()) = mem_[k].m.X;
+  all_.f.setZero(all_.start.back(), 2);
+  contact_->add(all_.X, all_.start, all_.ds, all_.f);
+  for (size_t k = 0; k < mem_.size(); ++k) mem_[k].f += all_.f.middleRows(all_.start[k], mem_[k].m.nb());
 }
 
 bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
@@ -155,6 +178,13 @@ double Simulation::coupling_floor_seconds(int reps) const {
   double total = best_of(reps, [&] {
     for (size_t k = 0; k < mem_.size(); ++k) force[k].compute(mem_[k].m.X, f, T);  // Eqs. (47)-(50)
   });
+  if (contact_) {
+    Mat2 fc;
+    total += best_of(reps, [&] {
+      fc.setZero(all_.X.rows(), 2);
+      contact_->add(all_.X, all_.start, all_.ds, fc);
+    });
+  }
   if (k_stiff_ >= 0) {
     Mat2 ft;
     const FluidParams& p = fluid_->params();
@@ -189,8 +219,13 @@ void Simulation::step() {
   spread_membrane_forces();    // F^n += sum_k f_k^n W(x_i - X_k^n, h*) ds (Eq. 53)
   fluid_->step(F_);            // PMIII with prefactored systems: u^n -> u*, u^{n+1} (Eqs. 28-35)
   move_markers();              // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) (Eqs. 56-60)
-  ScopedTimer t(prof_, k_force_);
-  update_membrane_forces();    // f^{n+1}, T^{n+1} (Eqs. 47-50): the next step's, and what output sees
+  {
+    ScopedTimer t(prof_, k_force_);
+    elastic_forces();          // f^{n+1}, T^{n+1} (Eqs. 47-50): the next step's, and what output sees
+  }
+  if (!contact_) return;
+  ScopedTimer t(prof_, k_contact_);
+  contact_forces();            // f^{n+1} += the repulsion between membranes and off walls (contact.hpp)
 }
 
 void Simulation::external_force(double t) {

@@ -4,6 +4,7 @@
 #include <functional>
 #include <vector>
 
+#include "coupling/contact.hpp"
 #include "coupling/marker_update.hpp"
 #include "coupling/stiff_force.hpp"
 #include "fluid/solver.hpp"
@@ -37,6 +38,9 @@ struct SimulationParams {
   std::vector<MembraneSetup> membranes;
   MarkerUpdateParams markers;
   MarkerInterpolation interpolation = MarkerInterpolation::Auto;
+  // The short-range repulsion between membranes and off the walls (coupling/contact.hpp); off by
+  // default (strength 0), and then no part of the step.
+  ContactParams contact;
 };
 
 struct MembraneState {
@@ -77,10 +81,12 @@ class Simulation {
   void set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next = nullptr);
   // U^{n+1}(X^{n+1}) of membrane k as the last marker update left it for the next step, or nullptr.
   const Mat2* next_marker_velocity(size_t k) const;
-  // f and T of every membrane at its current markers (Eqs. 47-50), as membranes()[k].f and .T show
-  // them at all times: the constructor, set_markers and the end of step() call it, and step()
-  // spreads the f it left (f^n at X^n).
+  // f and T of every membrane at its current markers (Eqs. 47-50), with the contact force added to f
+  // when it is on, as membranes()[k].f and .T show them at all times: the constructor, set_markers
+  // and the end of step() call it, and step() spreads the f it left (f^n at X^n).
   void update_membrane_forces();
+  // The contact force (coupling/contact.hpp) of the last update_membrane_forces(), or nullptr when off.
+  const ContactForce* contact() const { return contact_.get(); }
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
@@ -106,6 +112,8 @@ class Simulation {
   void stiff_forces();             // f~ of the semi-implicit membranes (coupling/stiff_force.hpp)
   void spread_membrane_forces();   // F += S f (Eq. 53), f~ where semi-implicit
   void move_markers();             // the trapezoidal fixed point (Eqs. 56-60)
+  void elastic_forces();           // f, T by each membrane's law (Eqs. 47-50)
+  void contact_forces();           // f += the contact force (coupling/contact.hpp)
 
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
@@ -113,8 +121,14 @@ class Simulation {
   CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
+  std::unique_ptr<ContactForce> contact_;  // nullptr: off
+  struct {  // every membrane's markers, concatenated (membrane k's rows [start[k], start[k+1]))
+    Mat2 X, f;
+    std::vector<int> start;
+    std::vector<double> ds;
+  } all_;
   Profile prof_;
-  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1;
+  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1, k_contact_ = -1;
 };
 
 }  // namespace sphib

@@ -52,6 +52,31 @@ WallForces wall_forces_by_interpolation(const Domain& d, const Mat2& x, const Ve
   return f;
 }
 
+WallForces wall_shear_stress(const Lattice& L, const Mat2& u, double mu) {
+  WallForces tau = no_walls();
+  const Domain& d = L.domain;
+  const int nx = L.nx, ny = L.ny;
+  // sign * (9 u_1 - u_2 - 8 U_w) / (3 d): rows (or columns) 1 and 2 counted from the wall
+  auto derivative = [](double u1, double u2, double Uw, double dn) { return (9.0 * u1 - u2 - 8.0 * Uw) / (3.0 * dn); };
+  for (int s = 0; s < 4; ++s) {
+    const Side side = static_cast<Side>(s);
+    if (!d.is_wall(side)) continue;
+    double sum = 0.0;
+    if (side == Bottom || side == Top) {  // mu du/dy
+      const int j1 = side == Bottom ? 0 : ny - 1, j2 = side == Bottom ? 1 : ny - 2;
+      const double sign = side == Bottom ? 1.0 : -1.0, Uw = d.wall_velocity[s].x();
+      for (int i = 0; i < nx; ++i) sum += sign * derivative(u(i + nx * j1, 0), u(i + nx * j2, 0), Uw, L.dy);
+      tau[s] = mu * sum / nx;
+    } else {  // mu dv/dx
+      const int i1 = side == Left ? 0 : nx - 1, i2 = side == Left ? 1 : nx - 2;
+      const double sign = side == Left ? 1.0 : -1.0, Vw = d.wall_velocity[s].y();
+      for (int j = 0; j < ny; ++j) sum += sign * derivative(u(i1 + nx * j, 1), u(i2 + nx * j, 1), Vw, L.dx);
+      tau[s] = mu * sum / ny;
+    }
+  }
+  return tau;
+}
+
 void wall_particle_pressure(WallPressure kind, int N, const ParticlePairs& P, const Vec& V, const Vec& p,
                             const Vec& rho, const Eigen::Vector2d& g, Vec& p_wall, Vec& workspace) {
   if (kind == WallPressure::Rest) return;

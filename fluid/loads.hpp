@@ -34,6 +34,15 @@ WallForces wall_forces_from_particles(const Lattice& L, const VirtualWalls& w, c
 WallForces wall_forces_by_interpolation(const Domain& d, const Mat2& x, const Vec& V, const Vec& p,
                                         const CubicSplineKernel& W, double ds_x, double ds_y);
 
+// The fluid's shear stress at each wall, the mean along it of mu du_t/dy on the bottom and top walls
+// and mu dv/dx on the left and right ones (sigma_xy at the wall line; NaN for a side without a wall),
+// from the fixed lattice L (particles half a spacing off a wall, Eq. 68) and its velocity u (N x 2, in
+// L's order): the derivative at the wall of the quadratic through the wall's velocity at the wall
+// line and the first two rows, du/dn(0) = (9 u_1 - u_2 - 8 U_w) / (3 d) (second order; exact for the
+// linear profile of Couette flow), with n pointing into the fluid from the bottom and left walls and
+// out of it at the top and right ones (so both walls of a sheared box give the same sign).
+WallForces wall_shear_stress(const Lattice& L, const Mat2& u, double mu);
+
 // The pressure of the wall particles, from their fluid neighbours (pairs i < N fluid, j >= N the
 // wall particle j - N; V, p, rho of the fluid particles):
 //  - Rest: the equation of state at the rest density (Morris et al. 1997), set by the method;

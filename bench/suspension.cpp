@@ -1,0 +1,73 @@
+// The step of a capsule suspension against the same box without capsules (the scene of
+// cases/suspension.hpp: 100 capsules x 64 markers, area fraction 0.3, sheared 256^2 box), paired in
+// one process on one core: both simulations are set up, then stepped alternately, `--block` steps of
+// the empty box and `--block` of the suspension per round, each block timed by the process's CPU
+// time. Prints the CPU ms per step of each (median over the rounds), the median (min-max) of the
+// rounds' ratios, the load average before and after, and the suspension's coupling phases (their
+// share of its step, from its profile's wall times).
+//   build/suspension [--rounds R] [--block K] [--count C] [--nb NB] [--nx N] [--contact-strength S]
+//                    [--interpolation bspline|divergence_free]
+#include <algorithm>
+
+#include "bench/common.hpp"
+#include "cases/suspension.hpp"
+#include "coupling/simulation.hpp"
+
+using namespace sphib;
+using namespace sphib::bench;
+
+namespace {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  SuspensionParams p;
+  p.contact_strength = 0.1;
+  int rounds = 7, block = 20, warm = 10;
+  CLI::App app{"suspension step against the same box without capsules (one core, paired in one process)"};
+  app.add_option("--rounds", rounds, "rounds of (empty, suspension) blocks");
+  app.add_option("--block", block, "steps per block");
+  app.add_option("--warm-up", warm, "steps of each before the first round");
+  app.add_option("--count", p.count, "capsules");
+  app.add_option("--nb", p.nb, "markers per capsule");
+  app.add_option("--nx", p.nx, "particles along x and y");
+  app.add_option("--contact-strength", p.contact_strength, "De of the contact force in units of T0 (0: off)");
+  app.add_option("--interpolation", p.interpolation, "marker velocity: bspline or divergence_free")
+      ->check(CLI::IsMember({"bspline", "divergence_free"}));
+  return run_main(app, argc, argv, [&] {
+    SuspensionParams e = p;
+    e.empty = true;
+    Simulation empty(suspension_scene(e).sim), susp(suspension_scene(p).sim);
+    for (int s = 0; s < warm; ++s) empty.step(), susp.step();
+    const double load0 = load_average();
+    std::vector<double> te, ts, ratio;
+    for (int r = 0; r < rounds; ++r) {
+      double t0 = cpu_seconds();
+      for (int s = 0; s < block; ++s) empty.step();
+      const double a = (cpu_seconds() - t0) / block;
+      t0 = cpu_seconds();
+      for (int s = 0; s < block; ++s) susp.step();
+      const double b = (cpu_seconds() - t0) / block;
+      te.push_back(a), ts.push_back(b), ratio.push_back(b / a);
+      std::printf("round %d: empty %.3f ms/step, suspension %.3f ms/step, ratio %.3f\n", r + 1, 1e3 * a, 1e3 * b, b / a);
+    }
+    std::printf("%d capsules x %d markers, %d^2, %s, contact %s: one core, %d rounds of %d steps\n",
+                static_cast<int>(susp.membranes().size()), p.nb, p.nx, p.interpolation.c_str(),
+                susp.contact() ? "on" : "off", rounds, block);
+    std::printf("empty box %.3f ms/step, suspension %.3f ms/step (medians); suspension/empty %.3f (min %.3f, max %.3f); "
+                "load average %.2f -> %.2f\n",
+                1e3 * median(te), 1e3 * median(ts), median(ratio), *std::min_element(ratio.begin(), ratio.end()),
+                *std::max_element(ratio.begin(), ratio.end()), load0, load_average());
+    // the coupling's phases, as shares of the suspension's profiled step (wall times)
+    const Profile& c = susp.profile();
+    const double total = c.total() + susp.fluid().step_seconds();
+    std::printf("suspension step (wall, profiled): fluid %.1f%%", 100 * susp.fluid().step_seconds() / total);
+    for (size_t k = 0; k < c.names().size(); ++k) std::printf(", %s %.1f%%", c.names()[k].c_str(), 100 * c.seconds(k) / total);
+    std::printf("\n");
+    return 0;
+  });
+}

@@ -1,0 +1,60 @@
+#pragma once
+// The scene of a capsule suspension in a sheared box, shared by cases/suspension_shear.cpp (the run
+// and its observations) and bench/suspension.cpp (its step against the same box without capsules):
+// `count` circular Hookean capsules at rest (radius a, area fraction phi of the unit box), placed at
+// random without overlap (seeded: membrane/packing.hpp) between walls y = 0, 1 sliding at -+U/2
+// (shear rate G = U), periodic in x, the fluid starting in plain Couette flow u = G (y - 1/2).
+// Dimensionless: L = H = 1, U = G = 1, rho = 1, mu = 1 (particle Reynolds number rho G a^2/mu ~ 1e-3),
+// T0 = mu G a / Ca, nx x nx particles, dt = cfl dx / U, h* = 1.4 h.
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "io/scene.hpp"
+#include "membrane/membrane.hpp"
+#include "membrane/packing.hpp"
+#include "membrane/shapes.hpp"
+
+namespace sphib {
+
+struct SuspensionParams {
+  int count = 100, nb = 64, nx = 256;
+  double phi = 0.3, Ca = 0.1, cfl = 0.5;
+  std::uint64_t seed = 1;
+  double contact_strength = 0.0;  // De in units of T0 (0: no contact force)
+  double contact_range = 2.0;     // r0 in lattice spacings; also the least gap between capsules at the start
+  std::string interpolation = "bspline";  // marker velocity: bspline or divergence_free (SPH kernel)
+  bool empty = false;             // the same box without capsules
+  double radius() const { return std::sqrt(phi / (count * M_PI)); }  // the capsules fill phi of the unit box
+  double T0() const { return 1.0 * 1.0 * radius() / Ca; }          // mu G a / Ca
+};
+
+inline Scene suspension_scene(const SuspensionParams& p) {
+  const double U = 1.0, G = U, a = p.radius();
+  Scene s;
+  s.title = "capsule suspension in shear flow";
+  FluidParams& f = s.sim.fluid;
+  f.domain = {0.0, 1.0, 0.0, 1.0, /*periodic_x=*/true, /*periodic_y=*/false};
+  f.domain.wall_velocity[Top] = {U / 2, 0.0};
+  f.domain.wall_velocity[Bottom] = {-U / 2, 0.0};
+  f.nx = f.ny = p.nx, f.rho = 1.0, f.mu = 1.0;
+  const double dx = 1.0 / p.nx, h = f.h_over_dx * dx, h_star = 1.4 * h;
+  f.dt = p.cfl * dx / U;
+  s.sim.initial_velocity = [G](double, double y) { return Eigen::Vector2d(G * (y - 0.5), 0.0); };  // Couette
+  s.sim.interpolation =
+      p.interpolation == "bspline" ? MarkerInterpolation::BSpline : MarkerInterpolation::DivergenceFree;
+  s.loads = true;  // shear_<wall> and mu_eff (observe/loads.cpp)
+  s.fields = {"u", "v"};
+  if (p.empty) return s;
+  DiskPacking pack;
+  pack.count = p.count, pack.radius = a, pack.seed = p.seed;
+  pack.gap = p.contact_range * dx;
+  pack.wall_gap = 2.0 * std::max(h, h_star);  // the start keeps max(2h, 2h*) off the walls
+  const Eigen::MatrixX2d c = random_disks(pack);
+  for (int k = 0; k < p.count; ++k)
+    s.sim.membranes.push_back({make_membrane(circle(p.nb, c(k, 0), c(k, 1), a), a, p.T0()), h_star});
+  if (p.contact_strength > 0) s.sim.contact = {p.contact_strength * p.T0(), p.contact_range * dx, 0.0, true};
+  return s;
+}
+
+}  // namespace sphib
