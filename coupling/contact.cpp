@@ -8,10 +8,10 @@
 namespace sphib {
 
 // A cell list over the markers of several membranes: cells of at least `radius`, markers sorted by
-// cell (counting sort), and every unordered pair of markers of different membranes closer than
-// `radius` visited once (each cell with itself and four of its neighbours: the half stencil).
-// Coordinates wrap along periodic axes and clamp to the edge cells along bounded ones; distances are
-// by minimum image.
+// cell (counting sort, their coordinates and membranes copied in that order), and every unordered
+// pair of markers of different membranes closer than `radius` visited once: each occupied cell with
+// itself and four of its neighbours (the half stencil). Coordinates wrap along periodic axes (a
+// neighbour across the period is shifted by it) and clamp to the edge cells along bounded ones.
 class MarkerCells {
  public:
   MarkerCells(const Domain& d, double radius) : d_(d), radius_(radius) {
@@ -23,86 +23,124 @@ class MarkerCells {
       // at least one cell; no more than 4096 along an axis (a very short range then visits more pairs)
       nc_[a] = static_cast<int>(std::clamp(std::floor(L[a] / radius), 1.0, 4096.0));
       h_[a] = L[a] / nc_[a];
-      // The stencil wraps only with 3 cells or more (with 1 or 2 a wrapped neighbour is a cell the
-      // stencil visits anyway; minimum image then finds the nearest copy).
+      inv_h_[a] = nc_[a] / L[a];  // (a cell a rounding narrower than h_ would still be at least radius: nc_ floors)
+      lo_[a] = a == 0 ? d.x0 : d.y0;
+      L_[a] = L[a];
+      per_[a] = per[a];
+      // The stencil wraps with 3 cells or more; with 1 or 2 a wrapped neighbour is a cell it visits
+      // anyway, and the minimum image finds the nearest copy instead.
       wrap_[a] = per[a] && nc_[a] >= 3;
     }
   }
 
   // Sorts the markers X (membrane k's rows [start[k], start[k+1])) into the cells; returns the
-  // membrane of every marker.
+  // membrane of every marker. O(markers): only the occupied cells are counted, given their ranges
+  // (in the order they were first met) and cleared again.
   const std::vector<int>& bin(const Mat2& X, const std::vector<int>& start) {
-    const int n = static_cast<int>(X.rows()), ncell = nc_[0] * nc_[1];
+    const int n = static_cast<int>(X.rows());
     owner_.resize(n);
     for (size_t k = 0; k + 1 < start.size(); ++k)
       for (int i = start[k]; i < start[k + 1]; ++i) owner_[i] = static_cast<int>(k);
-    head_.assign(ncell + 1, 0);
-    cell_.resize(n);
-    items_.resize(n);
-    for (int i = 0; i < n; ++i) {
-      cell_[i] = cell_of(X(i, 0), 0) + nc_[0] * cell_of(X(i, 1), 1);
-      ++head_[cell_[i] + 1];
+    for (int c : occupied_) count_[c] = fill_[c] = 0;  // the last bin's cells
+    if (count_.empty()) {
+      count_.assign(static_cast<size_t>(nc_[0]) * nc_[1], 0);
+      first_.assign(count_.size(), 0);
+      fill_.assign(count_.size(), 0);
+      only_.assign(count_.size(), -1);
     }
-    for (int c = 0; c < ncell; ++c) head_[c + 1] += head_[c];
-    next_.assign(head_.begin(), head_.end() - 1);
-    for (int i = 0; i < n; ++i) items_[next_[cell_[i]]++] = i;
+    cell_.resize(n);
+    wx_.resize(n);
+    wy_.resize(n);
+    occupied_.clear();
+    for (int i = 0; i < n; ++i) {
+      wx_[i] = wrapped(X(i, 0), 0);
+      wy_[i] = wrapped(X(i, 1), 1);
+      const int c = cell_[i] = cell_of(wx_[i], 0) + nc_[0] * cell_of(wy_[i], 1);
+      if (count_[c]++ == 0) {
+        occupied_.push_back(c);
+        only_[c] = owner_[i];
+      } else if (only_[c] != owner_[i]) {
+        only_[c] = -1;  // markers of several membranes
+      }
+    }
+    int next = 0;
+    for (int c : occupied_) first_[c] = next, next += count_[c];
+    items_.resize(n);
+    sx_.resize(n);
+    sy_.resize(n);
+    so_.resize(n);
+    for (int i = 0; i < n; ++i) {  // stable in i within a cell
+      const int c = cell_[i], a = first_[c] + fill_[c]++;
+      items_[a] = i;
+      sx_[a] = wx_[i];
+      sy_[a] = wy_[i];
+      so_[a] = owner_[i];
+    }
     return owner_;
   }
 
   // f(i, j, dx, dy, r2) for every pair of markers i, j of different membranes with
   // r2 = |X_i - X_j|^2 < radius^2 (dx, dy = X_i - X_j by minimum image), each pair once.
   template <class F>
-  void for_each_pair(const Mat2& X, F&& f) const {
+  void for_each_pair(F&& f) const {
     static constexpr int kStencil[5][2] = {{0, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
     const double r2max = radius_ * radius_;
-    for (int cy = 0; cy < nc_[1]; ++cy)
-      for (int cx = 0; cx < nc_[0]; ++cx) {
-        const int c = cx + nc_[0] * cy;
-        if (head_[c] == head_[c + 1]) continue;
-        for (const auto& s : kStencil) {
-          const int nx = neighbour(cx + s[0], 0), ny = neighbour(cy + s[1], 1);
-          if (nx < 0 || ny < 0) continue;
-          const int e = nx + nc_[0] * ny;  // (never c but for the offset (0, 0): see wrap_)
-          for (int a = head_[c]; a < head_[c + 1]; ++a) {
-            const int i = items_[a];
-            for (int b = (e == c ? a + 1 : head_[e]); b < head_[e + 1]; ++b) {
-              const int j = items_[b];
-              if (owner_[i] == owner_[j]) continue;  // the membrane's own law holds its markers
-              double dx = X(i, 0) - X(j, 0), dy = X(i, 1) - X(j, 1);
-              if (d_.periodic_x) dx -= d_.Lx() * std::round(dx / d_.Lx());
-              if (d_.periodic_y) dy -= d_.Ly() * std::round(dy / d_.Ly());
-              const double r2 = dx * dx + dy * dy;
-              if (r2 < r2max) f(i, j, dx, dy, r2);
-            }
+    for (int c : occupied_) {
+      const int cx = c % nc_[0], cy = c / nc_[0];
+      const int a0 = first_[c], a1 = a0 + count_[c];
+      for (const auto& s : kStencil) {
+        int nx = cx + s[0], ny = cy + s[1];
+        double shx = 0.0, shy = 0.0;  // the neighbour's coordinates, moved across the period
+        if (!neighbour(nx, shx, 0) || !neighbour(ny, shy, 1)) continue;
+        const int e = nx + nc_[0] * ny;  // (e == c only for the offset (0, 0): see wrap_)
+        if (count_[e] == 0 || (only_[c] >= 0 && only_[e] == only_[c])) continue;  // empty, or one membrane's
+        const int b1 = first_[e] + count_[e];
+        for (int a = a0; a < a1; ++a) {
+          const double xa = sx_[a] - shx, ya = sy_[a] - shy;
+          const int oa = so_[a];
+          for (int b = (e == c ? a + 1 : first_[e]); b < b1; ++b) {
+            if (so_[b] == oa) continue;  // the membrane's own law holds its markers
+            double dx = xa - sx_[b], dy = ya - sy_[b];
+            if (per_[0] && !wrap_[0]) dx -= L_[0] * std::round(dx / L_[0]);
+            if (per_[1] && !wrap_[1]) dy -= L_[1] * std::round(dy / L_[1]);
+            const double r2 = dx * dx + dy * dy;
+            if (r2 < r2max) f(items_[a], items_[b], dx, dy, r2);
           }
         }
       }
+    }
   }
 
  private:
-  int cell_of(double c, int axis) const {
-    const double lo = axis == 0 ? d_.x0 : d_.y0, L = axis == 0 ? d_.Lx() : d_.Ly();
-    const bool per = axis == 0 ? d_.periodic_x : d_.periodic_y;
-    double u = c - lo;
-    if (per) u -= L * std::floor(u / L);
-    const int k = static_cast<int>(std::floor(u / h_[axis]));
-    return std::clamp(k, 0, nc_[axis] - 1);
+  double wrapped(double c, int a) const {
+    if (!per_[a] || (c >= lo_[a] && c < lo_[a] + L_[a])) return c;  // (most markers: no floor, a libm call)
+    c -= L_[a] * std::floor((c - lo_[a]) / L_[a]);
+    return c >= lo_[a] + L_[a] ? lo_[a] : c;
   }
-  // The neighbour's index along an axis, wrapped, or -1 past a bounded edge (or where the stencil does
-  // not wrap).
-  int neighbour(int k, int axis) const {
-    const int n = nc_[axis];
-    if (k >= 0 && k < n) return k;
-    if (!wrap_[axis]) return -1;
-    return k < 0 ? k + n : k - n;
+  int cell_of(double c, int a) const {  // (truncation is the floor for c >= lo; clamped below)
+    const double u = (c - lo_[a]) * inv_h_[a];
+    return u < 0 ? 0 : std::min(static_cast<int>(u), nc_[a] - 1);
+  }
+  // The neighbour's index k along axis a, wrapped (shift: the period it moved by), or false past a
+  // bounded edge (or where the stencil does not wrap).
+  bool neighbour(int& k, double& shift, int a) const {
+    const int n = nc_[a];
+    if (k >= 0 && k < n) return true;
+    if (!wrap_[a]) return false;
+    shift = k < 0 ? -L_[a] : L_[a];
+    k = k < 0 ? k + n : k - n;
+    return true;
   }
 
   Domain d_;
   double radius_;
   int nc_[2];
-  double h_[2];
-  bool wrap_[2];
-  std::vector<int> head_, next_, cell_, items_, owner_;
+  double h_[2], inv_h_[2], lo_[2], L_[2];
+  bool per_[2], wrap_[2];
+  std::vector<int> count_, first_, fill_;  // by cell (zero but at the occupied cells)
+  std::vector<int> only_;                  // by occupied cell: the one membrane of its markers, or -1
+  std::vector<int> cell_, items_, owner_, so_, occupied_;
+  std::vector<double> wx_, wy_, sx_, sy_;
 };
 
 double morse_repulsion(const ContactParams& p, double r) {
@@ -133,7 +171,7 @@ void ContactForce::add(const Mat2& X, const std::vector<int>& start, const std::
   least_ = std::numeric_limits<double>::infinity();
   pairs_ = 0;
   const std::vector<int>& owner = cells_->bin(X, start);
-  cells_->for_each_pair(X, [&](int i, int j, double dx, double dy, double r2) {
+  cells_->for_each_pair([&](int i, int j, double dx, double dy, double r2) {
     const double r = std::sqrt(r2);
     least_ = std::min(least_, r);
     ++pairs_;
@@ -169,7 +207,7 @@ double least_marker_distance(const Mat2& X, const std::vector<int>& start, const
   MarkerCells cells(d, radius);
   cells.bin(X, start);
   double least = std::numeric_limits<double>::infinity();
-  cells.for_each_pair(X, [&](int, int, double, double, double r2) { least = std::min(least, r2); });
+  cells.for_each_pair([&](int, int, double, double, double r2) { least = std::min(least, r2); });
   return std::sqrt(least);
 }
 

@@ -13,8 +13,8 @@ namespace sphib {
 namespace {
 [[noreturn]] void no_particle(int k, const Mat2& X) {
   std::ostringstream m;
-  m << "interpolation: marker " << k << " at (" << X(k, 0) << ", " << X(k, 1) << ") has no fluid particle within 2h";
-  throw std::runtime_error(m.str());
+  m << " at (" << X(k, 0) << ", " << X(k, 1) << ") has no fluid particle within 2h";
+  throw MarkerError("interpolation: marker ", k, m.str());
 }
 }  // namespace
 
@@ -164,9 +164,9 @@ void interpolate_curl_bspline(const CellGrid& grid, double dx, double dy, const 
     }
     if (!(std::fabs(sw - 1.0) < 1e-9)) {  // the stencil left the lattice (a wall)
       std::ostringstream m;
-      m << "interpolation: marker " << k << " at (" << X(k, 0) << ", " << X(k, 1)
+      m << " at (" << X(k, 0) << ", " << X(k, 1)
         << ") is within two lattice spacings of a wall (its B-spline stencil leaves the lattice)";
-      throw std::runtime_error(m.str());
+      throw MarkerError("interpolation: marker ", k, m.str());
     }
     U(k, 0) = U_mean.x() + py;
     U(k, 1) = U_mean.y() - px;

@@ -7,86 +7,135 @@
 
 namespace sphib {
 
-namespace {
-
-// X^[I+1] is accepted by its linearised residual (marker_update.hpp) when the step |g| is below
-// kLinearStep max_move and |dt/2 dU/dX g| below eps/2; then U <- U - dU/dX g.
-constexpr double kLinearStep = 1e-6;
-
-bool accept_linearised(const MarkerUpdateParams& prm, double dt, double g_max, MarkerWork& w, Mat2& U,
-                       MarkerUpdateResult& res) {
-  if (!(g_max <= kLinearStep * prm.max_move)) return false;
-  double r_max = 0.0;
-  for (int k = 0; k < U.rows(); ++k) {
-    const double gx = w.g(k, 0), gy = w.g(k, 1);
-    const double ex = w.dU(k, 0) * gx + w.dU(k, 1) * gy, ey = w.dU(k, 2) * gx + w.dU(k, 3) * gy;  // dU/dX g
-    r_max = std::max(r_max, 0.5 * dt * std::sqrt(ex * ex + ey * ey));
-  }
-  if (!(r_max <= 0.5 * prm.eps)) return false;
-  for (int k = 0; k < U.rows(); ++k) {  // U^{n+1}(X^[I+1]) = U^{n+1}(X^[I]) + dU/dX (X^[I+1] - X^[I])
-    const double gx = w.g(k, 0), gy = w.g(k, 1);
-    U(k, 0) -= w.dU(k, 0) * gx + w.dU(k, 1) * gy;
-    U(k, 1) -= w.dU(k, 2) * gx + w.dU(k, 3) * gy;
-  }
-  ++res.iterations;
-  res.residual = r_max;
-  res.linearised = true;
-  return true;
-}
-
-}  // namespace
-
 MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, const Mat2* U_prev, double dt,
                                    const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U,
-                                   MarkerWork& work) {
+                                   MarkerWork& w, const std::vector<int>* groups) {
+  const int n = static_cast<int>(X.rows());
+  const std::vector<int> all{0, n};
+  const std::vector<int>& G = groups ? *groups : all;
+  const int ng = static_cast<int>(G.size()) - 1;
   X_n = X;
-  MarkerUpdateResult res;
+  int predictor = 0;  // interpolations of the predictor
   if (prm.extrapolate && U_prev) {
     X = X_n + dt * (1.5 * U_n - 0.5 * *U_prev);  // Adams-Bashforth: O(dt^3) from the root of Eq. (59)
   } else {
     U_new(X_n, U, nullptr);  // U^{n+1}(X^n), Eq. (62)
     X = X_n + dt * U;        // Eq. (58)
-    res.interpolations = 1;
+    predictor = 1;
   }
-  auto check_moves = [&]() {
+  auto check_moves = [&](int begin, int end) {
     if (prm.max_move <= 0) return;
-    for (int k = 0; k < X.rows(); ++k) {
+    for (int k = begin; k < end; ++k) {
       const double dx = X(k, 0) - X_n(k, 0), dy = X(k, 1) - X_n(k, 1);
       const double d = std::sqrt(dx * dx + dy * dy);  // (not hypot: a libm call per marker, no overflow here)
       if (!(d <= prm.max_move)) {
-        std::ostringstream m;
-        m << "blow-up at step " << step << ": marker " << k << " would move by " << d << " in one step (limit "
-          << prm.max_move << ", one lattice spacing)";
-        throw std::runtime_error(m.str());
+        std::ostringstream tail;
+        tail << " would move by " << d << " in one step (limit " << prm.max_move << ", one lattice spacing)";
+        throw MarkerError("blow-up at step " + std::to_string(step) + ": marker ", k, tail.str());
       }
     }
   };
-  check_moves();
-  work.g.resize(X.rows(), 2);
+  check_moves(0, n);
+  w.g.resize(n, 2);
+  w.results.assign(ng, MarkerUpdateResult{});
+  w.active.resize(ng);
+  for (int g = 0; g < ng; ++g) w.active[g] = g;
+  const double lim = prm.linear_step * prm.max_move;
   for (int I = 0; I <= prm.max_iter; ++I) {
-    const bool gradient = U_new(X, U, prm.linearise ? &work.dU : nullptr);  // U^{n+1}(X^[I]), Eq. (63)
-    ++res.interpolations;
-    // g(X) = X - X^n - dt/2 (U^n(X^n) + U^{n+1}(X)), Eq. (59)
-    double g_max = 0.0;
-    for (int k = 0; k < X.rows(); ++k) {
-      const double gx = X(k, 0) - X_n(k, 0) - 0.5 * dt * (U_n(k, 0) + U(k, 0));
-      const double gy = X(k, 1) - X_n(k, 1) - 0.5 * dt * (U_n(k, 1) + U(k, 1));
-      work.g(k, 0) = gx;
-      work.g(k, 1) = gy;
-      g_max = std::max(g_max, std::sqrt(gx * gx + gy * gy));
+    // U^{n+1}(X^[I]) of the groups still iterating, Eq. (63): in one call (gathered unless all are)
+    bool gradient;
+    Jacobians* dU = prm.linearise ? &w.dU : nullptr;
+    if (static_cast<int>(w.active.size()) == ng) {
+      gradient = U_new(X, U, dU);
+    } else {
+      int m = 0;
+      for (int g : w.active) m += G[g + 1] - G[g];
+      w.Xa.resize(m, 2);
+      w.Ua.resize(m, 2);
+      m = 0;
+      for (int g : w.active)
+        for (int k = G[g]; k < G[g + 1]; ++k) w.Xa.row(m++) = X.row(k);
+      try {
+        gradient = U_new(w.Xa, w.Ua, dU ? &w.dUa : nullptr);
+      } catch (const MarkerError& e) {  // its marker as a row of X
+        int r = e.marker;
+        for (int g : w.active) {
+          if (r < G[g + 1] - G[g]) throw MarkerError(e.head, G[g] + r, e.tail);
+          r -= G[g + 1] - G[g];
+        }
+        throw;
+      }
+      m = 0;
+      for (int g : w.active)
+        for (int k = G[g]; k < G[g + 1]; ++k, ++m) {
+          U.row(k) = w.Ua.row(m);
+          if (gradient) w.dU.row(k) = w.dUa.row(m);
+        }
     }
-    res.iterations = I;
-    res.residual = g_max;
-    if (!std::isfinite(g_max)) break;
-    if (g_max <= prm.eps) return res;
-    X = X_n + 0.5 * dt * (U_n + U);  // fixed-point iteration X^[I+1] = X^[I] - g(X^[I])
-    check_moves();
-    if (gradient && accept_linearised(prm, dt, g_max, work, U, res)) return res;
+    size_t kept = 0;
+    for (int g : w.active) {
+      MarkerUpdateResult& res = w.results[g];
+      res.interpolations = predictor + I + 1;
+      res.iterations = I;
+      // g(X) = X - X^n - dt/2 (U^n(X^n) + U^{n+1}(X)), Eq. (59)
+      double g_max = 0.0;
+      int worst = G[g];
+      for (int k = G[g]; k < G[g + 1]; ++k) {
+        const double gx = X(k, 0) - X_n(k, 0) - 0.5 * dt * (U_n(k, 0) + U(k, 0));
+        const double gy = X(k, 1) - X_n(k, 1) - 0.5 * dt * (U_n(k, 1) + U(k, 1));
+        w.g(k, 0) = gx;
+        w.g(k, 1) = gy;
+        const double r = std::sqrt(gx * gx + gy * gy);
+        if (!(r <= g_max)) g_max = r, worst = k;  // (a NaN is the worst)
+      }
+      res.residual = g_max;
+      auto no_convergence = [&] {
+        std::ostringstream tail;
+        tail << ": |g| = " << g_max << " after " << I << " iterations (tolerance " << prm.eps << ")";
+        return MarkerError("marker update did not converge at step " + std::to_string(step) + ": marker ", worst,
+                                 tail.str());
+      };
+      if (!std::isfinite(g_max)) throw no_convergence();
+      if (g_max <= prm.eps) continue;  // converged
+      X.middleRows(G[g], G[g + 1] - G[g]) =  // fixed-point iteration X^[I+1] = X^[I] - g(X^[I])
+          X_n.middleRows(G[g], G[g + 1] - G[g]) +
+          0.5 * dt * (U_n.middleRows(G[g], G[g + 1] - G[g]) + U.middleRows(G[g], G[g + 1] - G[g]));
+      check_moves(G[g], G[g + 1]);
+      if (gradient && g_max <= lim) {
+        // linearised acceptance: U^{n+1}(X^[I+1]) = U^{n+1}(X^[I]) + dU/dX (X^[I+1] - X^[I]) when the
+        // linear residual |dt/2 dU/dX g| is below eps/2 at every marker of the group
+        double r_max = 0.0;
+        for (int k = G[g]; k < G[g + 1]; ++k) {
+          const double gx = w.g(k, 0), gy = w.g(k, 1);
+          const double ex = w.dU(k, 0) * gx + w.dU(k, 1) * gy, ey = w.dU(k, 2) * gx + w.dU(k, 3) * gy;  // dU/dX g
+          r_max = std::max(r_max, 0.5 * dt * std::sqrt(ex * ex + ey * ey));
+        }
+        if (r_max <= 0.5 * prm.eps) {
+          for (int k = G[g]; k < G[g + 1]; ++k) {
+            const double gx = w.g(k, 0), gy = w.g(k, 1);
+            U(k, 0) -= w.dU(k, 0) * gx + w.dU(k, 1) * gy;
+            U(k, 1) -= w.dU(k, 2) * gx + w.dU(k, 3) * gy;
+          }
+          res.iterations = I + 1;
+          res.residual = r_max;
+          res.linearised = true;
+          continue;
+        }
+      }
+      if (I == prm.max_iter) throw no_convergence();
+      w.active[kept++] = g;  // iterates on
+    }
+    w.active.resize(kept);
+    if (kept == 0) break;
   }
-  std::ostringstream m;
-  m << "marker update did not converge at step " << step << ": max |g| = " << res.residual << " after "
-    << res.iterations << " iterations (tolerance " << prm.eps << ")";
-  throw std::runtime_error(m.str());
+  MarkerUpdateResult worst;
+  for (const MarkerUpdateResult& r : w.results) {
+    worst.iterations = std::max(worst.iterations, r.iterations);
+    worst.interpolations = std::max(worst.interpolations, r.interpolations);
+    worst.residual = std::max(worst.residual, r.residual);
+    worst.linearised |= r.linearised;
+  }
+  return worst;
 }
 
 }  // namespace sphib

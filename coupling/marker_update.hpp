@@ -13,12 +13,21 @@
 // iterate X^[I+1] = X^[I] - g(X^[I]) is a step of |g| (~1e-11 on the main job) from the point
 // where U and dU/dX were interpolated, so there
 //   U^{n+1}(X^[I+1]) = U^{n+1}(X^[I]) - dU/dX g + O(|g|^2),   g(X^[I+1]) = dt/2 dU/dX g + O(dt |g|^2).
-// X^[I+1] is accepted without interpolating there when the step is below 1e-6 of max_move (one
-// lattice spacing: U varies on the kernel's scale h, so the neglected terms are ~1e-6 of the
-// linear ones) and the linear residual |dt/2 dU/dX g| is below eps/2; U^{n+1}(X^{n+1}) is then
+// X^[I+1] is accepted without interpolating there when the step is below linear_step = 1e-6 of
+// max_move (one lattice spacing: U varies on the kernel's scale h, so the neglected terms are ~1e-6
+// of the linear ones) and the linear residual |dt/2 dU/dX g| is below eps/2; U^{n+1}(X^{n+1}) is then
 // the linearised value (the next step's U^n(X^n)), exact to O(|g|^2) ~ 1e-22. One interpolation
 // (with its gradient) per step instead of two, the same root within eps.
+//
+// Every marker's equation g(X_k) = 0 is its own (U^{n+1}(X_k) depends on X_k alone), so several
+// membranes advance as one set of markers, each membrane a group with its own decisions: a group
+// stops when its largest |g| is below eps or when the linearised acceptance holds for all its
+// markers, and the groups still iterating are interpolated again together, in one call. Each group
+// goes through exactly the steps it would alone (bit for bit: the interpolations are pointwise).
 #include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "fluid/types.hpp"
 
@@ -30,13 +39,16 @@ struct MarkerUpdateParams {
   double max_move = 0;  // > 0: a marker moving farther in one step is a blow-up (the Simulation sets dx)
   bool extrapolate = true;  // predictor: AB2 extrapolation when U^{n-1} is known, else Eq. (58)
   bool linearise = true;    // linearised acceptance when the interpolation gives dU/dX (above)
+  // The largest |g| the linearised acceptance takes, as a fraction of max_move (above: 1e-6 keeps
+  // the neglected quadratic terms ~1e-6 of the linear ones whatever the flow).
+  double linear_step = 1e-6;
 };
 
 struct MarkerUpdateResult {
   int iterations = 0;
   double residual = 0;      // max_k |g_k| at the accepted iterate (linearised: its first-order value)
-  bool linearised = false;  // accepted by the linearised residual (U^{n+1}(X^{n+1}) linearised)
-  int interpolations = 0;   // marker velocity interpolations made
+  bool linearised = false;  // a marker was accepted by the linearised residual (its U^{n+1}(X^{n+1}) linearised)
+  int interpolations = 0;   // marker velocity interpolations a marker went through (the most of any)
 };
 
 // dU/dX at each marker: dUx/dx, dUx/dy, dUy/dx, dUy/dy.
@@ -46,17 +58,35 @@ using Jacobians = Eigen::Matrix<double, Eigen::Dynamic, 4>;
 // gradient at X if the interpolation has one. Returns whether dU was filled.
 using MarkerVelocity = std::function<bool(const Mat2& X, Mat2& U, Jacobians* dU)>;
 
-struct MarkerWork {  // advance_markers' workspace (sized on first use)
+struct MarkerWork {  // advance_markers' workspace (sized on first use) and its results by group
   Mat2 g;            // g(X^[I]) per marker
   Jacobians dU;      // dU/dX at X^[I]
+  std::vector<int> active;  // the groups still iterating
+  Mat2 Xa, Ua;       // their markers' positions and velocities, gathered
+  Jacobians dUa;
+  std::vector<MarkerUpdateResult> results;  // of the last update, by group
+};
+
+// A marker update that failed: a marker moving more than max_move in a step (a blow-up), a group's
+// iteration not converging (its worst marker), a marker with no fluid around it (interpolate.hpp).
+// Names the marker by its row of X: what() is head + marker + tail.
+struct MarkerError : std::runtime_error {
+  MarkerError(std::string head_, int marker_, std::string tail_)
+      : std::runtime_error(head_ + std::to_string(marker_) + tail_), head(std::move(head_)), tail(std::move(tail_)),
+        marker(marker_) {}
+  std::string head, tail;
+  int marker;
 };
 
 // X holds X^n on entry and X^{n+1} on exit; U_n = U^n(X^n); U_prev = U^{n-1}(X^{n-1}) or nullptr
 // (the first step, or prm.extrapolate off: Eq. 58); U is workspace (Nb x 2) and holds
-// U^{n+1}(X^{n+1}) on exit (interpolated, or linearised as above). Throws std::runtime_error naming
-// `step` and the residual if the iteration does not reach eps in max_iter iterations.
+// U^{n+1}(X^{n+1}) on exit (interpolated, or linearised as above). `groups`: the markers of group g
+// are the rows [groups[g], groups[g+1]) (nullptr: one group of all); work.results holds each group's
+// result, and the return value their worst (most iterations and interpolations, largest residual).
+// Throws MarkerError naming `step`, the marker and its move (a blow-up) or its residual (a
+// group not converging in max_iter iterations).
 MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, const Mat2* U_prev, double dt,
                                    const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U,
-                                   MarkerWork& work);
+                                   MarkerWork& work, const std::vector<int>* groups = nullptr);
 
 }  // namespace sphib

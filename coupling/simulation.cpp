@@ -99,9 +99,12 @@ Simulation::Simulation(const SimulationParams& params)
   for (const auto& s : mem_)
     if (s.filter) k_stiff_ = prof_.phase("stiff-force filter (coupling/stiff_force.hpp)");
   all_.start.assign(1, 0);
-  for (const auto& s : mem_) {
-    all_.start.push_back(all_.start.back() + s.m.nb());
-    all_.ds.push_back(s.m.ds());
+  for (size_t k = 0; k < mem_.size(); ++k) {
+    all_.members.push_back(static_cast<int>(k));
+    all_.start.push_back(all_.start.back() + mem_[k].m.nb());
+    ds_.push_back(mem_[k].m.ds());
+    if (k == 0 || mem_[k].h_star != mem_[k - 1].h_star) spread_runs_.push_back({static_cast<int>(k), static_cast<int>(k)});
+    spread_runs_.back().second = static_cast<int>(k) + 1;
   }
   if (prm_.contact.on() && !mem_.empty()) {
     contact_ = std::make_unique<ContactForce>(prm_.contact, prm_.fluid.domain);
@@ -147,9 +150,9 @@ void Simulation::elastic_forces() {
 void Simulation::contact_forces() {
   all_.X.resize(all_.start.back(), 2);
   for (size_t k = 0; k < mem_.size(); ++k) all_.X.middleRows(all_.start[k], mem_[k].m.nb()) = mem_[k].m.X;
-  all_.f.setZero(all_.start.back(), 2);
-  contact_->add(all_.X, all_.start, all_.ds, all_.f);
-  for (size_t k = 0; k < mem_.size(); ++k) mem_[k].f += all_.f.middleRows(all_.start[k], mem_[k].m.nb());
+  all_.P.setZero(all_.start.back(), 2);
+  contact_->add(all_.X, all_.start, ds_, all_.P);
+  for (size_t k = 0; k < mem_.size(); ++k) mem_[k].f += all_.P.middleRows(all_.start[k], mem_[k].m.nb());
 }
 
 bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
@@ -182,7 +185,7 @@ double Simulation::coupling_floor_seconds(int reps) const {
     Mat2 fc;
     total += best_of(reps, [&] {
       fc.setZero(all_.X.rows(), 2);
-      contact_->add(all_.X, all_.start, all_.ds, fc);
+      contact_->add(all_.X, all_.start, ds_, fc);
     });
   }
   if (k_stiff_ >= 0) {
@@ -193,20 +196,18 @@ double Simulation::coupling_floor_seconds(int reps) const {
         if (s.filter) s.filter->apply(s.force, s.f, s.U_n, {p.rho, p.mu, p.dt, s.h_star, interpolation_length()}, ft);
     });
   }
+  // one spreading, as step() makes it: one pass over each run of membranes sharing h*
+  Simulation& self = const_cast<Simulation&>(*this);  // (its workspace; the state stays as it is)
   total += best_of(reps, [&] {
-    for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F);  // Eq. (53)
+    for (const auto& [a, b] : spread_runs_) self.spread_run(a, b, F);  // Eq. (53)
   });
-  bool free = false;
-  for (const auto& s : mem_) free |= !s.fixed;
-  if (!free) return total;
+  Mat2 X(free_.start.empty() ? 0 : free_.start.back(), 2);
+  for (size_t i = 0; i < free_.members.size(); ++i)
+    X.middleRows(free_.start[i], free_.start[i + 1] - free_.start[i]) = mem_[free_.members[i]].m.X;
+  if (X.rows() == 0) return total;
   if (interp_ != MarkerInterpolation::Sph) total += fluid_->stream_function_floor_seconds(reps);
-  total += best_of(reps, [&] {
-    for (const auto& s : mem_) {
-      if (s.fixed) continue;
-      U.resize(s.m.X.rows(), 2);  // (allocates once for equal Nb)
-      marker_velocity(s.m.X, U, prm_.markers.linearise ? &dU : nullptr);
-    }
-  });
+  U.resize(X.rows(), 2);
+  total += best_of(reps, [&] { marker_velocity(X, U, prm_.markers.linearise ? &dU : nullptr); });  // one call
   return total;
 }
 
@@ -255,7 +256,30 @@ void Simulation::stiff_forces() {
 
 void Simulation::spread_membrane_forces() {
   ScopedTimer t(prof_, k_spread_);
-  for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.filter ? s.f_tilde : s.f, s.m.ds(), F_);  // Eq. (53)
+  for (const auto& [a, b] : spread_runs_) spread_run(a, b, F_);  // Eq. (53), f~ where semi-implicit
+}
+
+void Simulation::spread_run(int a, int b, Mat2& F) {
+  if (b - a == 1) {  // one membrane: its own arrays
+    const MembraneState& s = mem_[a];
+    spread_force(grid_, s.W_star, s.m.X, s.filter ? s.f_tilde : s.f, s.m.ds(), F);
+    return;
+  }
+  const int r0 = all_.start[a], rows = all_.start[b] - r0;
+  all_.X.resize(rows, 2);
+  all_.P.resize(rows, 2);
+  for (int k = a; k < b; ++k) {  // the run's markers and point forces f_k ds, concatenated
+    const MembraneState& s = mem_[k];
+    const Mat2& f = s.filter ? s.f_tilde : s.f;
+    const int o = all_.start[k] - r0, n = s.m.nb();
+    const double ds = ds_[k];
+    all_.X.middleRows(o, n) = s.m.X;
+    for (int i = 0; i < n; ++i) {
+      all_.P(o + i, 0) = f(i, 0) * ds;
+      all_.P(o + i, 1) = f(i, 1) * ds;
+    }
+  }
+  spread_point_forces(grid_, mem_[a].W_star, all_.X, all_.P, F);
 }
 
 void Simulation::marker_velocities_now() {
@@ -267,24 +291,68 @@ void Simulation::marker_velocities_now() {
       s.U_prev_known = true;
     }
     s.U_n_known = true;
-    if (s.U_revision == fluid_->revision()) s.U_n = s.U;  // the last marker update's u^n at X^n
-    else marker_velocity(s.m.X, s.U_n);
+    if (s.U_revision == fluid_->revision()) {
+      s.U_n = s.U;  // the last marker update's u^n at X^n
+      continue;
+    }
+    try {
+      marker_velocity(s.m.X, s.U_n);
+    } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
+      throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
+    }
   }
 }
 
 void Simulation::move_markers() {
   ScopedTimer t(prof_, k_markers_);
   if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // the particles of u^{n+1}
-  const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U, Jacobians* dU) { return marker_velocity(X, U, dU); };
-  for (auto& s : mem_) {
-    if (s.fixed) continue;
-    s.U_revision = -1;
-    try {
-      s.last = advance_markers(U_new, s.U_n, s.U_prev_known ? &s.U_prev : nullptr, fluid_->params().dt, prm_.markers,
-                               fluid_->steps(), s.m.X, s.X_n, s.U, s.work);
-    } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
-      throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
+  // The free membranes in one set, or two when some start their predictor afresh (Eq. 58: the first
+  // step, a restart without the history) and others extrapolate.
+  for (bool extrapolate : {true, false}) {
+    free_.members.clear();
+    free_.start.assign(1, 0);
+    for (size_t k = 0; k < mem_.size(); ++k) {
+      const MembraneState& s = mem_[k];
+      if (s.fixed || (s.U_prev_known && prm_.markers.extrapolate) != extrapolate) continue;
+      free_.members.push_back(static_cast<int>(k));
+      free_.start.push_back(free_.start.back() + s.m.nb());
     }
+    if (!free_.members.empty()) advance_set(free_, extrapolate);
+  }
+}
+
+void Simulation::advance_set(FreeSet& set, bool extrapolate) {
+  const int n = set.start.back(), M = static_cast<int>(set.members.size());
+  set.X.resize(n, 2);
+  set.U_n.resize(n, 2);
+  set.U_prev.resize(n, 2);
+  set.U.resize(n, 2);
+  for (int i = 0; i < M; ++i) {
+    MembraneState& s = mem_[set.members[i]];
+    const int o = set.start[i], nb = s.m.nb();
+    set.X.middleRows(o, nb) = s.m.X;
+    set.U_n.middleRows(o, nb) = s.U_n;
+    if (extrapolate) set.U_prev.middleRows(o, nb) = s.U_prev;
+    s.U_revision = -1;
+  }
+  const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U, Jacobians* dU) { return marker_velocity(X, U, dU); };
+  try {
+    advance_markers(U_new, set.U_n, extrapolate ? &set.U_prev : nullptr, fluid_->params().dt, prm_.markers,
+                    fluid_->steps(), set.X, set.X_n, set.U, set.work, &set.start);
+  } catch (const MarkerError& e) {  // name the membrane and its marker
+    const int i = static_cast<int>(std::upper_bound(set.start.begin(), set.start.end(), e.marker) - set.start.begin()) - 1;
+    throw std::runtime_error("membrane " + std::to_string(set.members[i]) + ": " + e.head +
+                             std::to_string(e.marker - set.start[i]) + e.tail);
+  } catch (const std::runtime_error& e) {  // (the SPH interpolation's, fluid/interpolation.hpp: markers numbered across the set)
+    throw std::runtime_error((M == 1 ? "membrane " + std::to_string(set.members[0]) : std::string("membranes")) + ": " + e.what());
+  }
+  for (int i = 0; i < M; ++i) {
+    MembraneState& s = mem_[set.members[i]];
+    const int o = set.start[i], nb = s.m.nb();
+    s.m.X = set.X.middleRows(o, nb);
+    s.X_n = set.X_n.middleRows(o, nb);
+    s.U = set.U.middleRows(o, nb);
+    s.last = set.work.results[i];
     s.U_revision = fluid_->revision();  // converged: U = u^{n+1}(X^{n+1}) (to O(|g|^2) if linearised), the next U^n(X^n)
     s.iterations += s.last.iterations;
     s.interpolations += s.last.interpolations;

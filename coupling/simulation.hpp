@@ -122,11 +122,22 @@ class Simulation {
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
   std::unique_ptr<ContactForce> contact_;  // nullptr: off
-  struct {  // every membrane's markers, concatenated (membrane k's rows [start[k], start[k+1]))
-    Mat2 X, f;
-    std::vector<int> start;
-    std::vector<double> ds;
-  } all_;
+  // The passes over markers take many membranes as one set, their markers concatenated (membrane
+  // members[i]'s rows [start[i], start[i+1])): one call over all of them.
+  struct MarkerSet {
+    std::vector<int> members, start;
+    Mat2 X, P;  // markers; point forces f ds (spreading) or contact force densities
+  };
+  MarkerSet all_;              // every membrane (contact, spreading)
+  std::vector<double> ds_;     // every membrane's rest spacing
+  std::vector<std::pair<int, int>> spread_runs_;  // runs [a, b) of membranes with the same h*: one pass each
+  struct FreeSet : MarkerSet {  // free membranes with the same predictor (the marker update)
+    Mat2 X_n, U, U_n, U_prev;
+    MarkerWork work;
+  };
+  FreeSet free_;
+  void spread_run(int a, int b, Mat2& F);  // F += the spreading of membranes [a, b) (one h*), Eq. (53)
+  void advance_set(FreeSet& set, bool extrapolate);  // the marker update of a set (Eqs. 56-60)
   Profile prof_;
   int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1, k_contact_ = -1;
 };

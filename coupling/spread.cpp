@@ -60,20 +60,23 @@ namespace {
 
 }  // namespace
 
-void spread_force(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, const Mat2& f,
-                  double ds, Mat2& F) {
+namespace {
+
+// F += sum_k W(x_i - X_k, h*) (fx_k, fy_k), with fx_k = fx(k) (Eq. 53): the markers one after the other.
+template <class Fx, class Fy>
+void spread(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, Fx&& fx_of, Fy&& fy_of, Mat2& F) {
   const double radius = W_star.support();
   if (grid.lattice_mode()) {
     CellGrid::LatticeBox box;
     for (int k = 0; k < X.rows(); ++k) {
       grid.lattice_box(X(k, 0), X(k, 1), radius, box);
-      spread_box(box, W_star, f(k, 0) * ds, f(k, 1) * ds, F.col(0).data(), F.col(1).data());  // f_k ds
+      spread_box(box, W_star, fx_of(k), fy_of(k), F.col(0).data(), F.col(1).data());
     }
     return;
   }
   Neighbourhood nb;
   for (int k = 0; k < X.rows(); ++k) {
-    const double fx = f(k, 0) * ds, fy = f(k, 1) * ds;  // f_k ds
+    const double fx = fx_of(k), fy = fy_of(k);
     nb.gather(grid, X(k, 0), X(k, 1), radius, /*offsets=*/false);
     for (int m = 0; m < nb.pairs; ++m) {
       const Lanes2 w = W_star.W2(nb.r2(m));  // W(x_i - X_k, h*), 0 beyond 2h*
@@ -84,6 +87,17 @@ void spread_force(const CellGrid& grid, const CubicSplineKernel& W_star, const M
       F(i1, 1) += fy * w[1];
     }
   }
+}
+
+}  // namespace
+
+void spread_force(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, const Mat2& f,
+                  double ds, Mat2& F) {
+  spread(grid, W_star, X, [&](int k) { return f(k, 0) * ds; }, [&](int k) { return f(k, 1) * ds; }, F);  // f_k ds
+}
+
+void spread_point_forces(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, const Mat2& P, Mat2& F) {
+  spread(grid, W_star, X, [&](int k) { return P(k, 0); }, [&](int k) { return P(k, 1); }, F);
 }
 
 }  // namespace sphib

@@ -12,4 +12,9 @@ namespace sphib {
 void spread_force(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, const Mat2& f,
                   double ds, Mat2& F);
 
+// The same for point forces P_k = f_k ds at the markers X (any number of membranes sharing h*, their
+// markers concatenated: one pass over all of them). Bit for bit the sum of spread_force over the
+// membranes in the same order, with P = f ds.
+void spread_point_forces(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, const Mat2& P, Mat2& F);
+
 }  // namespace sphib

@@ -664,7 +664,9 @@ void read_output(Reader& r, Scene& s) {
                      "Afanasiev et al. Sections 6.2, 6.3, 7)");
   s.loads = r.boolean("observe.loads", false,
                       "the pressure force on every wall and its change since t = 0, the load of Afanasiev et al. Eq. (31): "
-                      "columns force_<wall>, load_<wall>");
+                      "columns force_<wall>, load_<wall>; on the fixed lattice (eulerian) also the fluid's shear stress at "
+                      "every wall, shear_<wall>, and with sliding bottom and top walls the effective viscosity mu_eff "
+                      "(their mean shear stress over the walls' shear rate)");
   s.reference_dir = r.text("observe.reference_dir", "reference", "directory of the Ghia et al. tables, relative to the scene file");
   s.memory_limit_gb = r.number("limits.memory_gb", 0.0, ">= 0",
                                "refuse a run whose memory estimate (sphib check) exceeds this many GB (0: the machine's "
@@ -690,6 +692,31 @@ void read_membranes(Reader& r, Scene& s, bool documenting) {
       s.membranes.push_back(m);
     }
   }
+}
+
+// [contact]: the short-range repulsion between membranes and off the walls (coupling/contact.hpp).
+void read_contact(Reader& r, Scene& s) {
+  ContactParams& c = s.sim.contact;
+  c.strength = r.number("contact.strength", 0.0, ">= 0",
+                        "De of the Morse repulsion between the line elements of different membranes (and off the walls), "
+                        "an energy per unit length of each: 0 turns the contact force off",
+                        false, 0.0);
+  c.range = r.number("contact.range", 0.0, ">= 0",
+                     "r0: the repulsion acts between markers closer than this (0: two lattice spacings, 2 min(dx, dy))",
+                     false, 0.0);
+  c.beta = r.number("contact.beta", 0.0, ">= 0", "the potential's steepness beta, 1/length (0: 2/range)", false, 0.0);
+  c.walls = r.boolean("contact.walls", true, "the walls push markers off too (a flat membrane's push along the wall line)");
+  if (r.documenting) return;
+  const FluidParams& f = s.sim.fluid;
+  const double dx = f.domain.Lx() / f.nx, dy = f.domain.Ly() / f.ny;
+  if (c.range == 0.0) c.range = 2.0 * std::min(dx, dy);
+  const Domain& d = f.domain;
+  if ((d.periodic_x && !(3.0 * c.range < d.Lx())) || (d.periodic_y && !(3.0 * c.range < d.Ly())))
+    r.fail("contact.range", "value " + fmt_num(c.range) + " must be below a third of the periodic period");
+  const bool walls = c.walls && !(d.periodic_x && d.periodic_y);
+  if (c.strength > 0 && (s.membranes.empty() || (s.membranes.size() == 1 && !walls)))
+    r.fail("contact.strength", "acts between membranes and off walls: this scene has " +
+                                   std::to_string(s.membranes.size()) + " membrane(s)" + (walls ? "" : " and no wall to push off"));
 }
 
 // The membranes, built in the domain's coordinates.
@@ -747,6 +774,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   read_time_and_solvers(r, s);
   read_output(r, s);
   read_membranes(r, s, docs_out != nullptr);
+  read_contact(r, s);
   if (docs_out) { *docs_out = r.docs; return s; }
   r.reject_unknown();
   s.resolved = r.resolved;
