@@ -20,10 +20,14 @@ namespace sphib {
 struct SuspensionParams {
   int count = 100, nb = 64, nx = 256;
   double phi = 0.3, Ca = 0.1, cfl = 0.5;
+  double Eb = 0.0;  // bending modulus in units of T0 a^2 (0: none; > 0: semi-implicit, coupling/stiff_force.hpp)
   std::uint64_t seed = 1;
   double contact_strength = 0.0;  // De in units of T0 (0: no contact force)
   double contact_range = 2.0;     // r0 in lattice spacings; also the least gap between capsules at the start
   std::string interpolation = "bspline";  // marker velocity: bspline or divergence_free (SPH kernel)
+  // The marker update's tolerances (solver.marker_eps, solver.marker_linear_step; the library's
+  // 1e-12 and 1e-6 cost a second interpolation every step here: docs/suspensions.md)
+  double marker_eps = 1e-12, linear_step = 1e-6;
   bool empty = false;             // the same box without capsules
   double radius() const { return std::sqrt(phi / (count * M_PI)); }  // the capsules fill phi of the unit box
   double T0() const { return 1.0 * 1.0 * radius() / Ca; }          // mu G a / Ca
@@ -43,6 +47,8 @@ inline Scene suspension_scene(const SuspensionParams& p) {
   s.sim.initial_velocity = [G](double, double y) { return Eigen::Vector2d(G * (y - 0.5), 0.0); };  // Couette
   s.sim.interpolation =
       p.interpolation == "bspline" ? MarkerInterpolation::BSpline : MarkerInterpolation::DivergenceFree;
+  s.sim.markers.eps = p.marker_eps;
+  s.sim.markers.linear_step = p.linear_step;
   s.loads = true;  // shear_<wall> and mu_eff (observe/loads.cpp)
   s.fields = {"u", "v"};
   if (p.empty) return s;
@@ -51,8 +57,11 @@ inline Scene suspension_scene(const SuspensionParams& p) {
   pack.gap = p.contact_range * dx;
   pack.wall_gap = 2.0 * std::max(h, h_star);  // the start keeps max(2h, 2h*) off the walls
   const Eigen::MatrixX2d c = random_disks(pack);
+  Material mat = hookean(p.T0());
+  mat.Eb = p.Eb * p.T0() * a * a;
   for (int k = 0; k < p.count; ++k)
-    s.sim.membranes.push_back({make_membrane(circle(p.nb, c(k, 0), c(k, 1), a), a, p.T0()), h_star});
+    s.sim.membranes.push_back({make_membrane(circle(p.nb, c(k, 0), c(k, 1), a), circle_reference(a), mat), h_star,
+                               /*fixed=*/false, /*semi_implicit=*/p.Eb > 0});
   if (p.contact_strength > 0) s.sim.contact = {p.contact_strength * p.T0(), p.contact_range * dx, 0.0, true};
   return s;
 }

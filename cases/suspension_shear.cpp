@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
   app.add_option("--cfl", p.cfl, "time step dt = cfl dx / U");
   app.add_option("--seed", p.seed, "seed of the random placement");
   app.add_option("--contact-strength", p.contact_strength, "De of the contact force in units of T0 (0: off)");
+  app.add_option("--marker-eps", p.marker_eps, "solver.marker_eps");
+  app.add_option("--eb", p.Eb, "bending modulus in units of T0 a^2 (semi-implicit)");
+  app.add_option("--linear-step", p.linear_step, "solver.marker_linear_step");
   app.add_option("--contact-range", p.contact_range, "its range r0 in lattice spacings");
   app.add_option("--interpolation", p.interpolation, "marker velocity: bspline or divergence_free (SPH kernel)")
       ->check(CLI::IsMember({"bspline", "divergence_free"}));

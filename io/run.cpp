@@ -85,6 +85,11 @@ std::string setup_report(const Scene& scene, const Simulation& sim, double setup
           : i == MarkerInterpolation::BSpline ? "curl of the stream function, tensor cubic B-splines (divergence-free)"
                                               : "curl of the stream function, SPH kernel (divergence-free)");
   }
+  if (const ContactForce* c = sim.contact()) {
+    const ContactParams& q = c->params();
+    m << "\n  contact: Morse repulsion De = " << q.strength << ", r0 = " << q.range << ", beta = "
+      << (q.beta > 0 ? q.beta : 2.0 / q.range) << (q.walls ? ", walls push too" : ", between membranes only");
+  }
   m << "\n  " << plan.steps << " steps to t = " << std::to_string(plan.steps * fp.dt) << ", output in " << out_dir;
   return m.str();
 }

@@ -610,6 +610,11 @@ void read_time_and_solvers(Reader& r, Scene& s) {
                                           "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor; auto, moving particles (lagrangian): pcg_fft where the lattice has an FFT solver, else pcg_cholmod; auto, isph: pcg_cholmod with a free surface, CHOLMOD supernodal for a full tank; pcg_fft, pcg_cholmod as for solver.crank_nicolson, moving particles only)"));
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = r.int32("solver.marker_max_iter", 50, 1, "fixed-point iteration limit");
+  s.sim.markers.linear_step = r.number(
+      "solver.marker_linear_step", 1e-6, "(0, 1]",
+      "the largest |g| the marker update accepts by linearisation (one interpolation less), as a fraction of a lattice "
+      "spacing: the neglected term dt/4 |grad grad U| |g|^2 must stay below solver.marker_eps/2",
+      false, 0.0, true, 1.0);
   s.sim.markers.extrapolate =
       r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
                "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "
