@@ -498,7 +498,7 @@ void bind_membranes(py::module_& m) {
           return mean_angular_velocity(X, markers_arg(U, "U"), c);
         }, py::arg("X"), py::arg("U"), py::arg("centre") = py::none(),
         "Mean angular velocity of markers X moving at U about centre (default: the polygon's centroid): "
-        "(1/nb) sum (X - c) x U / |X - c|^2, > 0 anticlockwise; a tank-treading membrane's frequency.");
+        "the mean over markers of (X - c) x U / norm(X - c)^2, > 0 anticlockwise; a tank-treading membrane's frequency.");
 }
 
 // Scenes: keys, membranes, callables and observers.

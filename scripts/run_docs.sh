@@ -16,7 +16,7 @@ fi
 out=build/docs
 rm -rf $out/html $out/doctrees
 SPHIB_BINARY=$PWD/build/sphib SPHIB_PYTHONPATH=$PWD/build/python \
-  /usr/bin/python3 -m sphinx -W --keep-going -n -q -b html -d $out/doctrees docs $out/html
+  /usr/bin/python3 -m sphinx -W --keep-going -q -b html -d $out/doctrees docs $out/html
 echo "docs: site built without warnings in $out/html"
 
 # Screenshots: Debian's Chromium, headless, without the background services this closed network
