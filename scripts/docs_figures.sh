@@ -6,6 +6,7 @@
 # (about 1 min; its loads beside dam_break_wcsph's when that ran first), droplet (WCSPH and ISPH, a
 # few seconds), inclined_plane (N = 2500 by WCSPH to t = 4, a few minutes), paraview (needs pvpython
 # and xvfb-run: scripts/run_paraview_test.sh installs them). Needs build/sphib (scripts/run_main.sh).
+# REUSE=1 keeps the runs that finished (a summary.json) and only draws them again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=out/docs_figures
@@ -27,6 +28,7 @@ PYEOF
 
 run() {  # run CASE DIR [--set ...]: a run of the case into DIR (again, so the figures are of this build)
   local scene=$1 dir=$2; shift 2
+  if [ -n "${REUSE:-}" ] && [ -f "$dir/summary.json" ]; then echo "docs_figures: reusing $dir"; return; fi
   echo "docs_figures: $SPHIB run $scene --out $dir --quiet $*"
   $SPHIB run "$scene" --out "$dir" --quiet "$@"
 }

@@ -236,7 +236,7 @@ def plot_particles(s, out, box, walls, units=None):
         ax.scatter(x, y, s=size, linewidths=0)
     ax.set_xlim(lim[0], lim[1])
     ax.set_ylim(lim[2], lim[3])
-    save_plane(fig, ax, out, "t = %.4g%s (step %d): particles coloured by pressure" % (s.t, units.get("t", ""), s.step),
+    save_plane(fig, ax, out, "t = %.4g%s (step %d): particles coloured by pressure" % (s.t, units.get("t", "").strip(" ()").join("  ").rstrip(), s.step),
                units.get("x", ""))
 
 
@@ -287,7 +287,7 @@ def plot_snapshot(s, out, u_max=None, units=None):
                 label="membrane %d" % k if len(s.membranes) > 1 else None)
     if len(s.membranes) > 1:
         ax.legend(loc="upper right", fontsize="small")
-    save_plane(fig, ax, out, "t = %.6g%s: pressure, velocity (max |u| = %.3g)" % (s.t, units.get("t", ""), speed_now),
+    save_plane(fig, ax, out, "t = %.6g%s: pressure, velocity (max |u| = %.3g%s)" % (s.t, units.get("t", "").strip(" ()").join("  ").rstrip(), speed_now, units.get("u", "").strip(" ()").join("  ").rstrip()),
                units.get("x", ""))
 
 
