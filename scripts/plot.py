@@ -109,11 +109,11 @@ def attr(h5, key, default=None):
 
 
 def si_units(h5):
-    """Axis units for a run in SI units (gravity of 9.81, the free-surface cases), else none: the other
-    cases are dimensionless."""
-    g = attr(h5, "fluid.gravity", [0.0, 0.0])
+    """Axis units for a run in SI units (water's density of 1000 or gravity of 9.81: the cases of
+    Afanasiev et al. and Vukcevic et al.), else none: the other cases are dimensionless."""
     try:
-        si = abs(float(np.hypot(*g)) - 9.81) < 0.01
+        si = abs(float(np.hypot(*attr(h5, "fluid.gravity", [0.0, 0.0]))) - 9.81) < 0.01 or \
+            abs(float(attr(h5, "fluid.rho", 1.0)) - 1000.0) < 1e-9
     except (TypeError, ValueError):
         si = False
     if not si:

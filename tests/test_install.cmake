@@ -39,7 +39,7 @@ step("installed sphib --version" ${prefix}/bin/sphib --version)
 message(STATUS "${step_output}")
 if(DEFINED PYTHON)
   step("import the installed module" ${CMAKE_COMMAND} -E env PYTHONPATH=${prefix}/${PYTHON_DIR}
-       ${PYTHON} -c "import sphib; print(sphib.__file__, sphib.__version__)")
+       ${PYTHON} -c "import sphib\nprint(sphib.__file__, sphib.__version__)")  # no ';': CMake splits lists at it
   if(NOT step_output MATCHES "^${prefix}/${PYTHON_DIR}/sphib")
     message(FATAL_ERROR "import sphib found ${step_output}, not the installed module under ${prefix}/${PYTHON_DIR}")
   endif()
