@@ -84,8 +84,9 @@ void report_built(const Simulation& sim, std::ostream& out) {
   const double images = figure(f, "images", NAN), neighbours = figure(f, "neighbours_per_particle", NAN);
   out << "  particles " << f.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(f.lattice().dx)
       << ", dy = " << num(f.lattice().dy) << "), images "
-      << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10)) << ", neighbours per particle "
-      << num(neighbours) << ", h = " << num(f.h()) << "\n";
+      << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10))
+      << (std::isnan(neighbours) ? std::string() : ", neighbours per particle " + num(neighbours)) << ", h = " << num(f.h())
+      << "\n";
   if (const auto kept = f.footprint())
     out << "  kept for the run: " << kept->operator_nonzeros << " operator non-zeros, " << kept->factor_nonzeros
         << " factor non-zeros, " << kept->pairs << " pairs\n";
