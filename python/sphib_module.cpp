@@ -563,17 +563,17 @@ void bind_scene(py::module_& m) {
              return o.str();
            }, "What `sphib check` prints: particles, neighbours, memory, time-step estimates and warnings.")
       .def_property_readonly("path", [](const PyScene& s) { return s.path; }, "the scene file ('' when built from keys)")
-      .def_property_readonly("title", [](const PyScene& s) { return s.scene.title; })
-      .def_property_readonly("method", [](const PyScene& s) { return s.scene.method; })
-      .def_property_readonly("nx", [](const PyScene& s) { return s.scene.sim.fluid.nx; })
-      .def_property_readonly("ny", [](const PyScene& s) { return s.scene.sim.fluid.ny; })
-      .def_property_readonly("dx", [](const PyScene& s) { return s.scene.sim.fluid.domain.Lx() / s.scene.sim.fluid.nx; })
-      .def_property_readonly("dy", [](const PyScene& s) { return s.scene.sim.fluid.domain.Ly() / s.scene.sim.fluid.ny; })
+      .def_property_readonly("title", [](const PyScene& s) { return s.scene.title; }, "the scene's title key")
+      .def_property_readonly("method", [](const PyScene& s) { return s.scene.method; }, "eulerian, lagrangian, wcsph or isph")
+      .def_property_readonly("nx", [](const PyScene& s) { return s.scene.sim.fluid.nx; }, "grid.nx")
+      .def_property_readonly("ny", [](const PyScene& s) { return s.scene.sim.fluid.ny; }, "grid.ny")
+      .def_property_readonly("dx", [](const PyScene& s) { return s.scene.sim.fluid.domain.Lx() / s.scene.sim.fluid.nx; }, "lattice spacing along x")
+      .def_property_readonly("dy", [](const PyScene& s) { return s.scene.sim.fluid.domain.Ly() / s.scene.sim.fluid.ny; }, "lattice spacing along y")
       .def_property_readonly("h", &PyScene::h, "smoothing length h = kernel.h_over_dx (dx + dy)/2")
-      .def_property_readonly("dt", [](const PyScene& s) { return s.scene.sim.fluid.dt; })
+      .def_property_readonly("dt", [](const PyScene& s) { return s.scene.sim.fluid.dt; }, "time.dt")
       .def_property_readonly("end", [](const PyScene& s) { return s.scene.t_end; }, "time.end")
-      .def_property_readonly("rho", [](const PyScene& s) { return s.scene.sim.fluid.rho; })
-      .def_property_readonly("mu", [](const PyScene& s) { return s.scene.sim.fluid.mu; })
+      .def_property_readonly("rho", [](const PyScene& s) { return s.scene.sim.fluid.rho; }, "fluid.rho")
+      .def_property_readonly("mu", [](const PyScene& s) { return s.scene.sim.fluid.mu; }, "fluid.mu")
       .def_property_readonly("domain", [](const PyScene& s) {
         const Domain& d = s.scene.sim.fluid.domain;
         return std::make_tuple(std::make_tuple(d.x0, d.x1), std::make_tuple(d.y0, d.y1));
@@ -628,17 +628,17 @@ void bind_simulation(py::module_& m) {
                                      number_text(static_cast<double>(kMaxSteps)) + " steps ahead");
              step(s, static_cast<long>(n));
            }, py::arg("t"), "Steps until the time is t (to the nearest step); t before the current time is an error.")
-      .def_property_readonly("time", [](const PySim& s) { return s.get().time(); })
-      .def_property_readonly("steps", [](const PySim& s) { return s.get().steps(); })
-      .def_property_readonly("dt", [](const PySim& s) { return s.get().fluid().params().dt; })
-      .def_property_readonly("method", [](const PySim& s) { return s.get().fluid().params().method; })
-      .def_property_readonly("particles_move", [](const PySim& s) { return s.get().fluid().particles_move(); })
+      .def_property_readonly("time", [](const PySim& s) { return s.get().time(); }, "t of the current state")
+      .def_property_readonly("steps", [](const PySim& s) { return s.get().steps(); }, "steps taken")
+      .def_property_readonly("dt", [](const PySim& s) { return s.get().fluid().params().dt; }, "the time step")
+      .def_property_readonly("method", [](const PySim& s) { return s.get().fluid().params().method; }, "eulerian, lagrangian, wcsph or isph")
+      .def_property_readonly("particles_move", [](const PySim& s) { return s.get().fluid().particles_move(); }, "False on the fixed lattice (EPSPH)")
       .def_property_readonly("N", [](const PySim& s) { return s.get().fluid().size(); }, "number of particles")
-      .def_property_readonly("nx", [](const PySim& s) { return s.get().fluid().lattice().nx; })
-      .def_property_readonly("ny", [](const PySim& s) { return s.get().fluid().lattice().ny; })
-      .def_property_readonly("dx", [](const PySim& s) { return s.get().fluid().lattice().dx; })
-      .def_property_readonly("dy", [](const PySim& s) { return s.get().fluid().lattice().dy; })
-      .def_property_readonly("h", [](const PySim& s) { return s.get().fluid().h(); })
+      .def_property_readonly("nx", [](const PySim& s) { return s.get().fluid().lattice().nx; }, "lattice sites along x")
+      .def_property_readonly("ny", [](const PySim& s) { return s.get().fluid().lattice().ny; }, "lattice sites along y")
+      .def_property_readonly("dx", [](const PySim& s) { return s.get().fluid().lattice().dx; }, "lattice spacing along x")
+      .def_property_readonly("dy", [](const PySim& s) { return s.get().fluid().lattice().dy; }, "lattice spacing along y")
+      .def_property_readonly("h", [](const PySim& s) { return s.get().fluid().h(); }, "smoothing length h")
       .def_property_readonly("x", [](const PySim& s) { return array(s, s.get().fluid().x()); },
                              "particle positions (N x 2; on a lattice particle i + nx j)")
       .def_property_readonly("u", [](const PySim& s) { return array(s, s.get().fluid().u()); },
@@ -649,7 +649,7 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("volumes", [](const PySim& s) { return array(s, s.get().fluid().volumes()); }, "particle volumes (N)")
       .def_property_readonly("force", [](const PySim& s) { return array(s, s.get().force()); },
                              "force per unit volume of the last step on the particles, body + membranes (N x 2)")
-      .def_property_readonly("membrane_count", [](const PySim& s) { return s.get().membranes().size(); })
+      .def_property_readonly("membrane_count", [](const PySim& s) { return s.get().membranes().size(); }, "number of membranes")
       .def("markers", [](const PySim& s, int k) { return array(s, s.membrane(k).m.X); },
            py::arg("k") = 0, "marker positions X of membrane k (nb x 2)")
       .def("membrane_force", [](const PySim& s, int k) { return array(s, s.membrane(k).f); },
@@ -672,8 +672,8 @@ void bind_simulation(py::module_& m) {
              const MembraneState& ms = s.membrane(k);
              return mean_angular_velocity(ms.m.X, ms.U, ellipse_fit(ms.m.X).centroid);
            }, py::arg("k") = 0, "mean angular velocity of membrane k's markers about its centroid (sphib.angular_velocity)")
-      .def("kinetic_energy", [](const PySim& s) { return s.get().fluid().kinetic_energy(); })
-      .def("max_div_u", [](const PySim& s) { return s.get().fluid().max_abs_divergence(); });
+      .def("kinetic_energy", [](const PySim& s) { return s.get().fluid().kinetic_energy(); }, "the fluid's kinetic energy")
+      .def("max_div_u", [](const PySim& s) { return s.get().fluid().max_abs_divergence(); }, "the largest discrete divergence of u over the particles");
 }
 
 // Loading and running scenes.
