@@ -74,15 +74,17 @@ std::string type_name(py::handle v) { return py::str(py::type::of(v).attr("__nam
 // integer; a real (float, numpy.float32/64: numbers.Real) -> a number, always written with a point
 // or an exponent (40.0 stays a number, which grid.nx refuses as a file does); str and os.PathLike
 // -> a string; list, tuple and NumPy arrays -> arrays; a 0-d array or NumPy scalar -> its item.
-std::string toml_value(py::handle v, const std::string& key) {
+std::string toml_value(py::handle v, const std::string& key, int depth = 0) {
+  if (depth > 8)  // no scene value nests deeper; a list that contains itself would never end
+    throw py::value_error("scene key " + key + ": lists nested more than 8 deep are not a scene value");
   py::module_ np = py::module_::import("numpy"), numbers = py::module_::import("numbers");
   if (py::isinstance(v, np.attr("ndarray"))) {
     py::object plain = v.attr("ndim").cast<int>() == 0 ? v.attr("item")() : v.attr("tolist")();  // held while read
-    return toml_value(plain, key);
+    return toml_value(plain, key, depth);
   }
   if (py::isinstance(v, np.attr("generic"))) {
     py::object item = v.attr("item")();
-    return toml_value(item, key);
+    return toml_value(item, key, depth);
   }
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
   if (py::isinstance(v, numbers.attr("Integral"))) {
@@ -108,11 +110,11 @@ std::string toml_value(py::handle v, const std::string& key) {
   if (py::hasattr(v, "__fspath__")) {
     py::object path = py::module_::import("os").attr("fspath")(v);
     if (!py::isinstance<py::str>(path)) throw py::type_error("scene key " + key + ": a bytes path is not a scene value (give str)");
-    return toml_value(path, key);
+    return toml_value(path, key, depth);
   }
   if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
     std::string r = "[";
-    for (py::handle e : v) r += (r.size() > 1 ? ", " : "") + toml_value(e, key);
+    for (py::handle e : v) r += (r.size() > 1 ? ", " : "") + toml_value(e, key, depth + 1);
     return r + "]";
   }
   throw py::type_error("scene key " + key + ": a " + type_name(v) +
@@ -120,11 +122,12 @@ std::string toml_value(py::handle v, const std::string& key) {
 }
 
 // {"grid": {"nx": 32}, "fluid.mu": 0.1} -> ["grid.nx=32", "fluid.mu=0.1"]
-void flatten(const py::dict& d, const std::string& prefix, std::vector<std::string>& out) {
+void flatten(const py::dict& d, const std::string& prefix, std::vector<std::string>& out, int depth = 0) {
+  if (depth > 8) throw py::value_error("scene key " + prefix + "..: tables nested more than 8 deep are not a scene");
   for (auto [k, v] : d) {
     if (!py::isinstance<py::str>(k)) throw py::type_error("scene keys are strings (got a " + type_name(k) + ")");
     const std::string key = prefix + k.cast<std::string>();
-    if (py::isinstance<py::dict>(v)) flatten(v.cast<py::dict>(), key + ".", out);
+    if (py::isinstance<py::dict>(v)) flatten(v.cast<py::dict>(), key + ".", out, depth + 1);
     else out.push_back(key + "=" + toml_value(v, key));
   }
 }

@@ -283,6 +283,14 @@ class Misuse(unittest.TestCase):
             sphib.load_scene(OSCILLATION, set={"grid.nx": 10 ** 30})
         with self.assertRaisesRegex(TypeError, "scene keys are strings"):
             sphib.Scene({1: 2})
+        looped = []
+        looped.append(looped)  # a list that contains itself: refused, not a stack overflow
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.load_scene(OSCILLATION, set={"output.times": looped})
+        table = {}
+        table["grid"] = table
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.Scene(table)
 
     def test_paths_are_accepted_where_files_are_named(self):
         with tempfile.TemporaryDirectory() as tmp:
