@@ -240,8 +240,8 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   // the fluid's added mass rho/k; the T0 dt^2/h scaling of the explicit-IB stability analysis of
   // Hua & Peskin 2021, arXiv:2111.15065), and viscous, dt below a constant times mu/(T0 k) (the
   // Stokes relaxation rate of that mode). The constants are NOT from a source: they were measured
-  // with this code, a factor-of-two guide, not a bound (README: "sphib check", "Stability at the
-  // extremes"). The inertial constant depends on the pair: the paper's (approximate projection,
+  // with this code, a factor-of-two guide, not a bound (docs/guide/check_and_sweeps.md,
+  // docs/performance/stability.md). The inertial constant depends on the pair: the paper's (approximate projection,
   // Eq. 63 markers) leaks area and with it elastic energy, which lets it run with dt about 3 times
   // larger (bench/stability_map, fitted in h* form: 0.32 conservative, about 1 paper's).
   const double c_i = p.paper_pair ? 1.0 : 0.3;

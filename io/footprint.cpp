@@ -24,7 +24,7 @@ namespace {
 //   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N);
 //   ISPH (cases/dam_break.toml at 200 x 800 to 800 x 3200, 5000-80000 fluid particles;
 //     still_tank_isph.toml at 160^2): 14-19 x log2 N, N the fluid particles (not the lattice's sites).
-// The constants are chosen for the main path's error across 64^2-1024^2 (README "Memory").
+// The constants are chosen for the main path's error across 64^2-1024^2 (docs/performance/memory.md).
 constexpr double kFftExact = 325, kFftApproximate = 185;
 constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;

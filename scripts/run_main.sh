@@ -7,7 +7,7 @@
 # The Python module is built into build/python and registered for this user's Python (a file
 # sphib-build.pth in `python3 -m site --user-site` naming build/python), so that afterwards
 # `/usr/bin/python3 -c "import sphib"` works from anywhere and sees every rebuild. Delete that file to
-# undo it; `pip install` or `cmake --install` install a copy instead (README, "Python").
+# undo it; `pip install` or `cmake --install` install a copy instead (README, "Python"; docs/guide/python.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
