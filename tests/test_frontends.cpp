@@ -89,8 +89,10 @@ TEST(Check, FreeSurfaceScenesAreEstimatedByTheirFluidParticles) {
   const MemoryEstimate e = estimate_memory(dam);
   EXPECT_EQ(e.particles, 5000);
   EXPECT_EQ(e.path, "ISPH");
-  EXPECT_LT(e.bytes, 100e6);
-  EXPECT_GT(e.bytes, 40e6);
+  // The fluid's share (5000 x 20 neighbours x 19 log2(5000) B = 23 MB); the rest is this process's
+  // resident memory, larger under a sanitizer, so it is not bounded here.
+  EXPECT_LT(e.fluid, 40e6);
+  EXPECT_GT(e.fluid, 15e6);
   std::ostringstream out;
   EXPECT_EQ(app::check_scene(dam, out), 0) << out.str();
   EXPECT_EQ(out.str().find("not built"), std::string::npos) << out.str();
