@@ -79,6 +79,8 @@ int main(int argc, char** argv) {
   sweep->add_flag("--quiet", quiet, "no line per run");
 
   auto* keys = app.add_subcommand("keys", "list every scene key with its type, default and meaning");
+  bool keys_json = false;
+  keys->add_flag("--json", keys_json, "as JSON: [{name, type, default, required, range, help}, ...]");
 
   try {
     app.parse(argc, argv);
@@ -87,6 +89,10 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
+    if (keys->parsed() && keys_json) {
+      std::cout << sphib::scene_keys_json();
+      return 0;
+    }
     if (keys->parsed()) {
       std::cout << "| key | type | default | allowed | meaning |\n|---|---|---|---|---|\n"
                 << sphib::describe_scene_keys();

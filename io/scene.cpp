@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
 #include "io/scene_checks.hpp"
@@ -692,8 +693,32 @@ void read_membranes(Reader& r, Scene& s, bool documenting) {
   }
 }
 
-// The membranes, built in the domain's coordinates.
-void build_membranes(Reader& r, Scene& s) {
+// A program's membrane's values, by the rules of a file's keys ("" when they pass): the key and why.
+std::pair<std::string, std::string> program_membrane_problem(const ProgramMembrane& m, const std::string& p) {
+  const Membrane& mb = m.membrane;
+  if (mb.nb() < 4 || mb.nb() > kMaxMarkers)
+    return {p + "nb", "value " + std::to_string(mb.nb()) + " is out of range (allowed: [4, " + std::to_string(kMaxMarkers) + "])"};
+  if (!std::isfinite(mb.L0()) || !(mb.L0() > 0)) return {p + "r0", "value " + fmt_num(mb.L0() / (2 * M_PI)) + " is out of range (allowed: > 0)"};
+  const std::string modulus = p + (mb.mat.law == "hookean" ? "T0" : "Es");
+  if (!std::isfinite(mb.mat.Es)) return {modulus, "must be finite (got " + fmt_num(mb.mat.Es) + ")"};
+  if (!(mb.mat.Es >= 0)) return {modulus, "value " + fmt_num(mb.mat.Es) + " is out of range (allowed: >= 0)"};
+  if (!std::isfinite(mb.mat.Eb) || !(mb.mat.Eb >= 0)) return {p + "Eb", "value " + fmt_num(mb.mat.Eb) + " is out of range (allowed: >= 0)"};
+  try {  // the law, its parameters, the reference: make_membrane's checks, named by key
+    make_membrane(mb.X, mb.ref, mb.mat);
+  } catch (const std::invalid_argument& e) {
+    const std::string why = e.what();
+    const std::string key = why.find("law") != std::string::npos ? "law" : why.find(" C ") != std::string::npos ? "C" : "reference";
+    return {p + key, why};
+  }
+  if (!mb.X.allFinite()) return {p + "points", "each point must be two finite numbers"};
+  if (!std::isfinite(m.h_star) || !(m.h_star >= 0)) return {p + "h_star", "value " + fmt_num(m.h_star) + " is out of range (allowed: >= 0)"};
+  if (!std::isfinite(m.h_star_over_h) || !(m.h_star_over_h > 0))
+    return {p + "h_star_over_h", "value " + fmt_num(m.h_star_over_h) + " is out of range (allowed: > 0)"};
+  return {};
+}
+
+// The membranes, built in the domain's coordinates, then a program's (checked as a file's).
+void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& program) {
   const FluidParams& f = s.sim.fluid;
   const double dx = (f.domain.x1 - f.domain.x0) / f.nx, dy = (f.domain.y1 - f.domain.y0) / f.ny;
   const double h = f.h_over_dx * 0.5 * (dx + dy);
@@ -722,13 +747,19 @@ void build_membranes(Reader& r, Scene& s) {
     setup.semi_implicit = m.semi_implicit;
     s.sim.membranes.push_back(setup);
   }
+  for (const ProgramMembrane& m : program) {
+    const std::string p = "membranes[" + std::to_string(s.sim.membranes.size()) + "].";
+    if (const auto [key, why] = program_membrane_problem(m, p); !key.empty()) r.fail(key, why);
+    const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
+    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit});
+  }
   size_t second = 0;
   if (const std::string why = membranes_cross(s.sim.membranes, nullptr, &second); !why.empty())
     r.fail("membranes[" + std::to_string(second) + "]", why);
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
-            std::vector<Reader::Doc>* docs_out) {
+            std::vector<Reader::Doc>* docs_out, const std::vector<ProgramMembrane>& program = {}) {
   if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
   Reader r(root, name, overridden);
   r.documenting = docs_out != nullptr;
@@ -751,11 +782,11 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   r.reject_unknown();
   s.resolved = r.resolved;
   if (const auto e = free_surface_problem(s.sim.fluid)) r.fail(e->key, e->what);
-  if (!s.membranes.empty() && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
+  if ((!s.membranes.empty() || !program.empty()) && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
     r.fail(r.has("membrane") ? "membrane" : "membranes", "membranes in a free-surface scene are not supported");
 
   if (const std::string why = steps_problem(s); !why.empty()) r.fail("time.end", why);
-  build_membranes(r, s);
+  build_membranes(r, s, program);
   if (const std::string why = exact_cannot_apply(s); !why.empty()) r.fail("observe.exact", why);
   return s;
 }
@@ -773,15 +804,15 @@ const std::vector<std::string>& known_keys() {
   return keys;
 }
 
-Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides) {
+Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides,
+                 const std::vector<ProgramMembrane>& program = {}) {
   std::set<std::string> overridden;
   for (const auto& kv : overrides) overridden.insert(apply_override(root, kv, name));
-  return build(root, name, overridden, nullptr);
+  return build(root, name, overridden, nullptr, program);
 }
 
-}  // namespace
-
-Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+Scene parse_text(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
+                 const std::vector<ProgramMembrane>& program) {
   toml::table root;
   try {
     root = toml::parse(text, name);
@@ -790,10 +821,11 @@ Scene parse_scene(const std::string& text, const std::string& name, const std::v
     m << name << ":" << e.source().begin.line << ": TOML syntax error: " << e.description();
     throw SceneError(m.str());
   }
-  return from_table(std::move(root), name, overrides);
+  return from_table(std::move(root), name, overrides, program);
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+Scene load_file(const std::string& path, const std::vector<std::string>& overrides,
+                const std::vector<ProgramMembrane>& program) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw SceneError(path + ": is a directory, not a scene file");
@@ -806,12 +838,27 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   if (in.bad()) throw SceneError(path + ": cannot read the scene file");
   if (in.gcount() > kMaxSceneBytes) throw SceneError(path + ": larger than 16 MB: not a scene file");
   text.resize(static_cast<size_t>(in.gcount()));
-  Scene s = parse_scene(text, path, overrides);
+  Scene s = parse_text(text, path, overrides, program);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
   const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
   if (s.exact == "cavity" && !fs::is_regular_file(table, ec))
     throw SceneError(path + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
   return s;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+  return parse_text(text, name, overrides, {});
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  return load_file(path, overrides, {});
+}
+
+Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
+                  const std::vector<ProgramMembrane>& membranes) {
+  return path.empty() ? parse_text("", name, overrides, membranes) : load_file(path, overrides, membranes);
 }
 
 std::string describe_scene_keys() {
@@ -828,6 +875,40 @@ std::string describe_scene_keys() {
       << esc(d.what) << " |\n";
   }
   return o.str();
+}
+
+std::string scene_keys_json() {
+  toml::table empty;
+  std::vector<Reader::Doc> docs;
+  build(empty, "keys", {}, &docs);
+  // A default as its TOML text ("1.2", "true", "\"auto\"", "[0, 1]") -> the JSON value of that type.
+  auto value = [](const std::string& def) -> nlohmann::json {
+    if (def.empty() || def == "(required)") return nullptr;
+    toml::table t;
+    try {
+      t = toml::parse("v = " + def);
+    } catch (const toml::parse_error&) {
+      return def;
+    }
+    std::function<nlohmann::json(const toml::node&)> to_json = [&](const toml::node& n) -> nlohmann::json {
+      if (const auto* a = n.as_array()) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& e : *a) j.push_back(to_json(e));
+        return j;
+      }
+      if (n.is_boolean()) return n.as_boolean()->get();
+      if (n.is_integer()) return n.as_integer()->get();
+      if (n.is_floating_point()) return n.as_floating_point()->get();
+      if (n.is_string()) return n.as_string()->get();
+      return nullptr;
+    };
+    return to_json(*t.get("v"));
+  };
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& d : docs)
+    out.push_back({{"name", d.key}, {"type", d.type}, {"default", value(d.def)}, {"required", d.def == "(required)"},
+                   {"range", d.range}, {"help", d.what}});
+  return out.dump(1) + "\n";
 }
 
 }  // namespace sphib
