@@ -13,6 +13,7 @@
 
 #include <toml++/toml.h>
 
+#include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
 
@@ -714,7 +715,82 @@ Scene from_table(toml::table root, const std::string& name, const std::vector<st
   return build(root, name, overridden, nullptr);
 }
 
+// The type of a key as `sphib keys` lists it ("" if no scene has it).
+std::string key_type(const std::string& key) {
+  static const std::map<std::string, std::string> types = [] {
+    toml::table empty;
+    std::vector<Reader::Doc> docs;
+    build(empty, "keys", {}, &docs);
+    std::map<std::string, std::string> t;
+    for (const auto& d : docs) t[d.key] = d.type;
+    return t;
+  }();
+  const auto it = types.find(generic_key(key));
+  return it == types.end() ? "" : it->second;
+}
+
+// Puts `value` at the dotted `key` of root (membranes[k] as the k-th table of the array).
+void put(toml::table& root, const std::string& key, toml::node&& value, const std::string& name) {
+  toml::table* t = &root;
+  size_t start = 0;
+  for (size_t dot = key.find('.'); dot != std::string::npos; start = dot + 1, dot = key.find('.', start)) {
+    const std::string part = key.substr(start, dot - start);
+    const size_t br = part.find('[');
+    if (br == std::string::npos) {
+      if (!t->contains(part)) t->insert(part, toml::table{});
+      t = (*t)[part].as_table();
+    } else {
+      const std::string arr_name = part.substr(0, br);
+      const long idx = std::strtol(part.c_str() + br + 1, nullptr, 10);
+      if (!t->contains(arr_name)) t->insert(arr_name, toml::array{});
+      toml::array* a = (*t)[arr_name].as_array();
+      if (!a || idx < 0 || idx > 100000) t = nullptr;
+      else {
+        while (static_cast<long>(a->size()) <= idx) a->push_back(toml::table{});
+        t = a->get(static_cast<size_t>(idx))->as_table();
+      }
+    }
+    if (!t) throw SceneError(name + ": " + key + ": its place in the scene is not a table");
+  }
+  t->insert_or_assign(key.substr(start), std::move(value));
+}
+
 }  // namespace
+
+Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& values, const std::string& name,
+                        const std::vector<std::string>& overrides, const std::string& base_dir) {
+  toml::table root;
+  for (const auto& [k, v] : values) {
+    if (k == "membranes") continue;  // the array as the file gave it: each entry's keys are recorded as well
+    // A wall velocity is recorded for every side; at rest it is what its absence means (and on a
+    // periodic or open side, only its absence is allowed).
+    if (k.rfind("walls.", 0) == 0 && v == "[0, 0]") continue;
+    const std::string type = key_type(k);
+    if (type.empty()) throw SceneError(name + ": " + k + ": not a scene key of this sphib");
+    if (type == "string") {
+      put(root, k, toml::value<std::string>(v), name);
+      continue;
+    }
+    toml::table parsed;
+    try {
+      parsed = toml::parse("v = " + v);
+    } catch (const toml::parse_error&) {
+      throw SceneError(name + ": " + k + ": the value " + v + " does not read back as TOML");
+    }
+    if (parsed.size() != 1 || !parsed.get("v")) throw SceneError(name + ": " + k + ": the value " + v + " is not one value");
+    put(root, k, std::move(*parsed.get("v")), name);
+  }
+  Scene s = from_table(std::move(root), name, overrides);
+  s.reference_dir = (std::filesystem::path(base_dir) / s.reference_dir).string();
+  return s;
+}
+
+std::string scene_hash(const Scene& s) {
+  std::string text;
+  for (const auto& [k, v] : s.resolved)
+    text += std::to_string(k.size()) + ":" + k + "=" + std::to_string(v.size()) + ":" + v + "\n";
+  return sha256_hex(text);
+}
 
 Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
   toml::table root;
