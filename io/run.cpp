@@ -217,6 +217,8 @@ Prepared prepare(const Scene& scene, const RunOptions& opt) {
     if (!c.run_id.empty()) {
       try {
         p.observers.restore(c.analyses, c.series);
+      } catch (const nlohmann::json::exception&) {  // a value of the wrong kind in an analysis's record
+        throw CheckpointError("checkpoint " + opt.restart + ": its run record (the analyses' state) is damaged");
       } catch (const std::exception& e) {
         throw CheckpointError("checkpoint " + opt.restart + ": " + e.what());
       }

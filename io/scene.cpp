@@ -100,6 +100,8 @@ class Reader {
     const toml::node* n = use(key);
     if (!n) return record(key, def);
     if (!n->is_string()) fail(key, "must be a string (got " + type_name(*n) + ")");
+    if (n->as_string()->get().find('\0') != std::string::npos)
+      fail(key, "holds a NUL character (\\u0000), which would cut the text short in the output files");
     return record(key, n->as_string()->get());
   }
   std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& options,
@@ -272,7 +274,7 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
       table |= kk.size() > g.size() && kk.compare(0, g.size(), g) == 0 && kk[g.size()] == '.';
     }
     const toml::array* arr = v.as_array();
-    if (const toml::table* sub = v.as_table(); sub && !leaf) {
+    if (const toml::table* sub = v.as_table(); sub && !leaf && (table || !sub->empty())) {  // an empty [x] of no key: refused
       reject_unknown_keys(*sub, key, known, name, overridden);
       continue;
     }
@@ -293,6 +295,49 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
   }
 }
 
+// Dotted keys of at most kMaxKeyParts parts: the TOML library and the key walks below recurse once per
+// part (15 000 parts overflowed the stack).
+constexpr int kMaxKeyParts = 64;
+
+// The line of the first key or table header in `text` with more than kMaxKeyParts dotted parts (0
+// if none), and its count. Reads keys as TOML writes them (bare, quoted, dotted; a '.' inside quotes
+// is part of a name), skipping multi-line strings.
+std::pair<int, int> deepest_key(const std::string& text) {
+  int line = 1;
+  bool multiline = false;  // inside """...""" or '''...'''
+  std::string closer;
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string l = text.substr(at, end - at);
+    if (multiline) {
+      if (l.find(closer) != std::string::npos) multiline = false;
+    } else {
+      size_t i = l.find_first_not_of(" \t");
+      const bool header = i != std::string::npos && l[i] == '[';
+      int parts = 1;
+      char quote = 0;
+      bool key = false;  // a key before '=', or a header's name before ']' (an array's row has a ',')
+      for (; i != std::string::npos && i < l.size(); ++i) {
+        const char c = l[i];
+        if (quote) { if (c == quote) quote = 0; continue; }
+        if (c == '"' || c == '\'') { quote = c; continue; }
+        if (c == '.') ++parts;
+        if (c == '#' || (header && c == ',')) break;
+        if ((header && c == ']') || (!header && c == '=')) { key = true; break; }
+      }
+      if (key && parts > kMaxKeyParts) return {line, parts};
+      // a multi-line string opened on this line and not closed on it
+      for (const char* q : {"\"\"\"", "'''"}) {
+        const size_t open = l.find(q);
+        if (open != std::string::npos && l.find(q, open + 3) == std::string::npos) multiline = true, closer = q;
+      }
+    }
+    at = end + 1;
+    ++line;
+  }
+  return {0, 0};
+}
+
 // Applies key=value to the table, creating intermediate tables. `membrane.X` also reaches the
 // only element of a [[membranes]] array.
 std::string apply_override(toml::table& root, const std::string& kv, const std::string& name) {
@@ -301,6 +346,9 @@ std::string apply_override(toml::table& root, const std::string& kv, const std::
     throw SceneError(name + ": --set " + kv + ": expected key=value (for example grid.nx=32)");
   std::string key = kv.substr(0, eq);
   const std::string val = kv.substr(eq + 1);
+  if (const long parts = std::count(key.begin(), key.end(), '.') + 1; parts > kMaxKeyParts)
+    throw SceneError(name + ": --set " + key.substr(0, 40) + "...: a key of " + std::to_string(parts) +
+                     " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
   if (val.find_first_of("\n\r") != std::string::npos)  // would add keys of its own: one value, one line
     throw SceneError(name + ": (--set " + key + "): the value holds a line break (one value per --set)");
   toml::table parsed;
@@ -659,8 +707,8 @@ void build_membranes(Reader& r, Scene& s) {
     s.sim.membranes.push_back(setup);
   }
   size_t second = 0;
-  if (const std::string why = membranes_cross(s.sim.membranes, nullptr, &second); !why.empty())
-    r.fail("membranes[" + std::to_string(second) + "]", why);
+  if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())
+    r.fail(s.membranes.size() == 1 && r.has("membrane") ? "membrane" : "membranes[" + std::to_string(second) + "]", why);
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
@@ -687,6 +735,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   r.reject_unknown();
   s.resolved = r.resolved;
   if (const auto e = free_surface_problem(s.sim.fluid)) r.fail(e->key, e->what);
+  if (const std::string why = fill_leaves_no_surface(s.sim.fluid); !why.empty()) r.fail("fill.shape", why);
   if (!s.membranes.empty() && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
     r.fail(r.has("membrane") ? "membrane" : "membranes", "membranes in a free-surface scene are not supported");
 
@@ -793,6 +842,9 @@ std::string scene_hash(const Scene& s) {
 }
 
 Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+  if (const auto [line, parts] = deepest_key(text); line > 0)
+    throw SceneError(name + ":" + std::to_string(line) + ": a key of " + std::to_string(parts) +
+                     " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
   toml::table root;
   try {
     root = toml::parse(text, name);
