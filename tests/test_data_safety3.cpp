@@ -7,6 +7,8 @@
 #include <hdf5.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/mount.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -238,6 +240,13 @@ TEST(DataSafety3, CheckpointsAreVerifiedBitForBitAndTheirClockAgainstStepsAndDt)
     EXPECT_FALSE(why.empty()) << "bit " << bit << " flipped was accepted";
   }
   EXPECT_EQ(refused, 300);
+  // And bits of the seal itself (its first line, the digest, the zeros after it).
+  for (size_t bit = 3; bit < 8 * 512; bit += 61) {
+    std::string b = good;
+    b[bit / 8] = static_cast<char>(b[bit / 8] ^ (1 << (bit % 8)));
+    write_bytes(tmp / "flip.h5", b);
+    EXPECT_FALSE(checkpoint_refusal(tmp / "flip.h5").empty()) << "seal bit " << bit << " flipped was accepted";
+  }
   // The reproducer: a marker coordinate's exponent bit, changed through HDF5.
   fs::copy_file(ckpt, tmp / "marker.h5");
   set_value(tmp / "marker.h5", "/membranes/0", 3, 0.5 * 1024);
@@ -388,7 +397,7 @@ TEST(DataSafety3, TheMemoryEstimateCountsTheMarkers) {
 // and output.xdmf, exit 1), and removing an earlier run's files was not all or nothing.
 TEST(DataSafety3, AFailingRunLeavesNoFileUnderItsFinalName) {
   const fs::path tmp = temp_dir("final_names"), d = tmp / "D";
-  for (int n = 4; n <= 8; ++n) {  // too few descriptors at each point of the set-up
+  for (int n = 5; n <= 8; ++n) {  // too few descriptors at each point of the set-up (4: the loader fails)
     fs::remove_all(d);
     const Exit e = shell("bash -c \"ulimit -n " + std::to_string(n) + "; exec " + quoted(run_args(d, {"time.max_steps=3"})) + "\"", tmp);
     SCOPED_TRACE("ulimit -n " + std::to_string(n) + ": exit " + std::to_string(e.status) + ": " + e.err);
@@ -396,6 +405,21 @@ TEST(DataSafety3, AFailingRunLeavesNoFileUnderItsFinalName) {
     EXPECT_TRUE(e.status == 1 || e.status == 2);
     for (const char* f : {"output.h5", "output.xdmf", "output_membranes.xdmf", "diagnostics.csv", "summary.json"})
       EXPECT_FALSE(fs::exists(d / f)) << f;
+  }
+  // An inode-starved disk (a tmpfs of a few inodes; mounting needs root, elsewhere this part skips).
+  const fs::path mnt = tmp / "mnt";
+  fs::create_directories(mnt);
+  for (int inodes = 3; inodes <= 9; ++inodes) {
+    if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, ("size=8m,nr_inodes=" + std::to_string(inodes)).c_str()) != 0) break;
+    const fs::path md = mnt / "D";
+    const Exit e = shell(quoted(run_args(md, {"time.max_steps=3"})), tmp);
+    SCOPED_TRACE(std::to_string(inodes) + " inodes: exit " + std::to_string(e.status) + ": " + e.err);
+    if (e.status != 0) {
+      EXPECT_TRUE(e.status == 1 || e.status == 2);
+      for (const char* f : {"output.h5", "output.xdmf", "output_membranes.xdmf", "diagnostics.csv", "summary.json"})
+        EXPECT_FALSE(fs::exists(md / f)) << f;
+    }
+    ::umount(mnt.c_str());
   }
   // An earlier run's files, one of which cannot be removed (a directory under its name): none removed.
   fs::remove_all(d);
