@@ -59,7 +59,13 @@ std::string toml_string(const std::string& s) {
   return r + "\"";
 }
 
-std::string toml_value(py::handle v, const std::string& key) {
+// Nested lists and dicts deeper than this are refused (a list that holds itself recursed until the
+// stack overflowed); scene values nest two deep (membrane.points).
+constexpr int kMaxNesting = 64;
+
+std::string toml_value(py::handle v, const std::string& key, int depth = 0) {
+  if (depth > kMaxNesting)
+    throw py::value_error("scene key " + key + ": lists nested more than " + std::to_string(kMaxNesting) + " deep");
   if (py::hasattr(v, "tolist") && !py::isinstance<py::str>(v)) v = v.attr("tolist")();  // NumPy scalars, arrays
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
   if (py::isinstance<py::int_>(v)) return py::str(v).cast<std::string>();
@@ -74,7 +80,7 @@ std::string toml_value(py::handle v, const std::string& key) {
   if (py::isinstance<py::str>(v)) return toml_string(v.cast<std::string>());
   if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
     std::string r = "[";
-    for (py::handle e : v) r += (r.size() > 1 ? ", " : "") + toml_value(e, key);
+    for (py::handle e : v) r += (r.size() > 1 ? ", " : "") + toml_value(e, key, depth + 1);
     return r + "]";
   }
   throw py::type_error("scene key " + key + ": a " + py::str(v.get_type().attr("__name__")).cast<std::string>() +
@@ -82,10 +88,12 @@ std::string toml_value(py::handle v, const std::string& key) {
 }
 
 // {"grid": {"nx": 32}, "fluid.mu": 0.1} -> ["grid.nx=32", "fluid.mu=0.1"]
-void flatten(const py::dict& d, const std::string& prefix, std::vector<std::string>& out) {
+void flatten(const py::dict& d, const std::string& prefix, std::vector<std::string>& out, int depth = 0) {
+  if (depth > kMaxNesting)
+    throw py::value_error("scene keys: dicts nested more than " + std::to_string(kMaxNesting) + " deep (at " + prefix.substr(0, 60) + "...)");
   for (auto [k, v] : d) {
     const std::string key = prefix + py::str(k).cast<std::string>();
-    if (py::isinstance<py::dict>(v)) flatten(v.cast<py::dict>(), key + ".", out);
+    if (py::isinstance<py::dict>(v)) flatten(v.cast<py::dict>(), key + ".", out, depth + 1);
     else out.push_back(key + "=" + toml_value(v, key));
   }
 }
