@@ -178,7 +178,6 @@ std::string read_text(hid_t loc, const std::string& name, const std::string& pat
   return v[0];
 }
 
-
 double checkpoint_bytes(const Simulation& sim, const std::vector<std::pair<std::string, std::string>>& scene,
                         const Observers* observers) {
   double b = 0;
@@ -426,11 +425,11 @@ void restore_checkpoint(const Checkpoint& c, const std::string& path,
     refuse(path, "written by sphib " + c.version + ", this is " + SPHIB_VERSION);
   std::map<std::string, std::string> saved(c.scene.begin(), c.scene.end()), now(scene.begin(), scene.end());
   for (const auto& [k, v] : now)
-    if (!restart_may_change(k) && (!saved.count(k) || saved[k] != v))
+    if (!restart_may_change(k) && !restates_other_keys(k) && (!saved.count(k) || saved[k] != v))
       refuse(path, "its scene does not match: " + k + " = " + (saved.count(k) ? saved[k] : "(unset)") +
                        " in the checkpoint, " + v + " now");
   for (const auto& [k, v] : saved)
-    if (!restart_may_change(k) && !now.count(k)) refuse(path, "its scene does not match: " + k + " = " + v + " is not set now");
+    if (!restart_may_change(k) && !restates_other_keys(k) && !now.count(k)) refuse(path, "its scene does not match: " + k + " = " + v + " is not set now");
   if (c.markers.size() != sim.membranes().size()) refuse(path, "it has a different number of membranes");
   try {
     sim.fluid().restore(c.fluid);

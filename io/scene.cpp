@@ -810,7 +810,7 @@ Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& 
                         const std::vector<std::string>& overrides, const std::string& base_dir) {
   toml::table root;
   for (const auto& [k, v] : values) {
-    if (k == "membranes") continue;  // the array as the file gave it: each entry's keys are recorded as well
+    if (restates_other_keys(k)) continue;
     // A wall velocity is recorded for every side; at rest it is what its absence means (and on a
     // periodic or open side, only its absence is allowed).
     if (k.rfind("walls.", 0) == 0 && v == "[0, 0]") continue;
@@ -834,10 +834,12 @@ Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& 
   return s;
 }
 
+bool restates_other_keys(const std::string& key) { return key == "membranes"; }
+
 std::string scene_hash(const Scene& s) {
   std::string text;
   for (const auto& [k, v] : s.resolved)
-    text += std::to_string(k.size()) + ":" + k + "=" + std::to_string(v.size()) + ":" + v + "\n";
+    if (!restates_other_keys(k)) text += std::to_string(k.size()) + ":" + k + "=" + std::to_string(v.size()) + ":" + v + "\n";
   return sha256_hex(text);
 }
 

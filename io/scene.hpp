@@ -63,6 +63,10 @@ Scene parse_scene(const std::string& text, const std::string& name, const std::v
 Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& values, const std::string& name,
                         const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
 
+// Resolved values that only restate others: "membranes", the [[membranes]] array as the file wrote it
+// (each entry's keys, membranes[k].*, carry every value). Comparisons and hashes of scenes skip them.
+bool restates_other_keys(const std::string& key);
+
 // The SHA-256 (hex) of every resolved value of the scene (Scene::resolved), each key and value
 // length-prefixed: the same text for the same run, whatever the file's layout or a value's spelling.
 std::string scene_hash(const Scene& s);
