@@ -1,6 +1,7 @@
 #include "io/scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -299,39 +300,42 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
 // part (15 000 parts overflowed the stack).
 constexpr int kMaxKeyParts = 64;
 
-// The line of the first key or table header in `text` with more than kMaxKeyParts dotted parts (0
-// if none), and its count. Reads keys as TOML writes them (bare, quoted, dotted; a '.' inside quotes
-// is part of a name), skipping multi-line strings.
+// The line of the first dotted key in `text` with more than kMaxKeyParts parts (0 if none), and its
+// count. A key may stand at the start of a line, in a table header or inside an inline table, and
+// mix bare and quoted parts ("a"."b".c): every run of names joined by dots outside strings counts
+// (a run of more than 64 that is not a key is no valid TOML either). Multi-line strings are skipped.
 std::pair<int, int> deepest_key(const std::string& text) {
   int line = 1;
-  bool multiline = false;  // inside """...""" or '''...'''
-  std::string closer;
+  std::string closer;  // inside a multi-line string: its closing quotes
   for (size_t at = 0; at < text.size();) {
     const size_t end = std::min(text.find('\n', at), text.size());
     const std::string l = text.substr(at, end - at);
-    if (multiline) {
-      if (l.find(closer) != std::string::npos) multiline = false;
-    } else {
-      size_t i = l.find_first_not_of(" \t");
-      const bool header = i != std::string::npos && l[i] == '[';
-      int parts = 1;
-      char quote = 0;
-      bool key = false;  // a key before '=', or a header's name before ']' (an array's row has a ',')
-      for (; i != std::string::npos && i < l.size(); ++i) {
-        const char c = l[i];
-        if (quote) { if (c == quote) quote = 0; continue; }
-        if (c == '"' || c == '\'') { quote = c; continue; }
-        if (c == '.') ++parts;
-        if (c == '#' || (header && c == ',')) break;
-        if ((header && c == ']') || (!header && c == '=')) { key = true; break; }
-      }
-      if (key && parts > kMaxKeyParts) return {line, parts};
-      // a multi-line string opened on this line and not closed on it
-      for (const char* q : {"\"\"\"", "'''"}) {
-        const size_t open = l.find(q);
-        if (open != std::string::npos && l.find(q, open + 3) == std::string::npos) multiline = true, closer = q;
-      }
+    size_t i = 0;
+    if (!closer.empty()) {
+      const size_t c = l.find(closer);
+      if (c == std::string::npos) i = l.size();
+      else i = c + 3, closer.clear();
     }
+    int dots = 0, most = 0;
+    for (; i < l.size(); ++i) {
+      const char c = l[i];
+      if (c == '"' || c == '\'') {  // a string: a quoted part of a key, or a value
+        if (l.compare(i, 3, std::string(3, c)) == 0) {
+          const size_t close = l.find(std::string(3, c), i + 3);
+          if (close == std::string::npos) { closer = std::string(3, c); break; }
+          i = close + 2;
+          continue;
+        }
+        for (++i; i < l.size() && l[i] != c; ++i)
+          if (c == '"' && l[i] == '\\') ++i;
+        continue;
+      }
+      if (c == '.') { most = std::max(most, ++dots); continue; }
+      if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+' || c == ' ' || c == '\t') continue;
+      if (c == '#') break;
+      dots = 0;  // '=', '{', ',', '[', ...: a run of names ends
+    }
+    if (most + 1 > kMaxKeyParts) return {line, most + 1};
     at = end + 1;
     ++line;
   }

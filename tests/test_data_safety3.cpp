@@ -381,6 +381,11 @@ TEST(DataSafety3, DeepInputIsRefusedNotAStackOverflow) {
   const std::string text = "title = \"deep\"\n" + key + " = 1\n";
   EXPECT_NE(test::refusal(text).find("scene.toml:2: a key of 15001 dotted parts"), std::string::npos) << test::refusal(text).substr(0, 200);
   EXPECT_NE(test::refusal("[" + key + "]\nb = 1\n").find("a key of 15001 dotted parts"), std::string::npos);
+  EXPECT_NE(test::refusal("x = {" + key + " = 1}\n").find("a key of 15001 dotted parts"), std::string::npos);
+  std::string quoted_key = "\"a\"";
+  for (int k = 0; k < 100; ++k) quoted_key += ".\"a\"";
+  EXPECT_NE(test::refusal(quoted_key + " = 1\n").find("a key of 101 dotted parts"), std::string::npos);
+  EXPECT_EQ(test::refusal("title = \"" + key + "\"\n").find("dotted parts"), std::string::npos);  // a string value
   EXPECT_NE(test::refusal("title = \"x\"\n", {key + "=1"}).find("--set a.a.a"), std::string::npos);
   // A deep key inside a multi-line string is text, not a key.
   const std::string in_string = "title = \"\"\"\n" + key + " = 1\n\"\"\"\n";
