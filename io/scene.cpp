@@ -768,6 +768,14 @@ Scene from_table(toml::table root, const std::string& name, const std::vector<st
   return build(root, name, overridden, nullptr);
 }
 
+// The cavity's Ghia tables are in observe.reference_dir (resolved against the scene file's folder).
+void require_reference_tables(const Scene& s, const std::string& name) {
+  std::error_code ec;
+  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
+  if (s.exact == "cavity" && !std::filesystem::is_regular_file(table, ec))
+    throw SceneError(name + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
+}
+
 // The type of a key as `sphib keys` lists it ("" if no scene has it).
 std::string key_type(const std::string& key) {
   static const std::map<std::string, std::string> types = [] {
@@ -835,6 +843,7 @@ Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& 
   }
   Scene s = from_table(std::move(root), name, overrides);
   s.reference_dir = (std::filesystem::path(base_dir) / s.reference_dir).string();
+  require_reference_tables(s, name);
   return s;
 }
 
@@ -877,9 +886,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   text.resize(static_cast<size_t>(in.gcount()));
   Scene s = parse_scene(text, path, overrides);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
-  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
-  if (s.exact == "cavity" && !fs::is_regular_file(table, ec))
-    throw SceneError(path + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
+  require_reference_tables(s, path);
   return s;
 }
 
