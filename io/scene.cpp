@@ -733,7 +733,9 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
   }
   size_t second = 0;
   if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())
-    r.fail(s.membranes.size() == 1 && r.has("membrane") ? "membrane" : "membranes[" + std::to_string(second) + "]", why);
+    r.fail(second < s.membranes.size() && s.membranes.size() == 1 && r.has("membrane") ? "membrane"  // the file's one
+                                                                                         : "membranes[" + std::to_string(second) + "]",
+           why);
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,

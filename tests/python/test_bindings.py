@@ -322,7 +322,7 @@ class Misuse(unittest.TestCase):
             import tempfile
             kept = []
             s = sphib.load_scene(OSCILLATION, set={**SMALL, "time.end": 0.001})
-            s.observe("t", lambda sim: (kept.append(sim), sim.time)[1])
+            s.observe("t_seen", lambda sim: (kept.append(sim), sim.time)[1])
             with tempfile.TemporaryDirectory() as tmp:
                 sphib.run(s, out=tmp)
             for what in ("time", "u", "steps"):
@@ -330,7 +330,7 @@ class Misuse(unittest.TestCase):
                     getattr(kept[-1], what)
                     print("read", what)
                 except RuntimeError as e:
-                    print("refused", what, "observer 't'" in str(e))
+                    print("refused", what, "observer 't_seen'" in str(e))
             try:
                 kept[-1].markers(0)
             except RuntimeError:
