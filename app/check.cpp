@@ -68,7 +68,10 @@ int report_memory(const Scene& scene, const MemoryEstimate& e, std::ostream& out
   const MachineMemory m = machine_memory();
   out << "  memory estimate: " << bytes(e.bytes) << " at the run's peak = " << bytes(e.base)
       << " (this process and the run's fixed overhead) + " << e.particles << " particles x " << e.neighbours
-      << " neighbours x " << num(e.per_neighbour) << " bytes (" << e.path << ", measured: documentation, \"Memory\"); machine: "
+      << " neighbours x " << num(e.per_neighbour) << " bytes (" << e.path << ", measured: documentation, \"Memory\")";
+  if (e.marker_count > 0)
+    out << " + " << e.marker_count << " markers: " << bytes(e.markers) << " (measured: documentation, \"Data safety\", \"Memory\")";
+  out << "; machine: "
       << bytes(m.bytes) << " (" << m.source << ")";
   if (scene.memory_limit_gb > 0) out << ", limits.memory_gb = " << scene.memory_limit_gb;
   out << "\n";

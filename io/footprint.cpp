@@ -29,6 +29,11 @@ constexpr double kFftExact = 325, kFftApproximate = 185;
 constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;
 constexpr double kIsphPerLog = 19;
+// Bytes per membrane marker at a run's peak (positions, forces, tension, the spline, the spreading's
+// and the interpolation's weights, the marker update's iterates): 541-553 kB per 1000 markers,
+// measured from the peaks of two-step runs of membrane_oscillation.toml at Nb = 1e5, 3e5 and 1e6 on
+// 32^2, 64^2 and 128^2 lattices and h* = 0.7, 1.4, 2.8 h (docs/data_safety.md, "Memory").
+constexpr double kPerMarker = 570;
 // The run's fixed overhead over the process before it (OpenMP threads, HDF5, FFTW, CHOLMOD):
 // a 16^2 run peaks at 32.2 MB, the command holds 15.7 MB when it estimates (/proc/self/statm).
 constexpr double kOverhead = 16.5e6;
@@ -115,7 +120,9 @@ MemoryEstimate estimate_memory(const Scene& s) {
   }
   e.base = resident_bytes() + kOverhead;
   e.fluid = static_cast<double>(e.particles) * static_cast<double>(e.neighbours) * e.per_neighbour;
-  e.bytes = e.base + e.fluid;
+  for (const MembraneScene& m : s.membranes) e.marker_count += m.nb;
+  e.markers = kPerMarker * static_cast<double>(e.marker_count);
+  e.bytes = e.base + e.fluid + e.markers;
   return e;
 }
 
@@ -150,7 +157,9 @@ std::string memory_problem(const Scene& s, const MemoryEstimate& e, const Machin
   if (!(limit > 0) || e.bytes <= limit) return "";
   std::ostringstream w;
   w << "the run would need about " << bytes_text(e.bytes) << " (" << e.particles << " particles x " << e.neighbours
-    << " neighbours x " << bytes_text(e.per_neighbour) << ", " << e.path << ", + " << bytes_text(e.base) << "), more than ";
+    << " neighbours x " << bytes_text(e.per_neighbour) << ", " << e.path;
+  if (e.marker_count > 0) w << ", + " << e.marker_count << " markers x " << bytes_text(kPerMarker);
+  w << ", + " << bytes_text(e.base) << "), more than ";
   if (s.memory_limit_gb > 0) w << "limits.memory_gb = " << s.memory_limit_gb;
   else w << "this machine's " << bytes_text(m.bytes) << " (" << m.source << ")";
   w << "; set limits.memory_gb to run it anyway (see `sphib check`)";

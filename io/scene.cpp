@@ -1,6 +1,7 @@
 #include "io/scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
 
@@ -100,6 +102,8 @@ class Reader {
     const toml::node* n = use(key);
     if (!n) return record(key, def);
     if (!n->is_string()) fail(key, "must be a string (got " + type_name(*n) + ")");
+    if (n->as_string()->get().find('\0') != std::string::npos)
+      fail(key, "holds a NUL character (\\u0000), which would cut the text short in the output files");
     return record(key, n->as_string()->get());
   }
   std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& options,
@@ -272,7 +276,7 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
       table |= kk.size() > g.size() && kk.compare(0, g.size(), g) == 0 && kk[g.size()] == '.';
     }
     const toml::array* arr = v.as_array();
-    if (const toml::table* sub = v.as_table(); sub && !leaf) {
+    if (const toml::table* sub = v.as_table(); sub && !leaf && (table || !sub->empty())) {  // an empty [x] of no key: refused
       reject_unknown_keys(*sub, key, known, name, overridden);
       continue;
     }
@@ -293,6 +297,52 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
   }
 }
 
+// Dotted keys of at most kMaxKeyParts parts: the TOML library and the key walks below recurse once per
+// part (15 000 parts overflowed the stack).
+constexpr int kMaxKeyParts = 64;
+
+// The line of the first dotted key in `text` with more than kMaxKeyParts parts (0 if none), and its
+// count. A key may stand at the start of a line, in a table header or inside an inline table, and
+// mix bare and quoted parts ("a"."b".c): every run of names joined by dots outside strings counts
+// (a run of more than 64 that is not a key is no valid TOML either). Multi-line strings are skipped.
+std::pair<int, int> deepest_key(const std::string& text) {
+  int line = 1;
+  std::string closer;  // inside a multi-line string: its closing quotes
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string l = text.substr(at, end - at);
+    size_t i = 0;
+    if (!closer.empty()) {
+      const size_t c = l.find(closer);
+      if (c == std::string::npos) i = l.size();
+      else i = c + 3, closer.clear();
+    }
+    int dots = 0, most = 0;
+    for (; i < l.size(); ++i) {
+      const char c = l[i];
+      if (c == '"' || c == '\'') {  // a string: a quoted part of a key, or a value
+        if (l.compare(i, 3, std::string(3, c)) == 0) {
+          const size_t close = l.find(std::string(3, c), i + 3);
+          if (close == std::string::npos) { closer = std::string(3, c); break; }
+          i = close + 2;
+          continue;
+        }
+        for (++i; i < l.size() && l[i] != c; ++i)
+          if (c == '"' && l[i] == '\\') ++i;
+        continue;
+      }
+      if (c == '.') { most = std::max(most, ++dots); continue; }
+      if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+' || c == ' ' || c == '\t') continue;
+      if (c == '#') break;
+      dots = 0;  // '=', '{', ',', '[', ...: a run of names ends
+    }
+    if (most + 1 > kMaxKeyParts) return {line, most + 1};
+    at = end + 1;
+    ++line;
+  }
+  return {0, 0};
+}
+
 // Applies key=value to the table, creating intermediate tables. `membrane.X` also reaches the
 // only element of a [[membranes]] array.
 std::string apply_override(toml::table& root, const std::string& kv, const std::string& name) {
@@ -301,6 +351,9 @@ std::string apply_override(toml::table& root, const std::string& kv, const std::
     throw SceneError(name + ": --set " + kv + ": expected key=value (for example grid.nx=32)");
   std::string key = kv.substr(0, eq);
   const std::string val = kv.substr(eq + 1);
+  if (const long parts = std::count(key.begin(), key.end(), '.') + 1; parts > kMaxKeyParts)
+    throw SceneError(name + ": --set " + key.substr(0, 40) + "...: a key of " + std::to_string(parts) +
+                     " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
   if (val.find_first_of("\n\r") != std::string::npos)  // would add keys of its own: one value, one line
     throw SceneError(name + ": (--set " + key + "): the value holds a line break (one value per --set)");
   toml::table parsed;
@@ -754,8 +807,10 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit});
   }
   size_t second = 0;
-  if (const std::string why = membranes_cross(s.sim.membranes, nullptr, &second); !why.empty())
-    r.fail("membranes[" + std::to_string(second) + "]", why);
+  if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())
+    r.fail(second < s.membranes.size() && s.membranes.size() == 1 && r.has("membrane") ? "membrane"  // the file's one
+                                                                                         : "membranes[" + std::to_string(second) + "]",
+           why);
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
@@ -782,6 +837,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   r.reject_unknown();
   s.resolved = r.resolved;
   if (const auto e = free_surface_problem(s.sim.fluid)) r.fail(e->key, e->what);
+  if (const std::string why = fill_leaves_no_surface(s.sim.fluid); !why.empty()) r.fail("fill.shape", why);
   if ((!s.membranes.empty() || !program.empty()) && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
     r.fail(r.has("membrane") ? "membrane" : "membranes", "membranes in a free-surface scene are not supported");
 
@@ -811,8 +867,59 @@ Scene from_table(toml::table root, const std::string& name, const std::vector<st
   return build(root, name, overridden, nullptr, program);
 }
 
+// The cavity's Ghia tables are in observe.reference_dir (resolved against the scene file's folder).
+void require_reference_tables(const Scene& s, const std::string& name) {
+  std::error_code ec;
+  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
+  if (s.exact == "cavity" && !std::filesystem::is_regular_file(table, ec))
+    throw SceneError(name + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
+}
+
+// The type of a key as `sphib keys` lists it ("" if no scene has it).
+std::string key_type(const std::string& key) {
+  static const std::map<std::string, std::string> types = [] {
+    toml::table empty;
+    std::vector<Reader::Doc> docs;
+    build(empty, "keys", {}, &docs);
+    std::map<std::string, std::string> t;
+    for (const auto& d : docs) t[d.key] = d.type;
+    return t;
+  }();
+  const auto it = types.find(generic_key(key));
+  return it == types.end() ? "" : it->second;
+}
+
+// Puts `value` at the dotted `key` of root (membranes[k] as the k-th table of the array).
+void put(toml::table& root, const std::string& key, toml::node&& value, const std::string& name) {
+  toml::table* t = &root;
+  size_t start = 0;
+  for (size_t dot = key.find('.'); dot != std::string::npos; start = dot + 1, dot = key.find('.', start)) {
+    const std::string part = key.substr(start, dot - start);
+    const size_t br = part.find('[');
+    if (br == std::string::npos) {
+      if (!t->contains(part)) t->insert(part, toml::table{});
+      t = (*t)[part].as_table();
+    } else {
+      const std::string arr_name = part.substr(0, br);
+      const long idx = std::strtol(part.c_str() + br + 1, nullptr, 10);
+      if (!t->contains(arr_name)) t->insert(arr_name, toml::array{});
+      toml::array* a = (*t)[arr_name].as_array();
+      if (!a || idx < 0 || idx > 100000) t = nullptr;
+      else {
+        while (static_cast<long>(a->size()) <= idx) a->push_back(toml::table{});
+        t = a->get(static_cast<size_t>(idx))->as_table();
+      }
+    }
+    if (!t) throw SceneError(name + ": " + key + ": its place in the scene is not a table");
+  }
+  t->insert_or_assign(key.substr(start), std::move(value));
+}
+
 Scene parse_text(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
                  const std::vector<ProgramMembrane>& program) {
+  if (const auto [line, parts] = deepest_key(text); line > 0)
+    throw SceneError(name + ":" + std::to_string(line) + ": a key of " + std::to_string(parts) +
+                     " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
   toml::table root;
   try {
     root = toml::parse(text, name);
@@ -840,13 +947,50 @@ Scene load_file(const std::string& path, const std::vector<std::string>& overrid
   text.resize(static_cast<size_t>(in.gcount()));
   Scene s = parse_text(text, path, overrides, program);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
-  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
-  if (s.exact == "cavity" && !fs::is_regular_file(table, ec))
-    throw SceneError(path + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
+  require_reference_tables(s, path);
   return s;
 }
 
 }  // namespace
+
+Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& values, const std::string& name,
+                        const std::vector<std::string>& overrides, const std::string& base_dir) {
+  toml::table root;
+  for (const auto& [k, v] : values) {
+    if (restates_other_keys(k)) continue;
+    // A wall velocity is recorded for every side; at rest it is what its absence means (and on a
+    // periodic or open side, only its absence is allowed).
+    if (k.rfind("walls.", 0) == 0 && v == "[0, 0]") continue;
+    const std::string type = key_type(k);
+    if (type.empty()) throw SceneError(name + ": " + k + ": not a scene key of this sphib");
+    if (type == "string") {
+      put(root, k, toml::value<std::string>(v), name);
+      continue;
+    }
+    toml::table parsed;
+    try {
+      parsed = toml::parse("v = " + v);
+    } catch (const toml::parse_error&) {
+      throw SceneError(name + ": " + k + ": the value " + v + " does not read back as TOML");
+    }
+    if (parsed.size() != 1 || !parsed.get("v")) throw SceneError(name + ": " + k + ": the value " + v + " is not one value");
+    put(root, k, std::move(*parsed.get("v")), name);
+  }
+  Scene s = from_table(std::move(root), name, overrides);
+  s.reference_dir = (std::filesystem::path(base_dir) / s.reference_dir).string();
+  require_reference_tables(s, name);
+  return s;
+}
+
+bool restates_other_keys(const std::string& key) { return key == "membranes"; }
+
+std::string scene_hash(const Scene& s) {
+  std::string text;
+  for (const auto& [k, v] : s.resolved)
+    if (!restates_other_keys(k)) text += std::to_string(k.size()) + ":" + k + "=" + std::to_string(v.size()) + ":" + v + "\n";
+  return sha256_hex(text);
+}
+
 
 Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
   return parse_text(text, name, overrides, {});

@@ -81,6 +81,20 @@ struct ProgramMembrane {
 Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
                   const std::vector<ProgramMembrane>& membranes);
 
+// The scene whose resolved values (Scene::resolved: key = value as used) are `values`, e.g. those a
+// checkpoint keeps, with `overrides` applied; observe.reference_dir is taken relative to base_dir.
+// `name` is used in messages. Throws SceneError.
+Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& values, const std::string& name,
+                        const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
+
+// Resolved values that only restate others: "membranes", the [[membranes]] array as the file wrote it
+// (each entry's keys, membranes[k].*, carry every value). Comparisons and hashes of scenes skip them.
+bool restates_other_keys(const std::string& key);
+
+// The SHA-256 (hex) of every resolved value of the scene (Scene::resolved), each key and value
+// length-prefixed: the same text for the same run, whatever the file's layout or a value's spelling.
+std::string scene_hash(const Scene& s);
+
 // Every scene key with its type, default and meaning, one per line (the `sphib keys` listing).
 std::string describe_scene_keys();
 

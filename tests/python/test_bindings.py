@@ -69,6 +69,19 @@ class Scenes(unittest.TestCase):
         with self.assertRaisesRegex(TypeError, "grid.nx"):
             channel(grid={"nx": object(), "ny": 16})
 
+    def test_deep_or_self_containing_keys_are_refused_not_a_stack_overflow(self):
+        # issue 26, item 5: every recursive parser has a depth limit
+        loop = {"grid": {"nx": 16}}
+        loop["a"] = loop
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.load_scene(OSCILLATION, set=loop)
+        row = [0.0, 1.0]
+        row.append(row)
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.load_scene(OSCILLATION, set={"membrane.centre": row})
+        with self.assertRaisesRegex(sphib.SceneError, "a key of 15001 dotted parts"):
+            sphib.load_scene(OSCILLATION, set={".".join(["a"] * 15001): 1})
+
     def test_a_membrane_outside_the_domain_is_refused_as_by_the_command(self):
         s = sphib.load_scene(OSCILLATION, set={"membrane.centre": [0.0, 1.2]})
         expected, status = command_error("check", OSCILLATION, "--set", "membrane.centre=[0.0, 1.2]")
@@ -309,7 +322,7 @@ class Misuse(unittest.TestCase):
             import tempfile
             kept = []
             s = sphib.load_scene(OSCILLATION, set={**SMALL, "time.end": 0.001})
-            s.observe("t", lambda sim: (kept.append(sim), sim.time)[1])
+            s.observe("t_seen", lambda sim: (kept.append(sim), sim.time)[1])
             with tempfile.TemporaryDirectory() as tmp:
                 sphib.run(s, out=tmp)
             for what in ("time", "u", "steps"):
@@ -317,7 +330,7 @@ class Misuse(unittest.TestCase):
                     getattr(kept[-1], what)
                     print("read", what)
                 except RuntimeError as e:
-                    print("refused", what, "observer 't'" in str(e))
+                    print("refused", what, "observer 't_seen'" in str(e))
             try:
                 kept[-1].markers(0)
             except RuntimeError:
