@@ -10,6 +10,7 @@
 #include "io/scene_checks.hpp"
 #include "fluid/free_surface.hpp"
 #include "fluid/wcsph.hpp"
+#include "membrane/force.hpp"
 #include "membrane/geometry.hpp"
 
 namespace sphib::app {
@@ -56,7 +57,7 @@ void report_membranes(const Picture& p, std::ostream& out) {
     double current = 0;  // mean chord between neighbouring markers
     for (int i = 0; i < nb; ++i) current += (m.m.X.row((i + 1) % nb) - m.m.X.row(i)).norm();
     current /= nb;
-    out << "  membrane " << k << ": " << nb << " markers, T0 = " << m.m.T0 << ", h* = " << num(m.h_star)
+    out << "  membrane " << k << ": " << nb << " markers, " << describe(m.m.mat) << ", h* = " << num(m.h_star)
         << (m.fixed ? ", fixed" : "") << "; markers per grid spacing: dx / rest spacing = " << num(p.dx / m.m.ds())
         << ", dx / current spacing = " << num(p.dx / current) << "\n";
   }
@@ -124,7 +125,7 @@ int check_scene(const Scene& scene, std::ostream& out, bool build) {
     for (int i = 0; i < L.size(); ++i) u0.row(i) = scene.sim.initial_velocity(L.x(i, 0), L.x(i, 1)).transpose();
   std::vector<MembraneState> membranes(scene.sim.membranes.begin(), scene.sim.membranes.end());
   MarkerInterpolation interp = scene.sim.interpolation;
-  if (interp == MarkerInterpolation::Auto) interp = fp.method == "eulerian" ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
+  if (interp == MarkerInterpolation::Auto) interp = fp.method == "eulerian" ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;  // (B-splines too: not the paper's pair)
   const Picture p{fp, L.dx, L.dy, L.x, u0, membranes, paper_pair_of(fp, interp, fp.method != "eulerian")};
   out << "  not built: its estimated peak, " << bytes(e.bytes) << ", is above " << bytes(kBuildBytes)
       << " (sphib check --build builds it: the factorisations, and a membrane too close to a wall, are then checked too)\n"
@@ -195,19 +196,32 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   }
   for (size_t k = 0; k < p.membranes.size(); ++k) {
     const auto& m = p.membranes[k];
-    if (m.fixed || m.m.T0 <= 0) continue;
-    // The elastic energy E released into the fluid: the Stokes speed T0 eps_max/(4 mu) of the
-    // largest strain (a line force density f at wavenumber k moves a line at f/(4 mu k), here
-    // f ~ T0 eps k), or, if smaller, the inertial speed sqrt(2 E/(rho A)) of the enclosed area A.
-    HookeanForce hooke(m.m.nb(), m.m.L0);
+    if (m.fixed) continue;
+    // The elastic energy E released into the fluid: the Stokes speed of the largest stress (a line
+    // force density f at wavenumber k moves a line at f/(4 mu k); the tension T gives f ~ T k, the
+    // bending moment m f ~ m k^2 with k ~ 1/R on a membrane of length 2 pi R), or, if smaller, the
+    // inertial speed sqrt(2 E/(rho A)) of the enclosed area A.
+    MembraneForce force(m.m);
     Mat2 fk;
     Vec T;
-    hooke.compute(m.m.X, m.m.T0, fk, T);
-    MembraneDiagnostics diag(m.m.nb(), m.m.L0);
-    const MembraneShape s = diag.measure(m.m.X, m.m.T0);
-    const double eps = T.cwiseAbs().maxCoeff() / m.m.T0;
-    const double U_m = std::min(m.m.T0 * eps / (4.0 * fp.mu), std::sqrt(2.0 * s.energy / (fp.rho * s.area)));
-    scales.push_back({U_m, "membrane " + std::to_string(k) + ": min(T0 eps_max/(4 mu), sqrt(2 E_el/(rho A)))"});
+    force.compute(m.m.X, fk, T);
+    MembraneDiagnostics diag(m.m.nb(), m.m.L0());
+    const MembraneShape s = diag.measure(m.m.X);
+    const MembraneStiffness st = force.stiffness();
+    double moment = 0.0;  // max |Eb (kappa - kappa0)| at the markers
+    if (st.Eb > 0) {
+      KnotGeometry g(m.m.nb(), m.m.L0());
+      g.fit(m.m.X, true);
+      for (int i = 0; i < m.m.nb(); ++i) {
+        const double k0 = m.m.mat.spontaneous ? m.m.mat.spontaneous_curvature : m.m.ref.kappa(i);
+        moment = std::max(moment, st.Eb * std::fabs(g.kappa[i] - k0));
+      }
+    }
+    constexpr double kPi = 3.14159265358979323846;
+    const double stress = T.cwiseAbs().maxCoeff() + moment * 2.0 * kPi / st.length;
+    if (!(stress > 0)) continue;
+    const double U_m = std::min(stress / (4.0 * fp.mu), std::sqrt(2.0 * force.energy().total() / (fp.rho * s.area)));
+    scales.push_back({U_m, "membrane " + std::to_string(k) + ": min((max|T| + max|m|/R)/(4 mu), sqrt(2 E_el/(rho A)))"});
   }
   const auto top = *std::max_element(scales.begin(), scales.end(), [](auto& a, auto& b) { return a.U < b.U; });
   out << "  time step dt = " << dt << ":\n";
@@ -250,9 +264,14 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   const double c_i = p.paper_pair ? 1.0 : 0.3;
   for (size_t k = 0; k < p.membranes.size(); ++k) {
     const auto& m = p.membranes[k];
-    if (m.fixed || m.m.T0 <= 0) continue;
+    MembraneForce force(m.m);
+    Mat2 fk;
+    Vec T;
+    force.compute(m.m.X, fk, T);
+    const double Et = force.stiffness().Et;
+    if (m.fixed || Et <= 0) continue;
     const double hs = m.h_star;
-    const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / m.m.T0), viscous = 10.0 * fp.mu * hs / m.m.T0;
+    const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / Et), viscous = 10.0 * fp.mu * hs / Et;
     const double limit = std::max(inertial, viscous);
     const bool over = dt > limit;
     warnings += over;

@@ -44,7 +44,7 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
   const bool membranes = !scene.membranes.empty();
   if (scene.exact == "membrane_equilibrium" && membranes) {
     const MembraneScene& m = scene.membranes[0];
-    o.add(membrane_equilibrium(sim, m.radius, m.r0, m.T0));
+    o.add(membrane_equilibrium(sim, m.radius, m.r0));
   }
   o.add(user_observers(scene.observers));
   o.add(membrane_shapes(sim));
@@ -77,9 +77,16 @@ std::string setup_report(const Scene& scene, const Simulation& sim, double setup
     << fl.setup_seconds("assembly") << " s, factorisation " << fl.setup_seconds("factorisation") << " s)";
   for (size_t k = 0; k < sim.membranes().size(); ++k) {
     const auto& ms = sim.membranes()[k];
-    m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0 << ", T0 = " << ms.m.T0
-      << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << ", markers per grid spacing "
-      << fl.lattice().dx / ms.m.ds();
+    m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0() << ", " << describe(ms.m.mat)
+      << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << (ms.filter ? ", semi-implicit force" : "")
+      << ", markers per grid spacing " << fl.lattice().dx / ms.m.ds();
+  }
+  if (!sim.membranes().empty()) {
+    const MarkerInterpolation i = sim.interpolation();
+    m << "\n  marker velocity: "
+      << (i == MarkerInterpolation::Sph       ? "normalised SPH interpolation (Eq. 63)"
+          : i == MarkerInterpolation::BSpline ? "curl of the stream function, tensor cubic B-splines (divergence-free)"
+                                              : "curl of the stream function, SPH kernel (divergence-free)");
   }
   m << "\n  " << plan.steps << " steps to t = " << std::to_string(plan.steps * fp.dt) << ", output in " << out_dir;
   return m.str();

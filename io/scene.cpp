@@ -409,16 +409,69 @@ SolverKind solver_kind(const std::string& s) {
   return SolverKind::Auto;
 }
 
+// The membrane's material and reference state (membrane/law.hpp): law and moduli, bending, the
+// stress-free shape, the stiff-force filter.
+void read_material(Reader& r, const std::string& p, MembraneScene& m) {
+  std::vector<std::string> laws;
+  std::string law_help = "tension law: ";
+  for (const LawInfo& l : tension_laws()) {
+    laws.push_back(l.name);
+    law_help += l.name + " (" + l.help + "); ";
+  }
+  m.law = r.choice(p + "law", "hookean", laws, law_help.substr(0, law_help.size() - 2));
+  const bool hookean = m.law == "hookean";
+  // The modulus: the paper's T0 for the Hookean law (Eq. 47), or Es (any law): one of them.
+  const bool has_T0 = r.has(p + "T0"), has_Es = r.has(p + "Es");
+  if (has_T0 && !hookean) r.fail(p + "T0", "is the Hookean law's modulus (Eq. 47); law \"" + m.law + "\" takes Es");
+  if (has_T0 && has_Es) r.fail(p + "Es", "give T0 or Es, not both (T0 is the Hookean law's Es)");
+  if (r.documenting || has_T0 || (hookean && !has_Es))
+    m.Es = r.number(p + "T0", 1.0, ">= 0", "Young's modulus T0 of Eq. (47): law = \"hookean\"'s Es (give T0 or Es)",
+                    !r.documenting, 0.0);
+  if (r.documenting || has_Es || !hookean)
+    m.Es = r.number(p + "Es", 1.0, ">= 0",
+                    "the law's modulus (hookean: T0; neo_hookean, skalak: the shear modulus; inextensible: the penalty "
+                    "modulus, large against the flow's stresses)",
+                    !r.documenting, 0.0);
+  for (const LawInfo& l : tension_laws())
+    for (const LawParam& q : l.params) {
+      const bool own = l.name == m.law;
+      if (!own && !r.documenting) {
+        if (r.has(p + q.name)) r.fail(p + q.name, "applies to law = \"" + l.name + "\" only (this membrane's law is \"" + m.law + "\")");
+        continue;
+      }
+      const double v = r.number(p + q.name, q.value, "[" + fmt_num(q.min) + ", " + fmt_num(q.max) + "]", q.help, false,
+                                q.min, false, q.max);
+      if (own) m.law_params.push_back(v);
+    }
+  m.Eb = r.number(p + "Eb", 0.0, ">= 0", "bending modulus Eb: energy Eb/2 int (kappa - kappa0)^2 dl (0: no bending)", false, 0.0);
+  m.reference = r.choice(p + "reference", "circle", {"circle", "initial"},
+                         "the stress-free shape: circle (of radius r0, markers uniform in its arclength: the paper's) or "
+                         "initial (the initial shape shrunk by 1/prestretch)");
+  const bool circle_ref = m.reference == "circle";
+  if (r.documenting || circle_ref) m.r0 = r.positive(p + "r0", 0.5, "rest radius r0 of reference = \"circle\": rest length L0 = 2 pi r0", !r.documenting);
+  else if (r.has(p + "r0")) r.fail(p + "r0", "is the radius of reference = \"circle\"; with reference = \"initial\" the initial shape is the reference");
+  if (r.documenting || !circle_ref)
+    m.prestretch = r.positive(p + "prestretch", 1.0, "reference = \"initial\": the initial shape is the reference stretched by this factor (1: stress-free)");
+  else if (r.has(p + "prestretch")) r.fail(p + "prestretch", "applies to reference = \"initial\" only");
+  if (r.documenting || r.has(p + "kappa0")) {
+    m.spontaneous = !r.documenting;
+    m.kappa0 = r.number(p + "kappa0", 0.0, "finite", "uniform spontaneous curvature of the bending energy (default: the reference shape's curvature)");
+    if (!r.documenting && m.Eb == 0.0) r.fail(p + "kappa0", "is the bending energy's spontaneous curvature: set Eb > 0 too");
+  }
+  m.semi_implicit = r.boolean(p + "semi_implicit", m.Eb > 0.0 || !hookean,
+                              "take the membrane's stiff modes semi-implicitly (coupling/stiff_force.hpp), so stiff "
+                              "membranes run at the step the flow needs (default: with bending or a law other than hookean)");
+}
+
 void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   m.shape = r.choice(p + "shape", "circle", {"circle", "ellipse", "points"},
                      "initial shape: circle (radius), ellipse (rx, ry) or points (a closed point list)");
-  m.r0 = r.positive(p + "r0", 0.5, "rest radius r0: rest length L0 = 2 pi r0", true);
-  m.T0 = r.number(p + "T0", 1.0, ">= 0", "Young's modulus T0 of Eq. (47)", true, 0.0);
+  read_material(r, p, m);
   m.nb = r.int32(p + "nb", 128, 4, "number of markers Nb", false, kMaxMarkers);
   const Eigen::Vector2d c = r.pair(p + "centre", Eigen::Vector2d::Zero(), "centre of the initial circle/ellipse");
   m.cx = c[0];
   m.cy = c[1];
-  m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)");
+  m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)", !r.documenting && m.reference != "circle" && m.shape == "circle");
   m.rx = r.positive(p + "rx", 0.75, "ellipse half-axis along x");
   m.ry = r.positive(p + "ry", 0.5, "ellipse half-axis along y");
   m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
@@ -617,12 +670,15 @@ void read_time_and_solvers(Reader& r, Scene& s) {
                "O(dt^3) from the root) or euler (the paper's Eq. 58, X^n + dt U^{n+1}(X^n)); the same root within "
                "solver.marker_eps") == "extrapolated";
   const std::string interp = r.choice(
-      "coupling.interpolation", "auto", {"auto", "divergence_free", "sph"},
-      "marker velocity: divergence_free (curl of the interpolated stream function: membranes keep their area), "
-      "sph (the paper's normalised SPH interpolation, Eq. 63); auto: divergence_free for eulerian, sph otherwise");
-  if (interp == "divergence_free" && s.method != "eulerian")
-    r.fail("coupling.interpolation", "\"divergence_free\" needs method \"eulerian\" (the fixed lattice's stream function)");
+      "coupling.interpolation", "auto", {"auto", "divergence_free", "bspline", "sph"},
+      "marker velocity: divergence_free (curl of the stream function interpolated with the SPH kernel: membranes "
+      "keep their area), bspline (the same curl, the stream function interpolated by tensor cubic B-splines on the "
+      "lattice: no lattice-scale ripple), sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
+      "bspline when a membrane has bending, else divergence_free; sph for the other methods");
+  if ((interp == "divergence_free" || interp == "bspline") && s.method != "eulerian")
+    r.fail("coupling.interpolation", "\"" + interp + "\" needs method \"eulerian\" (the fixed lattice's stream function)");
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
+                        : interp == "bspline"       ? MarkerInterpolation::BSpline
                         : interp == "sph"           ? MarkerInterpolation::Sph
                                                     : MarkerInterpolation::Auto;
 }
@@ -695,9 +751,18 @@ std::pair<std::string, std::string> program_membrane_problem(const ProgramMembra
   const Membrane& mb = m.membrane;
   if (mb.nb() < 4 || mb.nb() > kMaxMarkers)
     return {p + "nb", "value " + std::to_string(mb.nb()) + " is out of range (allowed: [4, " + std::to_string(kMaxMarkers) + "])"};
-  if (!std::isfinite(mb.L0) || !(mb.L0 > 0)) return {p + "r0", "value " + fmt_num(mb.L0 / (2 * M_PI)) + " is out of range (allowed: > 0)"};
-  if (!std::isfinite(mb.T0)) return {p + "T0", "must be finite (got " + fmt_num(mb.T0) + ")"};
-  if (!(mb.T0 >= 0)) return {p + "T0", "value " + fmt_num(mb.T0) + " is out of range (allowed: >= 0)"};
+  if (!std::isfinite(mb.L0()) || !(mb.L0() > 0)) return {p + "r0", "value " + fmt_num(mb.L0() / (2 * M_PI)) + " is out of range (allowed: > 0)"};
+  const std::string modulus = p + (mb.mat.law == "hookean" ? "T0" : "Es");
+  if (!std::isfinite(mb.mat.Es)) return {modulus, "must be finite (got " + fmt_num(mb.mat.Es) + ")"};
+  if (!(mb.mat.Es >= 0)) return {modulus, "value " + fmt_num(mb.mat.Es) + " is out of range (allowed: >= 0)"};
+  if (!std::isfinite(mb.mat.Eb) || !(mb.mat.Eb >= 0)) return {p + "Eb", "value " + fmt_num(mb.mat.Eb) + " is out of range (allowed: >= 0)"};
+  try {  // the law, its parameters, the reference: make_membrane's checks, named by key
+    make_membrane(mb.X, mb.ref, mb.mat);
+  } catch (const std::invalid_argument& e) {
+    const std::string why = e.what();
+    const std::string key = why.find("law") != std::string::npos ? "law" : why.find(" C ") != std::string::npos ? "C" : "reference";
+    return {p + key, why};
+  }
   if (!mb.X.allFinite()) return {p + "points", "each point must be two finite numbers"};
   if (!std::isfinite(m.h_star) || !(m.h_star >= 0)) return {p + "h_star", "value " + fmt_num(m.h_star) + " is out of range (allowed: >= 0)"};
   if (!std::isfinite(m.h_star_over_h) || !(m.h_star_over_h > 0))
@@ -718,18 +783,28 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
       const Mat2 X = m.shape == "circle"    ? circle(m.nb, m.cx, m.cy, m.radius)
                      : m.shape == "ellipse" ? ellipse(m.nb, m.cx, m.cy, m.rx, m.ry)
                                             : from_points(m.points, m.nb);
-      setup.membrane = make_membrane(X, m.r0, m.T0);
+      Material mat;
+      mat.law = m.law;
+      mat.Es = m.Es;
+      mat.params = m.law_params;
+      mat.Eb = m.Eb;
+      mat.spontaneous = m.spontaneous;
+      mat.spontaneous_curvature = m.kappa0;
+      setup.membrane = make_membrane(X, m.reference == "circle" ? circle_reference(m.r0) : initial_reference(X, m.prestretch),
+                                     mat);
     } catch (const std::invalid_argument& e) {
       r.fail(p + "shape", e.what());
     }
     setup.h_star = m.h_star > 0 ? m.h_star : m.h_star_over_h * h;
     setup.fixed = m.fixed;
+    setup.semi_implicit = m.semi_implicit;
     s.sim.membranes.push_back(setup);
   }
   for (const ProgramMembrane& m : program) {
     const std::string p = "membranes[" + std::to_string(s.sim.membranes.size()) + "].";
     if (const auto [key, why] = program_membrane_problem(m, p); !key.empty()) r.fail(key, why);
-    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed});
+    const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
+    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit});
   }
   size_t second = 0;
   if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())

@@ -21,7 +21,16 @@ struct SceneError : std::runtime_error {
 struct MembraneScene {
   std::string shape = "circle";  // circle | ellipse | points
   double radius = 0.5, rx = 0.5, ry = 0.5, cx = 0.0, cy = 0.0;
-  double r0 = 0.5, T0 = 1.0;
+  double r0 = 0.5;
+  std::string law = "hookean";     // membrane/law.hpp's registry
+  double Es = 1.0;                 // the law's modulus (hookean: T0)
+  std::vector<double> law_params;  // the law's own (skalak: C)
+  double Eb = 0.0;                 // bending modulus
+  std::string reference = "circle";  // circle (radius r0) | initial (the initial shape / prestretch)
+  double prestretch = 1.0;
+  bool spontaneous = false;        // kappa0 given: uniform spontaneous curvature
+  double kappa0 = 0.0;
+  bool semi_implicit = false;      // the stiff-force filter (coupling/stiff_force.hpp)
   int nb = 128;
   double h_star = 0.0;  // absolute h*; 0: use h_star_over_h * h
   double h_star_over_h = 1.4;

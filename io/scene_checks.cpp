@@ -150,6 +150,8 @@ std::string exact_cannot_apply(const Scene& s) {
     if (!membranes) return "\"membrane_equilibrium\" needs a membrane";
     if (!s.membranes.empty() && s.membranes[0].shape != "circle")
       return "\"membrane_equilibrium\" needs a circular membrane (membrane.shape = \"circle\")";
+    if (!s.membranes.empty() && s.membranes[0].reference != "circle")
+      return "\"membrane_equilibrium\" needs the circle reference (membrane.reference = \"circle\")";
     return "";
   }
   if (s.exact == "membrane_oscillation") {

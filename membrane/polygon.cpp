@@ -180,13 +180,20 @@ ShapeMoments ellipse_fit(const Mat2& X) {
     iyy += c * (yj * yj + yj * yk + yk * yk);
     ixy += c * (2.0 * xj * yj + xj * yk + xk * yj + 2.0 * xk * yk);
   }
-  s.area = 0.5 * a;
+  const double A = 0.5 * a;
   const double cx = mx / (3.0 * a), cy = my / (3.0 * a);  // about o
-  s.centroid = o + Eigen::Vector2d(cx, cy);
   // Parallel axes: central moments = moments about o - A (c - o)(c - o)^T.
-  s.Jxx = ixx / 12.0 - s.area * cx * cx;
-  s.Jyy = iyy / 12.0 - s.area * cy * cy;
-  s.Jxy = ixy / 24.0 - s.area * cx * cy;
+  return moment_ellipse(A, o + Eigen::Vector2d(cx, cy), ixx / 12.0 - A * cx * cx, ixy / 24.0 - A * cx * cy,
+                        iyy / 12.0 - A * cy * cy);
+}
+
+ShapeMoments moment_ellipse(double A, const Eigen::Vector2d& c, double Jxx, double Jxy, double Jyy) {
+  ShapeMoments s;
+  s.area = A;
+  s.centroid = c;
+  s.Jxx = Jxx;
+  s.Jyy = Jyy;
+  s.Jxy = Jxy;
   // Eigenvalues of J; an ellipse of half-axes (L, B) has lambda = A L^2/4, A B^2/4.
   const double mean = 0.5 * (s.Jxx + s.Jyy), dev = std::hypot(0.5 * (s.Jxx - s.Jyy), s.Jxy);
   s.L = 2.0 * std::sqrt(std::max(mean + dev, 0.0) / s.area);

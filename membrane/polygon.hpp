@@ -24,6 +24,8 @@ struct ShapeMoments {
   double deformation() const { return (L - B) / (L + B); }  // Taylor deformation D = (L - B)/(L + B)
 };
 ShapeMoments ellipse_fit(const Mat2& X);
+/// The ellipse of area A, centroid c and central second moments Jxx, Jxy, Jyy (any closed curve's).
+ShapeMoments moment_ellipse(double A, const Eigen::Vector2d& c, double Jxx, double Jxy, double Jyy);
 
 /// Mean angular velocity of the markers about c: (1/nb) sum_k (X_k - c) x U_k / |X_k - c|^2.
 /// For markers uniform in rest arclength on a steadily tank-treading membrane this is its

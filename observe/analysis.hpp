@@ -116,7 +116,7 @@ std::unique_ptr<Analysis> steady_state(double eps);
 // equilibrium.cpp: the stretched membrane 0 in equilibrium (Section 5.2.1), radius re, rest
 // radius r0: pressure_jump against (T0/re)(re/r0 - 1), pressure_mad_error (Eq. 80),
 // velocity_mad_error (Eq. 83).
-std::unique_ptr<Analysis> membrane_equilibrium(const Simulation& sim, double re, double r0, double T0);
+std::unique_ptr<Analysis> membrane_equilibrium(const Simulation& sim, double re, double r0);
 
 // analysis.cpp: the user's own columns.
 std::unique_ptr<Analysis> user_observers(std::vector<Observer> observers);

@@ -34,7 +34,7 @@
 #include "io/scene.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/geometry.hpp"
-#include "membrane/hookean.hpp"
+#include "membrane/force.hpp"
 #include "membrane/polygon.hpp"
 #include "membrane/shapes.hpp"
 #include "sphib_version.hpp"
@@ -422,52 +422,99 @@ py::dict shape_dict(const MembraneShape& s) {
   py::dict d;
   d["area"] = s.area, d["cx"] = s.cx, d["cy"] = s.cy, d["rx"] = s.rx, d["ry"] = s.ry;
   d["length"] = s.length, d["elastic_energy"] = s.energy;
+  d["D"] = s.moments.deformation(), d["inclination"] = s.moments.theta;  // the spline's second moments
   return d;
 }
 
 // Membranes: the shape builders, the spline diagnostics and the ellipse fit.
 void bind_membranes(py::module_& m) {
-  py::class_<Membrane>(m, "Membrane", "A closed Hookean membrane: nb markers X labelled by rest arclength, rest length L0 = 2 pi r0, modulus T0.")
+  py::class_<Membrane>(m, "Membrane",
+                       "A closed membrane: nb markers X labelled by the reference's arclength (length L0), its law "
+                       "(hookean, neo_hookean, skalak, inextensible), modulus Es (the Hookean T0) and bending modulus Eb.")
       .def_property_readonly("X", [](const Membrane& mb) -> Eigen::Ref<const Mat2> { return mb.X; },
                              py::return_value_policy::reference_internal, "marker positions (nb x 2), read-only view")
-      .def_readonly("L0", &Membrane::L0, "rest length 2 pi r0")
-      .def_readonly("T0", &Membrane::T0, "Young's modulus T0 of Eq. (47)")
+      .def_property_readonly("L0", &Membrane::L0, "length of the reference (the label s runs over [0, L0))")
+      .def_property_readonly("T0", [](const Membrane& mb) { return mb.mat.Es; }, "the Hookean modulus T0 of Eq. (47) (= Es)")
+      .def_property_readonly("Es", [](const Membrane& mb) { return mb.mat.Es; }, "the law's modulus")
+      .def_property_readonly("Eb", [](const Membrane& mb) { return mb.mat.Eb; }, "bending modulus")
+      .def_property_readonly("law", [](const Membrane& mb) { return mb.mat.law; }, "tension law")
       .def_property_readonly("nb", &Membrane::nb, "number of markers")
-      .def_property_readonly("ds", &Membrane::ds, "rest spacing L0 / nb")
+      .def_property_readonly("ds", &Membrane::ds, "label spacing L0 / nb")
       .def("__repr__", [](const Membrane& mb) {
         std::ostringstream o;
-        o << "<sphib.Membrane nb=" << mb.nb() << " L0=" << mb.L0 << " T0=" << mb.T0 << ">";
+        o << "<sphib.Membrane nb=" << mb.nb() << " L0=" << mb.L0() << " " << describe(mb.mat) << ">";
         return o.str();
       });
-  m.def("circle", [](long nb, double r0, std::optional<double> radius, std::vector<double> centre, double T0) {
+  // The material keywords of every builder (the scene's membrane.law, T0/Es, C, Eb, kappa0, reference, prestretch).
+  struct Mat {
+    std::string law, reference;
+    std::optional<double> T0, Es, C, kappa0;
+    double Eb, prestretch;
+    Membrane build(Mat2 X, double r0) const {
+      Material mat;
+      mat.law = law;
+      if (T0 && Es) throw py::value_error("give T0 or Es, not both (T0 is the Hookean law's Es)");
+      if (T0 && law != "hookean") throw py::value_error("T0 is the Hookean law's modulus; law \"" + law + "\" takes Es");
+      mat.Es = T0 ? *T0 : Es ? *Es : 1.0;
+      if (C) {
+        if (law != "skalak") throw py::value_error("C applies to law \"skalak\" only");
+        mat.params = {*C};
+      }
+      mat.Eb = Eb;
+      if (kappa0) mat.spontaneous = true, mat.spontaneous_curvature = *kappa0;
+      if (reference != "circle" && reference != "initial")
+        throw py::value_error("reference must be \"circle\" or \"initial\" (got \"" + reference + "\")");
+      Reference ref = reference == "circle" ? circle_reference(r0) : initial_reference(X, prestretch);
+      // Not checked here: Scene.add_membrane checks it as the scene reader checks a file's, naming the key.
+      return Membrane{std::move(X), std::move(ref), std::move(mat)};
+    }
+  };
+#define SPHIB_MAT_ARGS                                                                                             \
+  py::kw_only(), py::arg("T0") = py::none(), py::arg("law") = "hookean", py::arg("Es") = py::none(),              \
+      py::arg("Eb") = 0.0, py::arg("C") = py::none(), py::arg("kappa0") = py::none(),                              \
+      py::arg("reference") = "circle", py::arg("prestretch") = 1.0
+#define SPHIB_MAT_PARAMS                                                                                           \
+  std::optional<double> T0, const std::string &law, std::optional<double> Es, double Eb, std::optional<double> C, \
+      std::optional<double> kappa0, const std::string &reference, double prestretch
+#define SPHIB_MAT Mat{law, reference, T0, Es, C, kappa0, Eb, prestretch}
+  m.def("circle", [](long nb, double r0, std::optional<double> radius, std::vector<double> centre, SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = pair(centre, "centre");
-          return make_membrane(circle(marker_count(nb), c.x(), c.y(), radius.value_or(r0)), r0, T0);
+          return SPHIB_MAT.build(circle(marker_count(nb), c.x(), c.y(), radius.value_or(r0)), r0);
         }, py::arg("nb"), py::arg("r0"), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
-        py::arg("T0") = 1.0, "A circle of the given radius (default r0: at rest) about centre.");
-  m.def("ellipse", [](long nb, double r0, double rx, double ry, std::vector<double> centre, double T0) {
+        SPHIB_MAT_ARGS, "A circle of the given radius (default r0: at rest) about centre.");
+  m.def("ellipse", [](long nb, double r0, double rx, double ry, std::vector<double> centre, SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = pair(centre, "centre");
-          return make_membrane(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0, T0);
+          return SPHIB_MAT.build(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0);
         }, py::arg("nb"), py::arg("r0"), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
-        py::arg("T0") = 1.0, "An axis-aligned ellipse with half-axes rx, ry about centre.");
-  m.def("from_points", [](const Mat2& points, long nb, double r0, double T0) {
-          return make_membrane(from_points(points, marker_count(nb)), r0, T0);
-        }, py::arg("points"), py::arg("nb"), py::arg("r0"), py::arg("T0") = 1.0,
+        SPHIB_MAT_ARGS, "An axis-aligned ellipse with half-axes rx, ry about centre.");
+  m.def("from_points", [](const Mat2& points, long nb, double r0, SPHIB_MAT_PARAMS) {
+          return SPHIB_MAT.build(from_points(points, marker_count(nb)), r0);
+        },
+        py::arg("points"), py::arg("nb"), py::arg("r0") = 1.0, SPHIB_MAT_ARGS,
         "A closed curve through points (m x 2, anticlockwise), resampled at nb markers uniform in arclength.");
-  m.def("polar", [](const std::function<double(double)>& r, long nb, double r0, std::vector<double> centre, double T0) {
+  m.def("polar", [](const std::function<double(double)>& r, long nb, double r0, std::vector<double> centre, SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = pair(centre, "centre");
-          return make_membrane(from_polar(r, marker_count(nb), c.x(), c.y()), r0, T0);
-        }, py::arg("r"), py::arg("nb"), py::arg("r0"), py::arg("centre") = std::vector<double>{0, 0}, py::arg("T0") = 1.0,
+          return SPHIB_MAT.build(from_polar(r, marker_count(nb), c.x(), c.y()), r0);
+        }, py::arg("r"), py::arg("nb"), py::arg("r0") = 1.0, py::arg("centre") = std::vector<double>{0, 0}, SPHIB_MAT_ARGS,
         "A star-shaped curve of radius r(theta) about centre.");
-  m.def("curve", [](const std::function<Eigen::Vector2d(double)>& C, long nb, double r0, double T0) {
-          return make_membrane(from_curve(C, marker_count(nb)), r0, T0);
-        }, py::arg("C"), py::arg("nb"), py::arg("r0"), py::arg("T0") = 1.0,
+  m.def("curve", [](const std::function<Eigen::Vector2d(double)>& C_, long nb, double r0, SPHIB_MAT_PARAMS) {
+          return SPHIB_MAT.build(from_curve(C_, marker_count(nb)), r0);
+        }, py::arg("C"), py::arg("nb"), py::arg("r0") = 1.0, SPHIB_MAT_ARGS,
         "A closed curve C(t) -> (x, y), t in [0, 1), anticlockwise, C(1) = C(0).");
+#undef SPHIB_MAT_ARGS
+#undef SPHIB_MAT_PARAMS
+#undef SPHIB_MAT
   m.def("measure", [](const Mat2& X, double L0, double T0) {
           MembraneDiagnostics D(static_cast<int>(markers_arg(X).rows()), L0);
-          return shape_dict(D.measure(X, T0));
+          py::dict d = shape_dict(D.measure(X));
+          MembraneForce E(make_membrane(X, L0 / (2.0 * 3.14159265358979323846), T0));
+          E.fit_energy(X);
+          d["elastic_energy"] = E.energy().total();
+          return d;
         }, py::arg("X"), py::arg("L0"), py::arg("T0") = 0.0,
         "Spline diagnostics of markers X: area (exact for the spline), centroid, half-chords rx, ry (the extents "
-        "along x and y: for a tilted shape use ellipse_fit), length, elastic energy.");
+        "along x and y: for a tilted shape use ellipse_fit), length, the Hookean elastic energy with modulus T0 on the "
+        "circle of length L0, and D and inclination of the ellipse of the spline's second moments.");
 
   py::class_<ShapeMoments>(m, "ShapeMoments",
                            "Area moments of the polygon through the markers and the ellipse with the same moments "
@@ -663,9 +710,14 @@ void bind_simulation(py::module_& m) {
            py::arg("k") = 0, "u(X) at the markers of membrane k after the last step (nb x 2)")
       .def("membrane", [](const PySim& s, int k) {
              const MembraneState& ms = s.membrane(k);
-             MembraneDiagnostics D(ms.m.nb(), ms.m.L0);
-             py::dict d = shape_dict(D.measure(ms.m.X, ms.m.T0));
-             d["nb"] = ms.m.nb(), d["L0"] = ms.m.L0, d["T0"] = ms.m.T0, d["h_star"] = ms.h_star, d["fixed"] = ms.fixed;
+             MembraneDiagnostics D(ms.m.nb(), ms.m.L0());
+             py::dict d = shape_dict(D.measure(ms.m.X));
+             MembraneForce E = ms.force;
+             E.fit_energy(ms.m.X);
+             const MembraneEnergy e = E.energy();
+             d["nb"] = ms.m.nb(), d["L0"] = ms.m.L0(), d["law"] = ms.m.mat.law, d["Es"] = ms.m.mat.Es, d["Eb"] = ms.m.mat.Eb;
+             d["T0"] = ms.m.mat.Es, d["h_star"] = ms.h_star, d["fixed"] = ms.fixed;
+             d["elastic_energy"] = e.total(), d["bending_energy"] = e.bending;
              d["iterations"] = ms.last.iterations;
              return d;
            }, py::arg("k") = 0, "membrane k's parameters and shape (area, centroid, rx, ry, length, elastic energy)")

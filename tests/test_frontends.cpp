@@ -40,7 +40,7 @@ TEST(ProgramMembranes, AreCheckedWithTheScenesOwn) {
   EXPECT_NE(refusal({a, b}).find("scene: membranes[1]: membrane 1 crosses or touches membrane 0"), std::string::npos)
       << refusal({a, b});
   ProgramMembrane c{make_membrane(circle(64, 0.8, 0.2, 0.1), 0.1, 1.0)};
-  c.membrane.T0 = -1;
+  c.membrane.mat.Es = -1;
   EXPECT_EQ(refusal({a, c}), "scene: membranes[1].T0: value -1 is out of range (allowed: >= 0)");
   ProgramMembrane d{make_membrane(circle(64, 0.8, 0.2, 0.1), 0.1, 1.0)};
   d.h_star = -0.1;

@@ -26,6 +26,7 @@
 #include "helpers.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
+#include "membrane/force.hpp"
 #include "membrane/geometry.hpp"
 #include "observe/analysis.hpp"
 
@@ -184,12 +185,12 @@ TEST(ColumnContract, DamBreakFrontAndWallLoads) {
 TEST(ColumnContract, MembraneEquilibrium) {
   const Scene sc = small("membrane_equilibrium.toml", {"grid.nx=32", "grid.ny=32", "membrane.nb=64", "time.dt=1e-3"});
   const MembraneScene& m = sc.membranes[0];
-  const Sampled s = sample_after(sc, [&](const Simulation& sim) { return membrane_equilibrium(sim, m.radius, m.r0, m.T0); }, 3);
+  const Sampled s = sample_after(sc, [&](const Simulation& sim) { return membrane_equilibrium(sim, m.radius, m.r0); }, 3);
   const FluidSolver& fl = s.sim->fluid();
-  MembraneDiagnostics D(s.sim->membranes()[0].m.nb(), s.sim->membranes()[0].m.L0);
+  MembraneDiagnostics D(s.sim->membranes()[0].m.nb(), s.sim->membranes()[0].m.L0());
   D.fit(s.sim->membranes()[0].m.X);
   const Eigen::Vector2d c = D.centroid();
-  const double band = 2 * s.sim->membranes()[0].h_star + 2 * fl.h(), exact_jump = m.T0 / m.radius * (m.radius / m.r0 - 1);
+  const double band = 2 * s.sim->membranes()[0].h_star + 2 * fl.h(), exact_jump = m.Es / m.radius * (m.radius / m.r0 - 1);
   const Domain& d = fl.params().domain;
   double pin = 0, pout = 0, umad = 0;
   int nin = 0, nout = 0;
@@ -214,26 +215,41 @@ TEST(ColumnContract, MembraneEquilibrium) {
   expect_distinct(s.row);
 }
 
-// membranes.cpp: per membrane k, mk_rx ... mk_iterations from the spline through its markers.
+// membranes.cpp: per membrane k, mk_rx ... mk_iterations from the spline through its markers, then
+// mk_D, mk_inclination (the ellipse of the spline's second moments), mk_omega (the markers' mean
+// angular velocity about the centroid), mk_bending_energy and mk_strain_max (the law's).
 TEST(ColumnContract, MembraneShapes) {
   const Scene sc = small("membrane_oscillation.toml", {"grid.nx=24", "grid.ny=24", "membrane.nb=48", "time.dt=1e-3",
-                                                        "membrane.centre=[0.1, -0.05]"});
+                                                        "membrane.centre=[0.1, -0.05]", "membrane.Eb=0.05"});
   MembraneShape s0;
   const Sampled s = sample_after(sc, [](const Simulation& sim) { return membrane_shapes(sim); }, 3, [&](const Simulation& sim) {
     const MembraneState& m = sim.membranes()[0];
-    s0 = MembraneDiagnostics(m.m.nb(), m.m.L0).measure(m.m.X, m.m.T0);
+    s0 = MembraneDiagnostics(m.m.nb(), m.m.L0()).measure(m.m.X);
   });
   const MembraneState& m = s.sim->membranes()[0];
-  const MembraneShape now = MembraneDiagnostics(m.m.nb(), m.m.L0).measure(m.m.X, m.m.T0);
+  const MembraneShape now = MembraneDiagnostics(m.m.nb(), m.m.L0()).measure(m.m.X);
+  MembraneForce F(m.m);
+  F.fit_energy(m.m.X);
+  const MembraneEnergy e = F.energy();
+  KnotGeometry g(m.m.nb(), m.m.L0());
+  g.fit(m.m.X, false);
+  double strain = 0;
+  for (int k = 0; k < m.m.nb(); ++k) strain = std::max(strain, std::fabs(g.norm[k] / m.m.ref.a(k) - 1));
+  ASSERT_NE(s.sim->next_marker_velocity(0), nullptr);
   expect_value(s, "m0_rx", now.rx);
   expect_value(s, "m0_ry", now.ry);
   expect_value(s, "m0_cx", now.cx);
   expect_value(s, "m0_cy", now.cy);
   expect_value(s, "m0_area", now.area);
   expect_value(s, "m0_area_rel_error", now.area / s0.area - 1);
-  expect_value(s, "m0_elastic_energy", now.energy);
+  expect_value(s, "m0_elastic_energy", e.total());
   expect_value(s, "m0_length", now.length);
   expect_value(s, "m0_iterations", m.last.iterations);
+  expect_value(s, "m0_D", now.moments.deformation());
+  expect_value(s, "m0_inclination", now.moments.theta);
+  expect_value(s, "m0_omega", mean_angular_velocity(m.m.X, *s.sim->next_marker_velocity(0), Eigen::Vector2d(now.cx, now.cy)));
+  expect_value(s, "m0_bending_energy", e.bending);
+  expect_value(s, "m0_strain_max", strain);
   expect_distinct(s.row);
 }
 
