@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "coupling/marker_update.hpp"
+#include "coupling/viscosity_contrast.hpp"
 #include "fluid/solver.hpp"
 #include "fluid/neighbours.hpp"
 #include "membrane/hookean.hpp"
@@ -15,6 +16,9 @@ struct MembraneSetup {
   Membrane membrane;      // markers, rest length L0, T0
   double h_star = 0.05;   // spreading kernel's smoothing length h* (support 2h*)
   bool fixed = false;     // markers held in place (Section 5.2.1)
+  // lambda = mu_in / mu of the fluid it encloses (a viscosity contrast: coupling/viscosity_contrast.hpp;
+  // method "eulerian" only); 1: the same fluid inside and out
+  double viscosity_ratio = 1.0;
 };
 
 // How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
@@ -78,6 +82,9 @@ class Simulation {
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+  // The viscosity contrast of the membranes (their indicators and m), or nullptr when every
+  // viscosity_ratio is 1.
+  const ViscosityContrast* viscosity_contrast() const { return contrast_.get(); }
   MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
   // The marker velocity of the fluid's current state at the points X, by the interpolation in use;
   // with dU non-null also its gradient at X where the interpolation has one (returns whether it has).
@@ -95,6 +102,7 @@ class Simulation {
   void spread_membrane_forces();   // F += S f (Eq. 53)
   void marker_velocities_now();    // U^n(X^n) of every free membrane
   void move_markers();             // the trapezoidal fixed point (Eqs. 56-60)
+  void viscosity_now();            // mu^n from the indicators of X^n (a viscosity contrast)
 
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
@@ -102,8 +110,10 @@ class Simulation {
   CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
+  std::unique_ptr<ViscosityContrast> contrast_;  // when some viscosity_ratio differs from 1
+  std::vector<const Mat2*> X_now_;                // its markers
   Profile prof_;
-  int k_force_, k_spread_, k_interp_, k_markers_;
+  int k_force_, k_spread_, k_interp_, k_markers_, k_visc_ = -1;
 };
 
 }  // namespace sphib

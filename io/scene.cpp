@@ -370,6 +370,10 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
   m.h_star_over_h = r.positive(p + "h_star_over_h", 1.4, "h* / h when h_star is 0");
   m.fixed = r.boolean(p + "fixed", false, "hold the markers in place (fixed membrane)");
+  m.viscosity_ratio = r.number(p + "viscosity_ratio", 1.0, "[0.01, 100]",
+                               "viscosity contrast lambda = mu_in / mu_out: the fluid the membrane encloses has viscosity "
+                               "lambda fluid.mu (method eulerian; docs/viscosity_contrast.md)",
+                               false, 0.01, false, 100.0);
   const toml::node* pts = r.raw(p + "points", "array of [x, y]", "closed point list for shape = \"points\"");
   if (m.shape == "points") {
     const toml::array* a = pts ? pts->as_array() : nullptr;
@@ -655,6 +659,10 @@ void build_membranes(Reader& r, Scene& s) {
     }
     setup.h_star = m.h_star > 0 ? m.h_star : m.h_star_over_h * h;
     setup.fixed = m.fixed;
+    setup.viscosity_ratio = m.viscosity_ratio;
+    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+                                        "\" has one viscosity everywhere)");
     s.sim.membranes.push_back(setup);
   }
   size_t second = 0;

@@ -26,6 +26,7 @@ struct MembraneScene {
   double h_star = 0.0;  // absolute h*; 0: use h_star_over_h * h
   double h_star_over_h = 1.4;
   bool fixed = false;
+  double viscosity_ratio = 1.0;  // lambda = mu_in / mu_out
   Mat2 points;  // shape = "points"
 };
 

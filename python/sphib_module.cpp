@@ -208,6 +208,7 @@ struct ExtraMembrane {
   Membrane m;
   double h_star = 0, h_star_over_h = 1.4;
   bool fixed = false;
+  double viscosity_ratio = 1.0;
 };
 
 // A validated scene plus what Python adds: membranes, a body force and an initial velocity as
@@ -232,7 +233,7 @@ struct PyScene {
   Scene build(const std::shared_ptr<Context>& ctx) const {
     Scene s = scene;
     for (const ExtraMembrane& e : extra)
-      s.sim.membranes.push_back({e.m, e.h_star > 0 ? e.h_star : e.h_star_over_h * h(), e.fixed});
+      s.sim.membranes.push_back({e.m, e.h_star > 0 ? e.h_star : e.h_star_over_h * h(), e.fixed, e.viscosity_ratio});
     const Mat2 x0 = make_lattice(s.sim.fluid.domain, s.sim.fluid.nx, s.sim.fluid.ny).x;
     if (!body_force.is_none()) {
       auto f = std::make_shared<VectorField>(body_force, "body_force", true, x0, ctx);
@@ -495,12 +496,17 @@ void bind_scene(py::module_& m) {
              trial.validate();  // refused: the scene stays as it was
              s = std::move(trial);
            }, py::arg("keys") = py::none(), "set({'fluid.mu': 0.05}): change scene keys (validated)")
-      .def("add_membrane", [](PyScene& s, const Membrane& mb, std::optional<double> h_star, double h_star_over_h, bool fixed) {
+      .def("add_membrane", [](PyScene& s, const Membrane& mb, std::optional<double> h_star, double h_star_over_h, bool fixed,
+                              double viscosity_ratio) {
              if (h_star && !(*h_star > 0)) throw py::value_error("h_star must be positive");
              if (!(h_star_over_h > 0)) throw py::value_error("h_star_over_h must be positive");
-             s.extra.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed});
+             if (!(viscosity_ratio >= 0.01 && viscosity_ratio <= 100))  // the range of membrane.viscosity_ratio
+               throw py::value_error("viscosity_ratio must lie in [0.01, 100] (got " + std::to_string(viscosity_ratio) + ")");
+             s.extra.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed, viscosity_ratio});
            }, py::arg("membrane"), py::arg("h_star") = py::none(), py::arg("h_star_over_h") = 1.4, py::arg("fixed") = false,
-           "Adds a membrane (sphib.circle, ellipse, polar, curve, from_points) with spreading radius h* (default 1.4 h).")
+           py::arg("viscosity_ratio") = 1.0,
+           "Adds a membrane (sphib.circle, ellipse, polar, curve, from_points) with spreading radius h* (default 1.4 h) "
+           "and the viscosity ratio mu_in / mu_out of the fluid it encloses (method eulerian).")
       .def("observe", [](PyScene& s, const std::string& name, py::function fn) {
              if (name.empty()) throw py::value_error("an observer needs a name");
              for (const auto& o : s.observers)
