@@ -90,9 +90,9 @@ void EulerianFluid::set_viscosity(const int* at, const double* m, int n) {
     bool uniform = true;
     for (int q = 0; q < n && uniform; ++q) uniform = m[q] == 1.0;
     if (uniform) return;  // nothing differs from the constant-viscosity step
-    VariableViscosityParams vp;
+    VariableViscosityParams vp = visc_prm_;
     vp.a = a_cn();
-    visc_ = std::make_unique<VariableViscosity>(pairs_, im_, size(), volume_, W_, op_.lap_u, crank_nicolson_matrix(), *cn_, vp);
+    visc_ = std::make_unique<VariableViscosity>(pairs_, im_, size(), volume_, W_, crank_nicolson_matrix(), *cn_, vp);
     k_visc_ = prof_.phase("variable viscosity (operator rows)");
   }
   ScopedTimer tm(prof_, k_visc_);

@@ -41,6 +41,9 @@ class EulerianFluid final : public ProjectionFluid {
   bool supports_variable_viscosity() const override { return true; }
   void set_viscosity(const int* at, const double* m, int n) override;
   const VariableViscosity* variable_viscosity() const { return visc_.get(); }
+  // Its options (rtol, the form for m > 1: fluid/variable_viscosity.hpp) for the next set_viscosity
+  // that makes it (benchmarks; a and the rest are the fluid's).
+  void set_variable_viscosity_params(const VariableViscosityParams& p) { visc_prm_ = p; }
 
   std::vector<SolverInfo> solver_info() const override;
   double cn_mean_iterations() const { return cn_->mean_iterations(); }
@@ -69,6 +72,7 @@ class EulerianFluid final : public ProjectionFluid {
   Mat2 conv_old_;                   // N^n kept for AB2 (Eq. 39)
   mutable std::unique_ptr<ExactProjection> streams_;  // made when first needed (approximate projection)
   std::unique_ptr<VariableViscosity> visc_;           // made when a viscosity first differs from mu
+  VariableViscosityParams visc_prm_;
   int k_visc_ = -1;                                   // its profile phase (set_viscosity)
   mutable long phi_step_ = 0;  // exact projection: the step phi_ belongs to
   int k_psi_;

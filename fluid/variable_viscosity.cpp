@@ -2,39 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
-#include "fluid/products.hpp"
-#include "fluid/solver.hpp"
-
 namespace sphib {
 
-namespace {
-
-// Index of column c in row i of A (row-major, sorted columns), or -1.
-int entry(const SpMat& A, int i, int c) {
-  const int* o = A.outerIndexPtr();
-  const int* b = A.innerIndexPtr() + o[i];
-  const int* e = A.innerIndexPtr() + o[i + 1];
-  const int* p = std::lower_bound(b, e, c);
-  return p != e && *p == c ? static_cast<int>(p - A.innerIndexPtr()) : -1;
-}
-
-}  // namespace
-
-// Conjugate gradients on C_m, preconditioned by the constant matrix's solver M (C0^-1), warm-started
-// from X, each column to |r| <= rtol |b| or a backward error |r| <= 1e-14 (|C_m| |x| + |b|). The
-// product C_m x is C0's lattice stencil (products.hpp) with the rows of C_m that differ
-// (VariableViscosity::rows) taken from C_m.
+// Conjugate gradients on C_m, preconditioned by the constant matrix's solver M (C0^-1 on each
+// component), warm-started (see solver_for_step), to |r| <= rtol |b| or a backward error
+// |r| <= 1e-14 (|C_m| |x| + |b|), over the 2N unknowns at once (V_m couples the components).
 class VariableViscosity::Cg final : public LinearSolver {
  public:
-  Cg(const VariableViscosity& v, LinearSolver& M) : v_(v), M_(M), H_(Eigen::MatrixXd::Zero(v.N_, 6)) {
+  Cg(const VariableViscosity& v, LinearSolver& M) : v_(v), M_(M) {
+    for (Mat2& h : H_) h = Mat2::Zero(v.N_, 2);
     info_.system = "Crank-Nicolson (variable viscosity)";
     info_.n = v.N_;
-    info_.nnz_A = v.C_.nonZeros();
-    info_.nnz_used = 2 * info_.nnz_A;  // C0 and C_m, kept
+    info_.nnz_A = 4 * v.C0_.nonZeros();  // (2N x 2N: the blocks of V_m couple u and v)
+    info_.nnz_used = v.C0_.nonZeros() + 2 * static_cast<long>(v.P_.size());  // C0 and the pair weights, kept
     std::ostringstream m;
     m << "CG preconditioned by the constant-viscosity solver (" << M.info().method << "), rtol " << v.prm_.rtol;
     info_.method = m.str();
@@ -50,65 +35,53 @@ class VariableViscosity::Cg final : public LinearSolver {
     Eigen::Map<Mat2> x(X, n, 2);
     if (count_ >= 3 && last_ == step_ - 1)  // the quadratic extrapolation of the last three steps' u*
       for (int e = 0; e < 2; ++e)
-        for (int i = 0; i < n; ++i) x(i, e) = 3.0 * (H_(i, e) - H_(i, 2 + e)) + H_(i, 4 + e);
+        for (int i = 0; i < n; ++i) x(i, e) = 3.0 * (H_[h0_](i, e) - H_[(h0_ + 1) % 3](i, e)) + H_[(h0_ + 2) % 3](i, e);
+    // One system of 2N unknowns: the cross term couples the components (X), so both columns share
+    // alpha and beta; the preconditioner (C0^-1 on each column) is symmetric positive definite.
     v_.product(x.data(), R_.data());
     R_ = b - R_;
-    const double normA = v_.norm_C();
-    double rz[2], bn[2];
-    bool done[2];
-    auto converged = [&](int c, double rr, double xx) {
+    const double normA = v_.norm_C(), bn = b.norm();
+    auto converged = [&](double rr, double xx) {
       const double r = std::sqrt(rr);
-      return r <= v_.prm_.rtol * bn[c] || r <= kBackward * (normA * std::sqrt(xx) + bn[c]);
+      return r <= v_.prm_.rtol * bn || r <= kBackward * (normA * std::sqrt(xx) + bn);
     };
-    int active = 0;
-    for (int c = 0; c < 2; ++c) {
-      bn[c] = b.col(c).norm();
-      if (bn[c] == 0.0) x.col(c).setZero();
-      done[c] = bn[c] == 0.0 || converged(c, R_.col(c).squaredNorm(), x.col(c).squaredNorm());
-      active += !done[c];
-    }
-    if (active) {
+    if (bn == 0.0) x.setZero();
+    int it = 0;
+    if (bn != 0.0 && !converged(R_.squaredNorm(), x.squaredNorm())) {
       M_.solve(R_.data(), Z_.data(), 2);
       P_ = Z_;
-      for (int c = 0; c < 2; ++c) rz[c] = R_.col(c).dot(Z_.col(c));
-    }
-    int it = 0;
-    while (active > 0) {
-      if (++it > v_.prm_.max_iter) {
-        std::ostringstream m;
-        m << "variable viscosity: conjugate gradients on the Crank-Nicolson matrix did not converge in " << v_.prm_.max_iter
-          << " iterations (n = " << n << ")";
-        throw std::runtime_error(m.str());
-      }
-      v_.product(P_.data(), Q_.data());
-      for (int c = 0; c < 2; ++c) {
-        if (done[c]) continue;
-        const double alpha = rz[c] / P_.col(c).dot(Q_.col(c));
-        double *xc = x.col(c).data(), *rc = R_.col(c).data(), rr = 0, xx = 0;  // one pass
-        const double *pc = P_.col(c).data(), *qc = Q_.col(c).data();
-        for (int i = 0; i < n; ++i) {
-          xc[i] += alpha * pc[i];
-          rc[i] -= alpha * qc[i];
-          rr += rc[i] * rc[i];
-          xx += xc[i] * xc[i];
+      double rz = dot(R_, Z_);
+      while (true) {
+        if (++it > v_.prm_.max_iter) {
+          std::ostringstream m;
+          m << "variable viscosity: conjugate gradients on the Crank-Nicolson matrix did not converge in "
+            << v_.prm_.max_iter << " iterations (n = " << n << ", relative residual " << R_.norm() / bn << ")";
+          throw std::runtime_error(m.str());
         }
-        if (converged(c, rr, xx)) done[c] = true, --active;
-      }
-      if (!active) break;
-      M_.solve(R_.data(), Z_.data(), 2);
-      for (int c = 0; c < 2; ++c) {
-        if (done[c]) continue;
-        const double rz_new = R_.col(c).dot(Z_.col(c));
-        P_.col(c) = Z_.col(c) + (rz_new / rz[c]) * P_.col(c);
-        rz[c] = rz_new;
+        v_.product(P_.data(), Q_.data());
+        const double alpha = rz / dot(P_, Q_);
+        double rr = 0, xx = 0;  // one pass: x += alpha p, r -= alpha q, |r|^2, |x|^2
+        double *xv = x.data(), *rv = R_.data();
+        const double *pv = P_.data(), *qv = Q_.data();
+        for (int i = 0; i < 2 * n; ++i) {
+          xv[i] += alpha * pv[i];
+          rv[i] -= alpha * qv[i];
+          rr += rv[i] * rv[i];
+          xx += xv[i] * xv[i];
+        }
+        if (converged(rr, xx)) break;
+        M_.solve(R_.data(), Z_.data(), 2);
+        const double rz_new = dot(R_, Z_);
+        P_ = Z_ + (rz_new / rz) * P_;
+        rz = rz_new;
       }
     }
     iterations_ += it;
     ++solves_;
-    // the history: u*_n, u*_{n-1}, u*_{n-2} in columns (0, 1), (2, 3), (4, 5)
+    // the history: u*_n, u*_{n-1}, u*_{n-2} in H_[h0_], H_[h0_ + 1], H_[h0_ + 2] (mod 3)
     if (last_ != step_ - 1) count_ = 0;
-    H_.rightCols(4) = H_.leftCols(4).eval();
-    H_.leftCols(2) = x;
+    h0_ = (h0_ + 2) % 3;  // the oldest becomes the newest
+    H_[h0_] = x;
     count_ = std::min(count_ + 1, 3);
     last_ = step_;
   }
@@ -121,70 +94,36 @@ class VariableViscosity::Cg final : public LinearSolver {
     Eigen::MatrixXd c(1, 2);
     c << count_, static_cast<double>(last_);
     st.emplace_back("viscous_start_count", c);
-    st.emplace_back("viscous_start_history", H_);
+    Eigen::MatrixXd h(info_.n, 6);
+    for (int q = 0; q < 3; ++q) h.middleCols(2 * q, 2) = H_[(h0_ + q) % 3];
+    st.emplace_back("viscous_start_history", h);
   }
   void load(const NamedArrays& st) {
     const Eigen::MatrixXd& c = state_entry(st, "viscous_start_count", 1, 2);
-    H_ = state_entry(st, "viscous_start_history", info_.n, 6);
+    const Eigen::MatrixXd& h = state_entry(st, "viscous_start_history", info_.n, 6);
+    h0_ = 0;
+    for (int q = 0; q < 3; ++q) H_[q] = h.middleCols(2 * q, 2);
     count_ = static_cast<int>(c(0, 0));
     last_ = static_cast<long>(c(0, 1));
   }
 
  private:
   static constexpr double kBackward = 1e-14;
+  static double dot(const Mat2& a, const Mat2& b) { return a.col(0).dot(b.col(0)) + a.col(1).dot(b.col(1)); }
   const VariableViscosity& v_;
   LinearSolver& M_;
   Mat2 R_, Z_, P_, Q_;
   long iterations_ = 0, solves_ = 0;
-  Eigen::MatrixXd H_;       // the last three solutions (see solve)
+  Mat2 H_[3];               // the last three solutions, the newest H_[h0_] (see solve)
+  int h0_ = 0;
   int count_ = 0;           // how many of them
   long step_ = 0, last_ = -2;  // the step of this solve and of the last one
 };
 
-void VariableViscosity::product(const double* x, double* y) const {
-  apply2(C0_, x, y, &st_);  // the constant rows as a lattice stencil, then the rows that differ
-  const int* o = C_.outerIndexPtr();
-  const int* col = C_.innerIndexPtr();
-  const double* c = C_.valuePtr();
-  const double* x1 = x + N_;
-  for (int i : rows_) {
-    if (uniform_[i]) {  // C_m row = I - a m_i L row = m_i C0 row + (1 - m_i) e_i
-      const double mi = m_[i];
-      y[i] = mi * y[i] + (1.0 - mi) * x[i];
-      y[N_ + i] = mi * y[N_ + i] + (1.0 - mi) * x1[i];
-      continue;
-    }
-    double s0 = 0, s1 = 0;
-    for (int e = o[i]; e < o[i + 1]; ++e) {
-      s0 += c[e] * x[col[e]];
-      s1 += c[e] * x1[col[e]];
-    }
-    y[i] = s0;
-    y[N_ + i] = s1;
-  }
-}
-
-double VariableViscosity::norm_C() const {
-  if (norm_stale_) {  // the largest absolute row sum: C0's, or a variable row's
-    norm_ = norm_C0_;
-    const int* o = C_.outerIndexPtr();
-    for (int i : rows_) {
-      double s = 0;
-      for (int e = o[i]; e < o[i + 1]; ++e) s += std::fabs(C_.valuePtr()[e]);
-      norm_ = std::max(norm_, s);
-    }
-    norm_stale_ = false;
-  }
-  return norm_;
-}
-
 VariableViscosity::VariableViscosity(const PairList& P, const Images& im, int N, double V, const CubicSplineKernel& W,
-                                     const ImageOp& lap, const SpMat& C0, LinearSolver& C0_solver,
-                                     const VariableViscosityParams& prm)
-    : P_(P), im_(im), N_(N), prm_(prm), C0_(C0), C_(C0) {
-  if (!same_pattern(C0, lap.A)) throw std::logic_error("variable viscosity: C0 must have the Laplacian's pattern");
+                                     const SpMat& C0, LinearSolver& C0_solver, const VariableViscosityParams& prm)
+    : P_(P), im_(im), N_(N), prm_(prm), C0_(C0) {
   C0_.makeCompressed();
-  C_.makeCompressed();
   st_ = find_row_stencil({&C0_});
   for (int i = 0; i < N; ++i) {
     double s = 0;
@@ -192,27 +131,57 @@ VariableViscosity::VariableViscosity(const PairList& P, const Images& im, int N,
     norm_C0_ = std::max(norm_C0_, s);
   }
   const int K = P.size();
-  lap_.resize(K), gx_.resize(K), gy_.resize(K), col_.resize(K), sign_.resize(K), pos_.resize(K);
+  lap_.resize(K), gx_.resize(K), gy_.resize(K), ex_.resize(K), ey_.resize(K), beta_.assign(K, 0.0);
+  col_.resize(K), sign_.resize(K);
+  w_.assign(K, 0.0);
+  central_.assign(K, 0);
   for (int k = 0; k < K; ++k) {
     const double F = W.F(P.r[k]);  // (1/r) dW/dr
     lap_[k] = 2.0 * V * F;         // as build_operators: Eqs. (28), (31)
     gx_[k] = V * P.rx[k] * F;      // V (x_i - x_j) F_ij
     gy_[k] = V * P.ry[k] * F;
+    ex_[k] = P.rx[k] / P.r[k];
+    ey_[k] = P.ry[k] / P.r[k];
     const int j = P.j[k];
     col_[k] = j < N ? j : im.parent[j - N];
     sign_[k] = j < N ? 1.0 : im.v_sign[j - N];
   }
-  diag_.resize(N);
-  std::vector<int> count(N + 1, 0);
+  // beta(e) = gamma (1 + kappa (e_x^4 + e_y^4)) from the moments of a full row (one with the most
+  // pairs and no image): sum_j (-V F) beta r_a r_b r_c r_d / r^2 = s2 (delta_ab delta_cd + delta_ac
+  // delta_bd + delta_ad delta_bc), s2 = sum_j (-V F) r_x^2 (the Morris Laplacian's scale): xxxx = 3 s2,
+  // xxyy = s2 (x and y averaged: exact on a square lattice).
+  int full = -1, most = -1;
   for (int i = 0; i < N; ++i) {
-    diag_[i] = entry(C_, i, i);
-    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
-      pos_[k] = entry(C_, i, col_[k]);
-      if (pos_[k] < 0 || diag_[i] < 0) throw std::logic_error("variable viscosity: a pair outside the Laplacian's pattern");
-      ++count[col_[k] + 1];
-    }
+    bool images = false;
+    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) images |= P.j[k] >= N;
+    if (!images && P.offset[i + 1] - P.offset[i] > most) most = P.offset[i + 1] - P.offset[i], full = i;
   }
+  double s2 = 0, A4 = 0, A22 = 0, B4 = 0, B22 = 0;
+  for (int k = full < 0 ? 0 : P.offset[full]; full >= 0 && k < P.offset[full + 1]; ++k) {
+    const double w = -0.5 * lap_[k] * P.r[k] * P.r[k], x2 = ex_[k] * ex_[k], y2 = ey_[k] * ey_[k], t = x2 * x2 + y2 * y2;
+    s2 += 0.5 * w * (x2 + y2);
+    A4 += 0.5 * w * (x2 * x2 + y2 * y2);
+    A22 += w * x2 * y2;
+    B4 += 0.5 * w * (x2 * x2 + y2 * y2) * t;
+    B22 += w * x2 * y2 * t;
+  }
+  if (!(B4 - 3 * B22 != 0.0) || !(A22 != 0.0)) {
+    kappa_ = -2.0;  // no pairs off the lattice axes (h < dx / sqrt(2)): refused below
+  } else {
+    kappa_ = (3 * A22 - A4) / (B4 - 3 * B22);
+    gamma_ = s2 / (A22 + kappa_ * B22);
+  }
+  if (!(kappa_ > -1.0) || !(gamma_ > 0))
+    throw std::invalid_argument("kernel.h_over_dx: a viscosity contrast needs h >= 0.8 (dx + dy)/2 (its stress form "
+                                "needs neighbours off the lattice axes)");
+  for (int k = 0; k < K; ++k)
+    if (P.j[k] < N) {
+      const double x2 = ex_[k] * ex_[k], y2 = ey_[k] * ey_[k];
+      beta_[k] = gamma_ * (1.0 + kappa_ * (x2 * x2 + y2 * y2));
+    }
   // The rows that read m_c: those with a pair whose column is c (rows are also their own column).
+  std::vector<int> count(N + 1, 0);
+  for (int k = 0; k < K; ++k) ++count[col_[k] + 1];
   ref_off_.assign(N + 1, 0);
   for (int c = 0; c < N; ++c) ref_off_[c + 1] = ref_off_[c] + count[c + 1];
   ref_.resize(ref_off_[N]);
@@ -220,45 +189,50 @@ VariableViscosity::VariableViscosity(const PairList& P, const Images& im, int N,
   for (int i = 0; i < N; ++i)
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) ref_[fill[col_[k]]++] = i;
   m_ = Vec::Ones(N);
+  m_cap_ = prm.central ? 1.0 : std::numeric_limits<double>::infinity();
   in_rows_.assign(N, 0);
-  uniform_.assign(N, 1);
+  cross_.assign(N, 0);
   mark_.assign(N, 0);
   where_.assign(N, -1);
   T_now_ = T_last_ = Mat2::Zero(N, 2);
-
   cg_ = std::make_unique<Cg>(*this, C0_solver);
 }
 
 VariableViscosity::~VariableViscosity() = default;
 LinearSolver& VariableViscosity::solver() { return *cg_; }
+const LinearSolver& VariableViscosity::solver() const { return *cg_; }
 LinearSolver& VariableViscosity::solver_for_step(long n, bool first) {
   cg_->begin_step(n, first);
   return *cg_;
 }
-const LinearSolver& VariableViscosity::solver() const { return *cg_; }
 
-void VariableViscosity::assemble_row(int i) {
-  // As assemble_pairs (operators.cpp) sums A = lap.A: the (i, col) entries in pair order (images of
-  // i onto its diagonal first), then the diagonal sum; C = (-a) A, then + 1 on the diagonal
-  // (crank_nicolson_matrix). m_ij = 1 gives the constant row bit for bit.
-  double* c = C_.valuePtr();
-  const int* o = C_.outerIndexPtr();
-  std::fill(c + o[i], c + o[i + 1], 0.0);
-  double diag = 0.0;
+void VariableViscosity::weigh_row(int i) {
+  bool differs = false, cross = false;
+  const double mi = m_[i], mi_minus = std::min(mi, m_cap_);
   for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
-    const double a = lap_[k] * pair_mean(k, i);  // 2 V m_ij F_ij
-    diag += a;
-    c[pos_[k]] += -sign_[k] * a;  // f_i - f_j, an image f_j = sign f_parent + c_j
+    const double mij = pair_mean(k, i);
+    w_[k] = lap_[k] * (mij - 1.0);  // 2 V F_ij (m_ij - 1)
+    central_[k] = prm_.central && mij >= 1.0 && beta_[k] > 0.0;
+    differs |= mij != 1.0;
+    cross |= std::min(m_[col_[k]], m_cap_) != mi_minus;
   }
-  c[diag_[i]] += diag;
-  const double ma = -prm_.a;
-  for (int e = o[i]; e < o[i + 1]; ++e) c[e] = ma * c[e];
-  c[diag_[i]] += 1.0;
+  cross_[i] = cross;
+  if (differs && !in_rows_[i]) {
+    in_rows_[i] = 1;
+    where_[i] = static_cast<int>(rows_.size());
+    rows_.push_back(i);
+  } else if (!differs && in_rows_[i]) {  // out of the list: the last row takes its place
+    in_rows_[i] = 0;
+    const int last = rows_.back();
+    rows_[where_[i]] = last;
+    where_[last] = where_[i];
+    rows_.pop_back();
+    where_[i] = -1;
+  }
 }
 
 void VariableViscosity::set(const int* at, const double* m, int n) {
   touched_.clear();
-  norm_stale_ = true;
   auto touch = [&](int r) {
     if (!mark_[r]) { mark_[r] = 1; touched_.push_back(r); }
   };
@@ -274,82 +248,99 @@ void VariableViscosity::set(const int* at, const double* m, int n) {
   }
   for (int i : touched_) {
     mark_[i] = 0;
-    assemble_row(i);
-    bool uniform = true;  // every pair sees m_i: the row is m_i times the constant one (off the diagonal)
-    for (int k = P_.offset[i]; k < P_.offset[i + 1] && uniform; ++k) uniform = m_[col_[k]] == m_[i];
-    const bool differs = !uniform || m_[i] != 1.0;
-    uniform_[i] = uniform;
-    if (differs && !in_rows_[i]) {
-      in_rows_[i] = 1;
-      where_[i] = static_cast<int>(rows_.size());
-      rows_.push_back(i);
-    } else if (!differs && in_rows_[i]) {  // out of the list: the last row takes its place
-      in_rows_[i] = 0;
-      const int last = rows_.back();
-      rows_[where_[i]] = last;
-      where_[last] = where_[i];
-      rows_.pop_back();
-      where_[i] = -1;
-    }
+    weigh_row(i);
   }
 }
 
-void VariableViscosity::row_terms(int i, const Mat2& u, const Mat2& c, const Mat2* c_star, const Mat2* g,
-                                  double T[2], double D[2]) const {
-  // One pass over the pairs of row i: the difference-form gradients (grad f)_i = sum_j V (f_j - f_i)
-  // (x_i - x_j) F_ij of m and of both velocity components, and D = (L_m - L)(u; c + c*) - (L_m - L) g
-  // (when given), an image of u carrying sign u_parent + c (Eq. 42), of g sign g_parent, of m its
-  // parent's m. A uniform row (every pair sees m_i) has grad m = 0: T = 0.
-  const double mi = m_[i];
-  double gm[2] = {0, 0}, gu[2][2] = {{0, 0}, {0, 0}}, d[2] = {0, 0};  // gu[d][e] = d_e u_d
-  const bool uniform = uniform_[i];
+template <class Value, class Offset>
+void VariableViscosity::row_v(int i, Value&& f, Offset&& c, double out[2]) const {
+  const double fi[2] = {f(i, 0), f(i, 1)};
+  double s[2] = {0, 0};
+  for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
+    const double w = w_[k];
+    if (w == 0.0) continue;
+    const int j = P_.j[k], p = col_[k];
+    double d[2];  // f_i - f_j, an image f_j = sign f_parent + c (Eq. 42)
+    for (int e = 0; e < 2; ++e) d[e] = fi[e] - (j < N_ ? f(p, e) : sign_[k] * f(p, e) + c(j - N_, e));
+    if (central_[k]) {  // 2 V F (m_ij - 1) beta (f_ij . e) e
+      const double t = w * beta_[k] * (d[0] * ex_[k] + d[1] * ey_[k]);
+      s[0] += t * ex_[k];
+      s[1] += t * ey_[k];
+    } else {  // 2 V F (m_ij - 1) f_ij
+      s[0] += w * d[0];
+      s[1] += w * d[1];
+    }
+  }
+  out[0] = s[0];
+  out[1] = s[1];
+}
+
+void VariableViscosity::row_cross(int i, const Mat2& u, const Mat2& c, double T[2]) const {
+  // (grad f)_i = sum_j V (f_j - f_i) (x_i - x_j) F_ij of m_- and of both velocity components
+  const double mi = std::min(m_[i], m_cap_);
+  double gm[2] = {0, 0}, gu[2][2] = {{0, 0}, {0, 0}};  // gu[d][e] = d_e u_d
   for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
     const int j = P_.j[k], p = col_[k];
-    const bool image = j >= N_;
-    double uj[2];
-    for (int e = 0; e < 2; ++e) uj[e] = image ? sign_[k] * u(p, e) + c(j - N_, e) : u(p, e);
-    const double w = lap_[k] * (pair_mean(k, i) - 1.0);  // 2 V (m_ij - 1) F_ij
-    if (w != 0.0)
-      for (int e = 0; e < 2; ++e) {
-        double f = u(i, e) - (c_star && image ? uj[e] + (*c_star)(j - N_, e) : uj[e]);
-        if (g) f -= (*g)(i, e) - (image ? sign_[k] : 1.0) * (*g)(p, e);
-        d[e] += w * f;
-      }
-    if (uniform) continue;
-    const double dm = m_[p] - mi;
+    const double dm = std::min(m_[p], m_cap_) - mi;
     gm[0] += dm * gx_[k];
     gm[1] += dm * gy_[k];
     for (int e = 0; e < 2; ++e) {
-      const double du = uj[e] - u(i, e);
+      const double du = (j < N_ ? u(p, e) : sign_[k] * u(p, e) + c(j - N_, e)) - u(i, e);
       gu[e][0] += du * gx_[k];
       gu[e][1] += du * gy_[k];
     }
   }
-  // [(grad u)^T grad m]_e = (d_e u_d)(d_d m)
+  // [(grad u)^T grad m_-]_e = (d_e u_d)(d_d m_-)
   T[0] = gu[0][0] * gm[0] + gu[1][0] * gm[1];
   T[1] = gu[0][1] * gm[0] + gu[1][1] * gm[1];
-  D[0] = d[0];
-  D[1] = d[1];
+}
+
+void VariableViscosity::product(const double* x, double* y) const {
+  apply2(C0_, x, y, &st_);  // (I - a L) x as a lattice stencil, then - a V_m x in the rows it touches
+  auto f = [&](int p, int e) { return x[static_cast<size_t>(e) * N_ + p]; };
+  auto none = [](int, int) { return 0.0; };
+  for (int i : rows_) {
+    double v[2];
+    row_v(i, f, none, v);
+    y[i] -= prm_.a * v[0];
+    y[N_ + i] -= prm_.a * v[1];
+  }
+}
+
+double VariableViscosity::norm_C() const {
+  // C0's, plus a sum |2 V F (m_ij - 1)| max(beta, 1) over the pairs of the rows that differ
+  double n = norm_C0_;
+  for (int i : rows_) {
+    double s = 0;
+    for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) s += std::fabs(w_[k]) * std::max(beta_[k], 1.0);
+    n = std::max(n, norm_C0_ + 2.0 * prm_.a * s);
+  }
+  return n;
 }
 
 void VariableViscosity::add_rhs(const Mat2& u, const Mat2& c_n, const Mat2& c_star, const Mat2& g, double kg, double k,
                                 bool first, Mat2& rhs) {
-  // T^n in the rows of m^n; T^{n-1} is kept (zero outside its rows)
-  T_last_.swap(T_now_);
+  T_last_.swap(T_now_);  // T^n in the rows where grad m_- != 0; T^{n-1} kept (zero outside its rows)
   t_rows_last_.swap(t_rows_now_);
   for (int i : t_rows_now_) T_now_.row(i).setZero();  // T^{n-2}'s rows
-  t_rows_now_ = rows_;
+  t_rows_now_.clear();
+  // a V_m (u^n - (dt/rho) grad phi^n) with the images of u^n (c^n) and the image terms of u* (c*)
+  // of Eq. (28); grad phi's images without offsets (the commutator of the projection: see the header)
+  auto f = [&](int p, int e) { return u(p, e) - kg * g(p, e); };
+  auto c = [&](int q, int e) { return c_n(q, e) + c_star(q, e); };
   const double a = prm_.a;
-  g_scaled_ = kg * g;  // (dt/rho) grad phi^n
   for (int i : rows_) {
-    double T[2], D[2];
-    row_terms(i, u, c_n, &c_star, &g_scaled_, T, D);
-    T_now_(i, 0) = T[0];
-    T_now_(i, 1) = T[1];
-    // a (L_m - L) u^n with images of u^n (c^n) and the image terms of u* (c*) of Eq. (28), less
-    // a (L_m - L) (dt/rho) grad phi^n (the commutator of the projection: see the header)
-    rhs(i, 0) += a * D[0];
-    rhs(i, 1) += a * D[1];
+    double v[2];
+    row_v(i, f, c, v);
+    rhs(i, 0) += a * v[0];
+    rhs(i, 1) += a * v[1];
+    if (cross_[i]) {
+      double T[2];
+      row_cross(i, u, c_n, T);
+      T_now_(i, 0) = T[0];
+      T_now_(i, 1) = T[1];
+      t_rows_now_.push_back(i);
+    }
   }
   // + nu dt (3/2 T^n - 1/2 T^{n-1}) (Eq. 39's AB2; the first step: Euler)
   if (first) {
@@ -360,27 +351,17 @@ void VariableViscosity::add_rhs(const Mat2& u, const Mat2& c_n, const Mat2& c_st
   for (int i : t_rows_last_) rhs.row(i) -= (0.5 * k) * T_last_.row(i);
 }
 
-void VariableViscosity::cross_term(const Mat2& u, const Mat2& c, Mat2& T) const {
-  T.setZero(N_, 2);
-  for (int i : rows_) {
-    double t[2], d[2];
-    row_terms(i, u, c, nullptr, nullptr, t, d);
-    T(i, 0) = t[0];
-    T(i, 1) = t[1];
-  }
-}
-
-void VariableViscosity::laplacian(const Mat2& u, const Mat2& c, Mat2& out) const {
+void VariableViscosity::added_viscous_term(const Mat2& u, const Mat2& c, Mat2& out) const {
   out.setZero(N_, 2);
-  for (int i = 0; i < N_; ++i)
-    for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
-      const int j = P_.j[k], p = col_[k];
-      const double w = lap_[k] * pair_mean(k, i);
-      for (int e = 0; e < 2; ++e) {
-        const double uj = j < N_ ? u(p, e) : sign_[k] * u(p, e) + c(j - N_, e);
-        out(i, e) += w * (u(i, e) - uj);
-      }
-    }
+  auto f = [&](int p, int e) { return u(p, e); };
+  auto off = [&](int q, int e) { return c(q, e); };
+  for (int i : rows_) {
+    double v[2], T[2] = {0, 0};
+    row_v(i, f, off, v);
+    if (cross_[i]) row_cross(i, u, c, T);
+    out(i, 0) = v[0] + T[0];
+    out(i, 1) = v[1] + T[1];
+  }
 }
 
 void VariableViscosity::save(NamedArrays& st) const {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "bench/viscosity_contrast.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/viscosity_contrast.hpp"
 #include "fluid/eulerian.hpp"
@@ -178,11 +179,11 @@ TEST(ViscosityContrast, ContrastSendsOnlyTheChangedParticles) {
 
 // ---- The variable-viscosity step ----------------------------------------------------------------
 
-// Rows whose pairs all see m = 1 are the constant operator's bit for bit: after m = 2 everywhere and
-// back to 1 (every row assembled again by the variable formula), C_m is I - a lap exactly as the
-// fluid assembles it, and the fluid is back on its constant-viscosity path (no row differs).
+// With every m back to 1 nothing differs: after m = 2 everywhere (every row weighed, both pair forms)
+// and back to 1, no row is left and the variable product is I - a L, as the fluid assembles it, bit
+// for bit; the fluid is back on its constant-viscosity path.
 TEST(ViscosityContrast, OperatorAtUniformOneIsTheConstantOneBitForBit) {
-  for (bool py : {false, true}) {  // walls (images onto the diagonal) and doubly periodic
+  for (bool py : {false, true}) {  // walls (images) and doubly periodic
     FluidParams p;
     p.domain = {-1.0, 1.0, -0.5, 0.5, true, py};
     p.domain.wall_velocity[Top] = py ? Eigen::Vector2d::Zero() : Eigen::Vector2d(1.0, 0.0);
@@ -193,22 +194,33 @@ TEST(ViscosityContrast, OperatorAtUniformOneIsTheConstantOneBitForBit) {
     for (int i = 0; i < C0.outerSize(); ++i) C0.coeffRef(i, i) += 1.0;
     std::vector<int> all(f.size());
     for (int i = 0; i < f.size(); ++i) all[i] = i;
-    std::vector<double> two(f.size(), 2.0), one(f.size(), 1.0);
-    f.set_viscosity(all.data(), two.data(), f.size());
-    ASSERT_TRUE(f.variable_viscosity()->active());
-    EXPECT_EQ(f.variable_viscosity()->rows().size(), static_cast<size_t>(f.size()));
-    f.set_viscosity(all.data(), one.data(), f.size());
-    EXPECT_FALSE(f.variable_viscosity()->active());
-    const SpMat& C = f.variable_viscosity()->matrix();
-    ASSERT_EQ(C.nonZeros(), C0.nonZeros());
-    for (Eigen::Index k = 0; k < C.nonZeros(); ++k) ASSERT_EQ(C.valuePtr()[k], C0.valuePtr()[k]) << k;
+    std::vector<double> two(f.size(), 2.0), half(f.size(), 0.5), one(f.size(), 1.0);
+    const Mat2 x = Mat2::Random(f.size(), 2);
+    Mat2 y(f.size(), 2), y0 = C0 * x;
+    for (const auto* m : {&two, &half}) {
+      f.set_viscosity(all.data(), m->data(), f.size());
+      ASSERT_TRUE(f.variable_viscosity()->active());
+      EXPECT_EQ(f.variable_viscosity()->rows().size(), static_cast<size_t>(f.size()));
+      f.variable_viscosity()->product(x.data(), y.data());
+      EXPECT_GT((y - y0).cwiseAbs().maxCoeff(), 1e-3);
+      f.set_viscosity(all.data(), one.data(), f.size());
+      EXPECT_FALSE(f.variable_viscosity()->active());
+      f.variable_viscosity()->product(x.data(), y.data());
+      Mat2 y1(f.size(), 2);
+      apply2(C0, x, y1);
+      EXPECT_TRUE(y == y1);
+      EXPECT_LT((y - y0).cwiseAbs().maxCoeff(), 1e-14);  // Eigen's product, another summation order
+    }
   }
 }
 
 // A fluid whose viscosity was changed and changed back steps bit for bit as one never touched (a
-// channel with a moving wall), and a uniform m = lambda everywhere is the constant step with
-// viscosity lambda mu (doubly periodic, where the lattice operators commute: measured max |du| =
-// 4.8e-12 with max |u| = 1 after 20 steps, the CG's tolerance; tolerance 1e-10).
+// channel with a moving wall). A uniform m = 1/2 everywhere is the constant step with viscosity
+// mu/2 (the Morris form, no cross term; doubly periodic, where the lattice operators commute:
+// measured max |du| = 1.3e-12 with max |u| = 1 after 20 steps, the CG's tolerance; tolerance
+// 1e-10); m = 5 (the central-force form, L + 4 S: another discretisation of 5 mu lap u on
+// divergence-free fields) differs from the step with 5 mu by its discretisation error: measured
+// 2.1e-3 (tolerance 1.2x).
 TEST(ViscosityContrast, UniformRatioIsTheConstantStepWithThatViscosity) {
   auto make = [](bool periodic_y, double mu) {
     FluidParams p;
@@ -224,61 +236,24 @@ TEST(ViscosityContrast, UniformRatioIsTheConstantStepWithThatViscosity) {
     f->set_velocity(u);
     return f;
   };
-  auto plain = make(false, 0.1), touched = make(false, 0.1), uniform = make(true, 0.1), five = make(true, 0.5);
+  auto plain = make(false, 0.1), touched = make(false, 0.1), uniform = make(true, 0.1), half = make(true, 0.05),
+       uniform5 = make(true, 0.1), five = make(true, 0.5);
   const int N = plain->size();
   std::vector<int> all(N), some{5, 200, 301};
   for (int i = 0; i < N; ++i) all[i] = i;
-  std::vector<double> m(N, 5.0), three{3.0, 0.5, 2.0}, ones{1.0, 1.0, 1.0};
+  std::vector<double> m(N, 0.5), m5(N, 5.0), three{3.0, 0.5, 2.0}, ones{1.0, 1.0, 1.0};
   touched->set_viscosity(some.data(), three.data(), 3);
   touched->set_viscosity(some.data(), ones.data(), 3);
   uniform->set_viscosity(all.data(), m.data(), N);
+  uniform5->set_viscosity(all.data(), m5.data(), N);
   const Mat2 F = Mat2::Zero(N, 2);
   for (int s = 0; s < 20; ++s)
-    for (auto* f : {plain.get(), touched.get(), uniform.get(), five.get()}) f->step(F);
+    for (auto* f : {plain.get(), touched.get(), uniform.get(), half.get(), uniform5.get(), five.get()}) f->step(F);
   EXPECT_TRUE(plain->u() == touched->u());
-  EXPECT_LT((uniform->u() - five->u()).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((uniform->u() - half->u()).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((uniform5->u() - five->u()).cwiseAbs().maxCoeff(), 1.2 * 2.1e-3);
   EXPECT_GT(uniform->variable_viscosity()->solver().mean_iterations(), 0.0);
 }
-
-namespace {
-
-// Two layers in a channel [0, 1] x [0, 1], periodic in x, walls at y = 0 (at rest) and y = 1
-// (velocity U = 1): viscosity lambda mu below y = yi, mu above, m = 1 + (lambda - 1) I with I the
-// lower layer's cell fractions. Exact steady flow: the shear stress tau is uniform,
-//   u = tau y / lambda (y < yi),  u = tau yi / lambda + tau (y - yi) (y > yi),
-//   tau = U / (yi / lambda + 1 - yi)   (mu = 1).
-// The steady state of the scheme in one step: Crank-Nicolson from u^0 = 0 with a = nu dt / 2 -> oo
-// gives u^1 = 2 u_s - u^0 + O(1/a) (the amplification (1 - a z)/(1 + a z) -> -1), u_s the discrete
-// steady state (the cross term vanishes: grad m is along y and u along x). Returns max |u_s - u|.
-double two_layer_error(int n, double lambda, double yi) {
-  FluidParams p;
-  p.domain = {0.0, 1.0, 0.0, 1.0, true, false};
-  p.domain.wall_velocity[Top] = {1.0, 0.0};
-  p.nx = n, p.ny = n;
-  p.convection = false;
-  p.dt = 2e10;  // a = 1e10
-  EulerianFluid f(p);
-  const Lattice& L = f.lattice();
-  std::vector<int> at;
-  std::vector<double> m;
-  for (int i = 0; i < f.size(); ++i) {
-    const double lo = L.x(i, 1) - 0.5 * L.dy;
-    at.push_back(i);
-    m.push_back(1.0 + (lambda - 1.0) * std::clamp((yi - lo) / L.dy, 0.0, 1.0));
-  }
-  f.set_viscosity(at.data(), m.data(), f.size());
-  f.step(Mat2::Zero(f.size(), 2));
-  const double tau = 1.0 / (yi / lambda + 1.0 - yi);
-  double e = 0;
-  for (int i = 0; i < f.size(); ++i) {
-    const double y = L.x(i, 1), exact = y < yi ? tau * y / lambda : tau * yi / lambda + tau * (y - yi);
-    e = std::max(e, std::abs(0.5 * f.u()(i, 0) - exact));
-    e = std::max(e, std::abs(0.5 * f.u()(i, 1)));
-  }
-  return e;
-}
-
-}  // namespace
 
 // Layered Couette flow against its exact piecewise-linear profile (U = 1, the interface at y = 0.4
 // + 0.3 dx: through a row of cells). Measured max |u - u_exact| (first order: the interface is
@@ -291,130 +266,77 @@ double two_layer_error(int n, double lambda, double yi) {
 TEST(ViscosityContrast, TwoLayerCouetteMatchesTheExactProfile) {
   const struct { double lambda, e16, e32; } cases[] = {{0.1, 2.390e-2, 1.279e-2}, {5.0, 2.160e-2, 1.157e-2}, {10.0, 3.758e-2, 2.016e-2}};
   for (const auto& c : cases) {
-    const double e16 = two_layer_error(16, c.lambda, std::round(0.4 * 16) / 16 + 0.3 / 16);
-    const double e32 = two_layer_error(32, c.lambda, std::round(0.4 * 32) / 32 + 0.3 / 32);
+    const double e16 = bench::viscosity::two_layer_error(16, c.lambda, std::round(0.4 * 16) / 16 + 0.3 / 16);
+    const double e32 = bench::viscosity::two_layer_error(32, c.lambda, std::round(0.4 * 32) / 32 + 0.3 / 32);
     EXPECT_LT(e16, 1.1 * c.e16) << c.lambda;
     EXPECT_LT(e32, 1.1 * c.e32) << c.lambda;
     EXPECT_GT(order(e16, e32), 0.8) << c.lambda << ": " << e16 << " " << e32;
   }
 }
 
-namespace {
-
-// A manufactured field on the doubly periodic unit box: u = (psi_y, -psi_x), psi = A(x) B(y) / k,
-// A = sin kx, B = sin 2ky, k = 2 pi; m = 1 + 0.5 sin kx cos ky. The exact viscous term (mu = 1),
-//   div(m (grad u + grad u^T)) = m lap u + (grad u + grad u^T) grad m.
-struct Manufactured {
-  static constexpr double k = 2 * kPi;
-  static double m(double x, double y) { return 1.0 + 0.5 * std::sin(k * x) * std::cos(k * y); }
-  static Eigen::Vector2d u(double x, double y) {
-    return {std::sin(k * x) * 2 * std::cos(2 * k * y), -std::cos(k * x) * std::sin(2 * k * y)};
-  }
-  static Eigen::Vector2d viscous(double x, double y) {
-    const double sx = std::sin(k * x), cx = std::cos(k * x), s2 = std::sin(2 * k * y), c2 = std::cos(2 * k * y);
-    // psi = sx s2 / k: u = 2 sx c2, v = -cx s2
-    const double ux = 2 * k * cx * c2, uy = -4 * k * sx * s2, vx = k * sx * s2, vy = -2 * k * cx * c2;
-    const double lap_u = -2 * k * k * sx * c2 - 8 * k * k * sx * c2, lap_v = k * k * cx * s2 + 4 * k * k * cx * s2;
-    const double mx = 0.5 * k * cx * std::cos(k * y), my = -0.5 * k * sx * std::sin(k * y);
-    const double sxx = 2 * ux, sxy = uy + vx, syy = 2 * vy;
-    return {m(x, y) * lap_u + sxx * mx + sxy * my, m(x, y) * lap_v + sxy * mx + syy * my};
-  }
-};
-
-FluidParams periodic_box(int n) {
-  FluidParams p;
-  p.domain = {0.0, 1.0, 0.0, 1.0, true, true};
-  p.nx = n, p.ny = n;
-  p.convection = false;
-  return p;
+// A circular interface with the exact two-fluid Stokes flow of continuous velocity and traction
+// (bench/viscosity_contrast.hpp, CircleInterface: lambda inside R = 0.4, the stream function
+// f(r) sin 2 theta), m from the circle's cell fractions, to steady state on 32 x 32. Measured
+// max |u - u_exact| / max |u_exact| (bench/viscosity_contrast, table 3): lambda = 1 (no contrast):
+// 0.1663 (n = 32), 0.04056 (64); lambda = 0.2: 0.1483, 0.06772; lambda = 5: 0.2230, 0.07031;
+// lambda = 10: 0.1998, 0.08544; the gradient form of m > 1 (explicit cross term) at lambda = 5:
+// 0.2471, 0.08576. Tolerance: 1.1x the measured values at n = 32.
+TEST(ViscosityContrast, CircularInterfaceApproachesTheExactTwoFluidFlow) {
+  EXPECT_LT(bench::viscosity::circle_error(32, 5.0), 1.1 * 0.2230);
+  EXPECT_LT(bench::viscosity::circle_error(32, 0.2), 1.1 * 0.1483);
 }
 
-void set_manufactured_m(EulerianFluid& f) {
-  std::vector<int> at(f.size());
-  std::vector<double> m(f.size());
-  for (int i = 0; i < f.size(); ++i) at[i] = i, m[i] = Manufactured::m(f.x()(i, 0), f.x()(i, 1));
-  f.set_viscosity(at.data(), m.data(), f.size());
-}
-
-}  // namespace
-
-// The discrete div(m (grad u + grad u^T)) = L_m u + (grad u)^T grad m against the manufactured field's
-// exact value, at three resolutions, with the kernel's O(h^2) dominant (h = 2 dx; at the default
-// h = 1.2 dx the Morris Laplacian's lattice error levels off: the constant operator's relative
-// error is 2.0e-2, 9.7e-3, 7.0e-3 at n = 32, 64, 128, the variable one's 3.6e-2, 1.6e-2, 1.1e-2).
-// Measured max error / max |exact| (max |exact| = 592), h = 2 dx:
-//   n = 32: 7.485e-2, 64: 2.007e-2, 128: 5.736e-3: orders 1.90, 1.81;
-//   the constant-viscosity Laplacian of the same u (against lap u): 4.00e-2, 1.07e-2, 3.15e-3.
-// Tolerance: 1.1x the measured errors, every order above 1.75, and the variable operator's error
-// within 2x the constant one's (measured 1.87, 1.87, 1.82).
+// The discrete div(m (grad u + grad u^T)) = (L + V_m) u + (grad u)^T grad m_- against the manufactured
+// field's exact value at three resolutions, with the kernel's O(h^2) dominant (h = 2 dx; at the
+// default h = 1.2 dx the Morris Laplacian's lattice error levels off: the constant operator's
+// relative error is 1.4e-2, 6.9e-3, 5.0e-3 at n = 32, 64, 128, the variable one's 3.2e-2, 1.5e-2,
+// 1.1e-2), for m >= 1 (the central-force form) and m < 1 (Morris and the explicit cross term).
+// Measured max error / max |exact|, h = 2 dx (bench/viscosity_contrast, table 3):
+//   m = 1.6 + 0.5 sin cos: n = 32: 6.101e-2, 64: 1.639e-2, 128: 4.802e-3: orders 1.90, 1.77;
+//     2.13, 2.14, 2.14 times the constant Laplacian's error on the same u;
+//   m = 0.6 + 0.3 sin cos: 7.485e-2, 2.007e-2, 5.736e-3: orders 1.90, 1.81; 1.12, 1.12, 1.09 times.
+// Tolerance: 1.1x the measured errors, every order above 1.7, the ratio to the constant operator's
+// error below 1.2x the measured.
 TEST(ViscosityContrast, ViscousOperatorConvergesSecondOrderOnAManufacturedField) {
-  const int ns[3] = {32, 64, 128};
-  const double measured[3] = {7.485e-2, 2.007e-2, 5.736e-3};
-  double e[3];
-  for (int c = 0; c < 3; ++c) {
-    FluidParams p = periodic_box(ns[c]);
-    p.h_over_dx = 2.0;
-    EulerianFluid f(p);
-    set_manufactured_m(f);
-    Mat2 u(f.size(), 2), L, T;
-    for (int i = 0; i < f.size(); ++i) u.row(i) = Manufactured::u(f.x()(i, 0), f.x()(i, 1)).transpose();
-    const Mat2 no_images(0, 2);
-    f.variable_viscosity()->laplacian(u, no_images, L);
-    f.variable_viscosity()->cross_term(u, no_images, T);
-    const Mat2 L1 = f.operators().lap_u.A * u;  // the constant-viscosity Laplacian
-    double err = 0, big = 0, err1 = 0;
-    for (int i = 0; i < f.size(); ++i) {
-      const double x = f.x()(i, 0), y = f.x()(i, 1), k = Manufactured::k;
-      const Eigen::Vector2d ex = Manufactured::viscous(x, y);
-      const Eigen::Vector2d lap(-10 * k * k * std::sin(k * x) * std::cos(2 * k * y), 5 * k * k * std::cos(k * x) * std::sin(2 * k * y));
-      err = std::max(err, (L.row(i) + T.row(i) - ex.transpose()).cwiseAbs().maxCoeff());
-      err1 = std::max(err1, (L1.row(i) - lap.transpose()).cwiseAbs().maxCoeff());
-      big = std::max(big, ex.cwiseAbs().maxCoeff());
+  const struct { const bench::viscosity::Manufactured* mf; double e[3], ratio; } cases[] = {
+      {&bench::viscosity::kAbove, {6.101e-2, 1.639e-2, 4.802e-3}, 2.14},
+      {&bench::viscosity::kBelow, {7.485e-2, 2.007e-2, 5.736e-3}, 1.12}};
+  for (const auto& c : cases) {
+    const int ns[3] = {32, 64, 128};
+    double e[3];
+    for (int q = 0; q < 3; ++q) {
+      const bench::viscosity::OperatorError r = bench::viscosity::operator_error(*c.mf, ns[q], 2.0);
+      e[q] = r.variable;
+      EXPECT_LT(e[q], 1.1 * c.e[q]) << c.mf->m0 << " " << ns[q];
+      EXPECT_LT(r.variable, 1.2 * c.ratio * r.constant) << c.mf->m0 << " " << ns[q];
     }
-    e[c] = err / big;
-    EXPECT_LT(e[c], 1.1 * measured[c]) << ns[c];
-    EXPECT_LT(err, 2.0 * err1) << ns[c];
+    EXPECT_GT(order(e[0], e[1]), 1.7) << c.mf->m0 << ": " << e[0] << " " << e[1];
+    EXPECT_GT(order(e[1], e[2]), 1.7) << c.mf->m0 << ": " << e[1] << " " << e[2];
   }
-  EXPECT_GT(order(e[0], e[1]), 1.75) << e[0] << " " << e[1];
-  EXPECT_GT(order(e[1], e[2]), 1.75) << e[1] << " " << e[2];
 }
 
-// The step in time: Stokes flow u = U(x) cos t on the manufactured field (mu = 0.01: forcing
+// The step in time: Stokes flow u = U(x) cos t on the manufactured fields (mu = 0.01: forcing
 // rho U' - mu div(m sigma(U)) cos t, taken at t_n + dt/2), n = 16, to t = 0.5; the error of u
 // against a run with dt / 64 at dt = 0.05, 0.025, 0.0125 (nu dt max|lap_ii| <= 1: Crank-Nicolson
-// damps every mode). Measured max |u - u_ref|: 5.802e-4, 1.453e-4, 3.632e-5 (then 9.00e-6, 2.16e-6
-// at dt/8, dt/16): orders 2.00. Without the projection's commutator term (a Delta (dt/rho) grad
-// phi^n, fluid/variable_viscosity.hpp): 5.19e-4, 1.14e-4, 2.08e-5, 6.8e-6, 3.5e-6, first order
-// once the O(dt^2) error per step of the pressure (here from the discretisation error of the
-// forcing) dominates. Tolerance: 1.1x the error at dt = 0.05, every order above 1.9.
+// damps every mode). Measured max |u - u_ref| (bench/viscosity_contrast, table 4):
+//   m >= 1: 6.162e-4, 1.530e-4, 3.775e-5;  m < 1: 3.843e-4, 9.624e-5, 2.401e-5: orders 2.00-2.02
+// (then 2.04, 2.12 and 2.02, 2.07 at dt/8, dt/16). Without the projection's commutator term
+// (a V_m (dt/rho) grad phi^n, fluid/variable_viscosity.hpp) the order fell to 1 once the O(dt^2)
+// error per step of the pressure (here from the discretisation error of the forcing) dominated
+// (measured with the gradient form of the cross term: 2.08e-5, 6.8e-6, 3.5e-6 at dt/4, dt/8, dt/16).
+// Tolerance: 1.1x the error at dt = 0.05, every order above 1.9.
 TEST(ViscosityContrast, ViscousStepIsSecondOrderInTime) {
-  auto run = [](double dt) {
-    FluidParams p = periodic_box(16);
-    p.dt = dt;
-    p.mu = 0.01;
-    EulerianFluid f(p);
-    set_manufactured_m(f);
-    const int N = f.size();
-    Mat2 U(N, 2), V(N, 2), F(N, 2);
-    for (int i = 0; i < N; ++i) {
-      U.row(i) = Manufactured::u(f.x()(i, 0), f.x()(i, 1)).transpose();
-      V.row(i) = Manufactured::viscous(f.x()(i, 0), f.x()(i, 1)).transpose();
-    }
-    f.set_velocity(U);
-    const int steps = static_cast<int>(std::lround(0.5 / dt));
-    for (int s = 0; s < steps; ++s) {
-      const double t = (s + 0.5) * dt;
-      F = -std::sin(t) * U - (0.01 * std::cos(t)) * V;  // rho = 1
-      f.step(F);
-    }
-    return Mat2(f.u());
-  };
-  const Mat2 ref = run(0.05 / 64);
-  double e[3];
-  for (int c = 0; c < 3; ++c) e[c] = (run(0.05 / (1 << c)) - ref).cwiseAbs().maxCoeff();
-  EXPECT_LT(e[0], 1.1 * 5.802e-4);
-  EXPECT_GT(order(e[0], e[1]), 1.9) << e[0] << " " << e[1];
-  EXPECT_GT(order(e[1], e[2]), 1.9) << e[1] << " " << e[2];
+  const struct { const bench::viscosity::Manufactured* mf; double e0; } cases[] = {
+      {&bench::viscosity::kAbove, 6.162e-4}, {&bench::viscosity::kBelow, 3.843e-4}};
+  for (const auto& c : cases) {
+    const Mat2 ref = bench::viscosity::unsteady_run(*c.mf, 16, 0.05 / 64, 0.5);
+    double e[3];
+    for (int q = 0; q < 3; ++q)
+      e[q] = (bench::viscosity::unsteady_run(*c.mf, 16, 0.05 / (1 << q), 0.5) - ref).cwiseAbs().maxCoeff();
+    EXPECT_LT(e[0], 1.1 * c.e0);
+    EXPECT_GT(order(e[0], e[1]), 1.9) << e[0] << " " << e[1];
+    EXPECT_GT(order(e[1], e[2]), 1.9) << e[1] << " " << e[2];
+  }
 }
 
 // ---- Membranes, scenes, other methods ----------------------------------------------------------
