@@ -133,8 +133,7 @@ VariableViscosity::VariableViscosity(const PairList& P, const Images& im, int N,
   const int K = P.size();
   lap_.resize(K), gx_.resize(K), gy_.resize(K), ex_.resize(K), ey_.resize(K), beta_.assign(K, 0.0);
   col_.resize(K), sign_.resize(K);
-  w_.assign(K, 0.0);
-  central_.assign(K, 0);
+  bxx_.assign(K, 0.0), bxy_.assign(K, 0.0), byy_.assign(K, 0.0);
   for (int k = 0; k < K; ++k) {
     const double F = W.F(P.r[k]);  // (1/r) dW/dr
     lap_[k] = 2.0 * V * F;         // as build_operators: Eqs. (28), (31)
@@ -211,8 +210,16 @@ void VariableViscosity::weigh_row(int i) {
   const double mi = m_[i], mi_minus = std::min(mi, m_cap_);
   for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
     const double mij = pair_mean(k, i);
-    w_[k] = lap_[k] * (mij - 1.0);  // 2 V F_ij (m_ij - 1)
-    central_[k] = prm_.central && mij >= 1.0 && beta_[k] > 0.0;
+    const double w = lap_[k] * (mij - 1.0);  // 2 V F_ij (m_ij - 1)
+    if (prm_.central && mij >= 1.0 && beta_[k] > 0.0) {  // the central-force block w beta e e^T
+      const double wb = w * beta_[k];
+      bxx_[k] = wb * ex_[k] * ex_[k];
+      bxy_[k] = wb * ex_[k] * ey_[k];
+      byy_[k] = wb * ey_[k] * ey_[k];
+    } else {  // the Morris block w I
+      bxx_[k] = byy_[k] = w;
+      bxy_[k] = 0.0;
+    }
     differs |= mij != 1.0;
     cross |= std::min(m_[col_[k]], m_cap_) != mi_minus;
   }
@@ -254,25 +261,36 @@ void VariableViscosity::set(const int* at, const double* m, int n) {
 
 template <class Value, class Offset>
 void VariableViscosity::row_v(int i, Value&& f, Offset&& c, double out[2]) const {
-  const double fi[2] = {f(i, 0), f(i, 1)};
-  double s[2] = {0, 0};
+  // sum over the pairs of the block B_k on f_i - f_j, f_j = sign f_parent + c at an image (Eq. 42)
+  const double fi0 = f(i, 0), fi1 = f(i, 1);
+  double s0 = 0, s1 = 0;
   for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
-    const double w = w_[k];
-    if (w == 0.0) continue;
     const int j = P_.j[k], p = col_[k];
-    double d[2];  // f_i - f_j, an image f_j = sign f_parent + c (Eq. 42)
-    for (int e = 0; e < 2; ++e) d[e] = fi[e] - (j < N_ ? f(p, e) : sign_[k] * f(p, e) + c(j - N_, e));
-    if (central_[k]) {  // 2 V F (m_ij - 1) beta (f_ij . e) e
-      const double t = w * beta_[k] * (d[0] * ex_[k] + d[1] * ey_[k]);
-      s[0] += t * ex_[k];
-      s[1] += t * ey_[k];
-    } else {  // 2 V F (m_ij - 1) f_ij
-      s[0] += w * d[0];
-      s[1] += w * d[1];
-    }
+    const double d0 = fi0 - (j < N_ ? f(p, 0) : sign_[k] * f(p, 0) + c(j - N_, 0));
+    const double d1 = fi1 - (j < N_ ? f(p, 1) : sign_[k] * f(p, 1) + c(j - N_, 1));
+    s0 += bxx_[k] * d0 + bxy_[k] * d1;
+    s1 += bxy_[k] * d0 + byy_[k] * d1;
   }
-  out[0] = s[0];
-  out[1] = s[1];
+  out[0] = s0;
+  out[1] = s1;
+}
+
+void VariableViscosity::product(const double* x, double* y) const {
+  apply2(C0_, x, y, &st_);  // (I - a L) x as a lattice stencil, then - a V_m x in the rows it touches
+  const double* x1 = x + N_;
+  const double a = prm_.a;
+  for (int i : rows_) {  // row_v without image offsets, on plain arrays
+    const double xi0 = x[i], xi1 = x1[i];
+    double s0 = 0, s1 = 0;
+    for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) {
+      const int p = col_[k];
+      const double d0 = xi0 - sign_[k] * x[p], d1 = xi1 - sign_[k] * x1[p];
+      s0 += bxx_[k] * d0 + bxy_[k] * d1;
+      s1 += bxy_[k] * d0 + byy_[k] * d1;
+    }
+    y[i] -= a * s0;
+    y[N_ + i] -= a * s1;
+  }
 }
 
 void VariableViscosity::row_cross(int i, const Mat2& u, const Mat2& c, double T[2]) const {
@@ -295,24 +313,13 @@ void VariableViscosity::row_cross(int i, const Mat2& u, const Mat2& c, double T[
   T[1] = gu[0][1] * gm[0] + gu[1][1] * gm[1];
 }
 
-void VariableViscosity::product(const double* x, double* y) const {
-  apply2(C0_, x, y, &st_);  // (I - a L) x as a lattice stencil, then - a V_m x in the rows it touches
-  auto f = [&](int p, int e) { return x[static_cast<size_t>(e) * N_ + p]; };
-  auto none = [](int, int) { return 0.0; };
-  for (int i : rows_) {
-    double v[2];
-    row_v(i, f, none, v);
-    y[i] -= prm_.a * v[0];
-    y[N_ + i] -= prm_.a * v[1];
-  }
-}
-
 double VariableViscosity::norm_C() const {
-  // C0's, plus a sum |2 V F (m_ij - 1)| max(beta, 1) over the pairs of the rows that differ
+  // C0's, plus the sum of the blocks' absolute values over the pairs of the rows that differ
   double n = norm_C0_;
   for (int i : rows_) {
     double s = 0;
-    for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k) s += std::fabs(w_[k]) * std::max(beta_[k], 1.0);
+    for (int k = P_.offset[i]; k < P_.offset[i + 1]; ++k)
+      s += std::fabs(bxx_[k]) + 2 * std::fabs(bxy_[k]) + std::fabs(byy_[k]);
     n = std::max(n, norm_C0_ + 2.0 * prm_.a * s);
   }
   return n;

@@ -133,8 +133,9 @@ class VariableViscosity {
   double norm_C0_ = 0, kappa_ = 0, gamma_ = 0;
   std::vector<double> lap_, gx_, gy_;      // per pair: 2 V F_ij, V rx F_ij, V ry F_ij
   std::vector<double> ex_, ey_, beta_;     // per pair: e_ij and beta(e_ij) (0 at an image: Morris form)
-  std::vector<double> w_;                  // per pair: 2 V F_ij (m_ij - 1) (weigh_row)
-  std::vector<char> central_;              // per pair: the central-force block (m_ij >= 1, not an image)
+  // per pair: the block B = 2 V F_ij (m_ij - 1) (beta e e^T (m_ij >= 1, not an image) or I), its xx,
+  // xy and yy entries (weigh_row)
+  std::vector<double> bxx_, bxy_, byy_;
   std::vector<int> col_;                   // per pair: the particle j, or the image's parent
   std::vector<double> sign_;               // per pair: 1, or the image's velocity sign (Eq. 42)
   std::vector<int> ref_off_, ref_;         // rows that read m_c: ref_[ref_off_[c] .. ref_off_[c + 1])
