@@ -3,10 +3,15 @@
 //     circle's areas, and the width of its transition (cells cut per lattice spacing of perimeter);
 //  2. layered Couette flow against its exact profile, max error and order in h, lambda 0.1 ... 10,
 //     the interface on a lattice line or through a row of cells (bench/viscosity_contrast.hpp);
-//  3. the discrete div(m (grad u + grad u^T)) on a manufactured field: error and order in h;
-//  4. the step's error in time on the manufactured unsteady Stokes flow: order in dt.
-//   build/viscosity_contrast [--max-n 128]
+//  3. a circular interface against an exact two-fluid Stokes flow (the central-force form of m > 1
+//     and, for comparison, the gradient form), max error and order in h;
+//  4. the discrete div(m (grad u + grad u^T)) on manufactured fields: error and order in h;
+//  5. the step's error in time on the manufactured unsteady Stokes flow: order in dt;
+//  6. the stability of the explicit cross term of lambda < 1 against nu (1 - lambda) dt / dx^2.
+//   build/viscosity_contrast [--max-n 128] [--tables 1,2,3,4,5,6]
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <vector>
 #include <cmath>
 #include <cstdio>
 
@@ -115,16 +120,36 @@ void time_table() {
   }
 }
 
+void stability_table() {
+  std::printf("\n6. The explicit cross term of lambda < 1: a circle (r = 0.3) in the periodic unit box, n = 32,\n"
+              "   dt from nu (1 - lambda) dt / dx^2: the step that passes max |u| = 1e3, or 'stable' after 1000 steps\n");
+  for (double lambda : {0.01, 0.1, 0.5}) {
+    std::printf("lambda %-4g:", lambda);
+    for (double number : {0.4, 0.5, 0.6, 0.7}) {
+      const long s = explicit_cross_blowup(lambda, number);
+      if (s < 0) std::printf("  %.1f stable", number);
+      else std::printf("  %.1f blows up at step %ld", number, s);
+      std::fflush(stdout);
+    }
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int max_n = 128;
-  CLI::App app{"viscosity contrast: indicator, layered Couette, manufactured operator and step"};
+  std::vector<int> tables{1, 2, 3, 4, 5, 6};
+  CLI::App app{"viscosity contrast: indicator, layered Couette, circular interface, manufactured operator and step, "
+               "stability"};
   app.add_option("--max-n", max_n, "largest resolution of the convergence tables");
+  app.add_option("--tables", tables, "which tables (comma-separated; table 3 takes the longest)")->delimiter(',');
   CLI11_PARSE(app, argc, argv);
-  indicator_table();
-  two_layer_table(max_n);
-  circle_table(max_n);
-  operator_table(max_n);
-  time_table();
+  auto want = [&](int t) { return std::find(tables.begin(), tables.end(), t) != tables.end(); };
+  if (want(1)) indicator_table();
+  if (want(2)) two_layer_table(max_n);
+  if (want(3)) circle_table(max_n);
+  if (want(4)) operator_table(max_n);
+  if (want(5)) time_table();
+  if (want(6)) stability_table();
 }

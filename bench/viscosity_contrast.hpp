@@ -6,6 +6,7 @@
 //  - a manufactured divergence-free field with a smooth m(x, y) on the doubly periodic unit box, the
 //    exact div(m (grad u + grad u^T)), the operator's error and the step's error in time.
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <vector>
 
@@ -258,6 +259,34 @@ inline double circle_error(int n, double lambda, bool central = true, long* step
   }
   if (steps_out) *steps_out = s + 1;  // (100000: not converged)
   return (f.u() - U).cwiseAbs().maxCoeff() / umax;
+}
+
+// The explicit cross term of m < 1 (fluid/variable_viscosity.hpp): a circle of radius 0.3 with
+// viscosity lambda < 1 in the doubly periodic unit box, n = 32, mu = 1, dt such that
+// nu (1 - lambda) dt / dx^2 = number, from the manufactured flow plus 1e-3 noise, no forcing: the
+// step at which max |u| passes 1e3 (a blow-up), or -1 when 1000 steps stay below it.
+inline long explicit_cross_blowup(double lambda, double number) {
+  FluidParams p = periodic_box(32);
+  p.dt = number / (1.0 - lambda) / (32.0 * 32.0);
+  EulerianFluid f(p);
+  CellFractions I;
+  CellFractionWork w;
+  cell_fractions(f.lattice(), circle(256, 0.5, 0.5, 0.3), I, w);
+  std::vector<double> m(I.I.size());
+  for (size_t q = 0; q < m.size(); ++q) m[q] = 1.0 + (lambda - 1.0) * I.I[q];
+  f.set_viscosity(I.index.data(), m.data(), static_cast<int>(m.size()));
+  const int N = f.size();
+  Mat2 U(N, 2);
+  for (int i = 0; i < N; ++i) U.row(i) = Manufactured::u(f.x()(i, 0), f.x()(i, 1)).transpose();
+  std::srand(1);
+  U += 1e-3 * Mat2::Random(N, 2);
+  f.set_velocity(U);
+  const Mat2 F = Mat2::Zero(N, 2);
+  for (long s = 0; s < 1000; ++s) {
+    f.step(F);
+    if (!(f.u().cwiseAbs().maxCoeff() < 1e3)) return s + 1;
+  }
+  return -1;
 }
 
 }  // namespace sphib::bench::viscosity

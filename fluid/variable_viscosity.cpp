@@ -21,7 +21,9 @@ class VariableViscosity::Cg final : public LinearSolver {
     info_.nnz_A = 4 * v.C0_.nonZeros();  // (2N x 2N: the blocks of V_m couple u and v)
     info_.nnz_used = v.C0_.nonZeros() + 2 * static_cast<long>(v.P_.size());  // C0 and the pair weights, kept
     std::ostringstream m;
-    m << "CG preconditioned by the constant-viscosity solver (" << M.info().method << "), rtol " << v.prm_.rtol;
+    m << "CG preconditioned by the constant-viscosity solver (" << M.info().method << "), rtol " << v.prm_.rtol
+      << "; m > 1 in the central-force form, beta = gamma (1 + kappa (e_x^4 + e_y^4)), kappa = " << v.kappa_
+      << ", gamma = " << v.gamma_;
     info_.method = m.str();
   }
   bool refactorize(const SpMat&) override { throw std::logic_error("variable viscosity: CG takes C_m in place"); }
