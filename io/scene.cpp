@@ -477,6 +477,10 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
   m.h_star_over_h = r.positive(p + "h_star_over_h", 1.4, "h* / h when h_star is 0");
   m.fixed = r.boolean(p + "fixed", false, "hold the markers in place (fixed membrane)");
+  m.viscosity_ratio = r.number(p + "viscosity_ratio", 1.0, "[0.01, 100]",
+                               "viscosity contrast lambda = mu_in / mu_out: the fluid the membrane encloses has viscosity "
+                               "lambda fluid.mu (method eulerian; docs/viscosity_contrast.md)",
+                               false, 0.01, false, 100.0);
   const toml::node* pts = r.raw(p + "points", "array of [x, y]", "closed point list for shape = \"points\"");
   if (m.shape == "points") {
     const toml::array* a = pts ? pts->as_array() : nullptr;
@@ -756,6 +760,8 @@ std::pair<std::string, std::string> program_membrane_problem(const ProgramMembra
   if (!std::isfinite(mb.mat.Es)) return {modulus, "must be finite (got " + fmt_num(mb.mat.Es) + ")"};
   if (!(mb.mat.Es >= 0)) return {modulus, "value " + fmt_num(mb.mat.Es) + " is out of range (allowed: >= 0)"};
   if (!std::isfinite(mb.mat.Eb) || !(mb.mat.Eb >= 0)) return {p + "Eb", "value " + fmt_num(mb.mat.Eb) + " is out of range (allowed: >= 0)"};
+  if (!(m.viscosity_ratio >= 0.01 && m.viscosity_ratio <= 100))
+    return {p + "viscosity_ratio", "value " + fmt_num(m.viscosity_ratio) + " is out of range (allowed: [0.01, 100])"};
   try {  // the law, its parameters, the reference: make_membrane's checks, named by key
     make_membrane(mb.X, mb.ref, mb.mat);
   } catch (const std::invalid_argument& e) {
@@ -798,13 +804,20 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     setup.h_star = m.h_star > 0 ? m.h_star : m.h_star_over_h * h;
     setup.fixed = m.fixed;
     setup.semi_implicit = m.semi_implicit;
+    setup.viscosity_ratio = m.viscosity_ratio;
+    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+                                        "\" has one viscosity everywhere)");
     s.sim.membranes.push_back(setup);
   }
   for (const ProgramMembrane& m : program) {
     const std::string p = "membranes[" + std::to_string(s.sim.membranes.size()) + "].";
     if (const auto [key, why] = program_membrane_problem(m, p); !key.empty()) r.fail(key, why);
+    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+                                        "\" has one viscosity everywhere)");
     const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
-    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit});
+    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit, m.viscosity_ratio});
   }
   size_t second = 0;
   if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())

@@ -35,6 +35,7 @@ struct MembraneScene {
   double h_star = 0.0;  // absolute h*; 0: use h_star_over_h * h
   double h_star_over_h = 1.4;
   bool fixed = false;
+  double viscosity_ratio = 1.0;  // lambda = mu_in / mu_out
   Mat2 points;  // shape = "points"
 };
 
@@ -73,6 +74,7 @@ struct ProgramMembrane {
   double h_star = 0.0;  // absolute h*; 0: h_star_over_h * h
   double h_star_over_h = 1.4;
   bool fixed = false;
+  double viscosity_ratio = 1.0;  // as membrane.viscosity_ratio
 };
 
 // load_scene (path not empty) or parse_scene of an empty text named `name`, plus membranes built by

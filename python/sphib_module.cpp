@@ -574,14 +574,17 @@ void bind_scene(py::module_& m) {
              trial.validate();  // refused: the scene stays as it was
              s = std::move(trial);
            }, py::arg("keys") = py::none(), "set({'fluid.mu': 0.05}): change scene keys (validated)")
-      .def("add_membrane", [](PyScene& s, const Membrane& mb, std::optional<double> h_star, double h_star_over_h, bool fixed) {
+      .def("add_membrane", [](PyScene& s, const Membrane& mb, std::optional<double> h_star, double h_star_over_h, bool fixed,
+                              double viscosity_ratio) {
              PyScene trial = s;
-             trial.added.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed});
+             trial.added.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed, viscosity_ratio});
              trial.validate();  // checked with the scene's own membranes; refused: the scene stays as it was
              s = std::move(trial);
            }, py::arg("membrane"), py::arg("h_star") = py::none(), py::arg("h_star_over_h") = 1.4, py::arg("fixed") = false,
+           py::arg("viscosity_ratio") = 1.0,
            "Adds a membrane (sphib.circle, ellipse, polar, curve, from_points) with spreading radius h* (default "
-           "1.4 h), checked as a scene file's membranes are (values, crossings, observe.exact).")
+           "1.4 h) and the viscosity ratio mu_in / mu_out of the fluid it encloses (method eulerian), checked as a "
+           "scene file's membranes are (values, crossings, observe.exact).")
       .def("observe", [](PyScene& s, const std::string& name, py::function fn) {
              if (name.empty()) throw py::value_error("an observer needs a name");
              for (const auto& o : s.observers)
