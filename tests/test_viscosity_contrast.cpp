@@ -403,7 +403,7 @@ TEST(ViscosityContrast, SmallRatioRefusesATooLargeStep) {
 TEST(ViscosityContrast, CapsuleKeepsItsAreaAndItsIndicatorFollows) {
   Simulation sim(capsule("eulerian", 5.0)), ref(capsule("eulerian", 1.0));
   const Membrane& m0 = sim.membranes()[0].m;
-  MembraneDiagnostics D(m0.nb(), m0.L0);
+  MembraneDiagnostics D(m0.nb(), m0.L0());
   auto area = [&](const Mat2& X) {
     D.fit(X);
     return D.area();
