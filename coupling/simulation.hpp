@@ -7,6 +7,7 @@
 #include "coupling/contact.hpp"
 #include "coupling/marker_update.hpp"
 #include "coupling/stiff_force.hpp"
+#include "coupling/viscosity_contrast.hpp"
 #include "fluid/solver.hpp"
 #include "fluid/neighbours.hpp"
 #include "membrane/force.hpp"
@@ -18,6 +19,9 @@ struct MembraneSetup {
   double h_star = 0.05;   // spreading kernel's smoothing length h* (support 2h*)
   bool fixed = false;     // markers held in place (Section 5.2.1)
   bool semi_implicit = false;  // the stiff-force filter (coupling/stiff_force.hpp)
+  // lambda = mu_in / mu of the fluid it encloses (a viscosity contrast: coupling/viscosity_contrast.hpp;
+  // method "eulerian" only); 1: the same fluid inside and out
+  double viscosity_ratio = 1.0;
 };
 
 // How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
@@ -90,6 +94,9 @@ class Simulation {
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+  // The viscosity contrast of the membranes (their indicators and m), or nullptr when every
+  // viscosity_ratio is 1.
+  const ViscosityContrast* viscosity_contrast() const { return contrast_.get(); }
   MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
   // The smoothing length of the marker interpolation in use: h (SPH kernel) or the lattice spacing
   // (B-splines).
@@ -114,6 +121,7 @@ class Simulation {
   void move_markers();             // the trapezoidal fixed point (Eqs. 56-60)
   void elastic_forces();           // f, T by each membrane's law (Eqs. 47-50)
   void contact_forces();           // f += the contact force (coupling/contact.hpp)
+  void viscosity_now();            // mu^n from the indicators of X^n (a viscosity contrast)
 
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
@@ -138,8 +146,10 @@ class Simulation {
   FreeSet free_;
   void spread_run(int a, int b, Mat2& F);  // F += the spreading of membranes [a, b) (one h*), Eq. (53)
   void advance_set(FreeSet& set, bool extrapolate);  // the marker update of a set (Eqs. 56-60)
+  std::unique_ptr<ViscosityContrast> contrast_;  // when some viscosity_ratio differs from 1
+  std::vector<const Mat2*> X_now_;                // its markers
   Profile prof_;
-  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1, k_contact_ = -1;
+  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1, k_contact_ = -1, k_visc_ = -1;
 };
 
 }  // namespace sphib

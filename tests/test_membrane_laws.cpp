@@ -28,29 +28,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 using test::refusal;
 
-const char* kMinimal = R"(
-[grid]
-nx = 16
-ny = 16
-[fluid]
-rho = 1.0
-mu = 1.0
-[time]
-dt = 0.001
-end = 0.01
-)";
+const char* const kMinimal = sphib_test::kMinimalScene;
 
-// A smooth asymmetric closed curve (no symmetry to cancel errors).
-Mat2 blob(int nb) {
-  Mat2 X(nb, 2);
-  for (int k = 0; k < nb; ++k) {
-    const double th = 2.0 * kPi * k / nb;
-    const double r = 0.6 + 0.08 * std::cos(2 * th + 0.3) + 0.05 * std::sin(3 * th);
-    X(k, 0) = 0.2 + 1.1 * r * std::cos(th);
-    X(k, 1) = -0.1 + r * std::sin(th);
-  }
-  return X;
-}
+using sphib_test::blob;
 
 Material material(const std::string& law, double Es, double Eb) {
   Material m;
