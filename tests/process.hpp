@@ -64,6 +64,14 @@ inline bool wait_for(const std::filesystem::path& p, double seconds) {
   return false;
 }
 
+// `sphib run` of the small oscillating membrane into `out` (--quiet), `more` as --set after kSmall.
+inline std::vector<std::string> run_args(const std::filesystem::path& out, const std::vector<std::string>& more) {
+  std::vector<std::string> a{SPHIB_BINARY, "run", kOscillation, "--out", out.string(), "--quiet"};
+  for (const auto& s : kSmall) a.insert(a.end(), {"--set", s});
+  for (const auto& s : more) a.insert(a.end(), {"--set", s});
+  return a;
+}
+
 // A run of the small oscillating membrane in process, `sets` after kSmall, optionally a restart.
 inline nlohmann::json run_small(const std::filesystem::path& dir, std::vector<std::string> sets, const std::string& restart = "") {
   sets.insert(sets.begin(), kSmall.begin(), kSmall.end());

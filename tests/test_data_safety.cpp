@@ -40,21 +40,8 @@ using sphib_test::reap;
 using sphib_test::shell;
 using sphib_test::spawn;
 using sphib_test::wait_for;
+using sphib_test::run_args;
 const std::string& kScene = sphib_test::kOscillation;
-
-// `sphib run SCENE --out OUT --quiet --set ...` with the small oscillating membrane and `more`.
-std::vector<std::string> run_args(const fs::path& out, const std::vector<std::string>& more) {
-  std::vector<std::string> a{SPHIB_BINARY, "run", kScene, "--out", out.string(), "--quiet"};
-  for (const auto& s : kSmall) a.insert(a.end(), {"--set", s});
-  for (const auto& s : more) a.insert(a.end(), {"--set", s});
-  return a;
-}
-
-
-
-
-
-
 
 bool h5_opens(const fs::path& p) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);

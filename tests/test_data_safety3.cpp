@@ -50,25 +50,11 @@ using sphib_test::reap;
 using sphib_test::shell;
 using sphib_test::spawn;
 using sphib_test::wait_for;
+using sphib_test::run_args;
 using sphib_test::run_small;
 const std::string& kScene = sphib_test::kOscillation;
 
-
-// `sphib run SCENE --out OUT --quiet` with the small oscillating membrane and `more` as --set.
-std::vector<std::string> run_args(const fs::path& out, const std::vector<std::string>& more) {
-  std::vector<std::string> a{SPHIB_BINARY, "run", kScene, "--out", out.string(), "--quiet"};
-  for (const auto& s : kSmall) a.insert(a.end(), {"--set", s});
-  for (const auto& s : more) a.insert(a.end(), {"--set", s});
-  return a;
-}
-
-
-
-
-
-
 nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
-
 
 std::string bytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
