@@ -1,15 +1,15 @@
 // A capsule in simple shear flow: a circular membrane at its rest length (radius = r0) between walls
-// y = +-H/2 sliding at -+U, periodic in x (length L = 2H). Shear rate G = 2U/H; capillary number
-// Ca = mu G r0 / Es (Es: the law's modulus, the Hookean T0); bending modulus Eb = eb_hat Es r0^2, i.e.
-// the bending capillary number Ca_b = mu G r0^3 / Eb = Ca / eb_hat. The capsule becomes an inclined
-// ellipse round which its membrane rotates. Observed: Taylor deformation D = (L - B)/(L + B) and
-// inclination theta of the ellipse with the same second moments of area (ellipse_fit); tank-treading
-// frequency omega (mean angular velocity of the markers about the centroid, < 0 clockwise). The
-// table: means over the last quarter of each run, with the standard deviation and drift of D over it.
-// With bending, D_lin is the small-deformation theory of a 2-D capsule in unbounded Stokes flow
-// (docs/membrane_validation.md): D = Ca_b / sqrt(9 + 4 Ca_b^2), theta = 45 - atan(2 Ca_b/3)/2 degrees,
-// whatever the tension law. Without bending a ring at rest length has no linear resistance to the
-// shape change (D does not scale with Ca): no theory column.
+// y = +-H/2 sliding at -+U, periodic in x (length L = 2H; cases/capsule_shear.hpp). Shear rate
+// G = 2U/H; capillary number Ca = mu G r0 / Es (Es: the law's modulus, the Hookean T0); bending
+// modulus Eb = eb_hat Es r0^2, i.e. the bending capillary number Ca_b = mu G r0^3 / Eb = Ca / eb_hat.
+// The capsule becomes an inclined ellipse round which its membrane rotates. Observed: Taylor
+// deformation D = (L - B)/(L + B) and inclination theta of the ellipse with the same second moments of
+// area (ellipse_fit); tank-treading frequency omega (mean angular velocity of the markers about the
+// centroid, < 0 clockwise). The table: means over the last quarter of each run, with the standard
+// deviation and drift of D over it. With bending, D_lin is the small-deformation theory of a 2-D
+// capsule in unbounded Stokes flow (docs/membrane_validation.md): D = Ca_b / sqrt(9 + 4 Ca_b^2),
+// theta = 45 - atan(2 Ca_b/3)/2 degrees, whatever the tension law. Without bending a ring at rest
+// length has no linear resistance to the shape change (D does not scale with Ca): no theory column.
 // Defaults: H = 2, U = 1 (G = 1), r0 = 0.4, rho = 1, mu = 1 (Re = rho G r0^2/mu = 0.16), Hookean
 // without bending, 64 x 32 particles, two markers per dx, t_end = 16/G, dt = 0.0125 dx/U, fluid at
 // rest at t = 0 (--sheared: the developed shear).
@@ -21,42 +21,47 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cases/capsule_shear.hpp"
 #include "io/run.hpp"
 #include "membrane/polygon.hpp"
-#include "membrane/shapes.hpp"
 
 using namespace sphib;
 
 int main(int argc, char** argv) {
   std::vector<double> cas{0.05, 0.1, 0.2};
-  std::string out = "out/capsule_shear", law = "hookean";
+  std::string out = "out/capsule_shear";
+  CapsuleParams p;
   long steps = 0;
-  int nx = 64, nb = 0;
-  double t_end = 16.0, cfl = 0.0125, H = 2.0, eb_hat = 0.0, lambda = 1.0;
-  bool paper = false, explicit_force = false, sheared = false;
+  double lambda = 1.0;
+  std::string interp = "auto";
   CLI::App app{"capsule in simple shear: D(Ca), theta(Ca), tank-treading frequency"};
   app.add_option("--ca", cas, "capillary numbers mu G r0 / Es (comma-separated)")->delimiter(',');
-  app.add_option("--law", law, "tension law (membrane.law): hookean, neo_hookean, skalak, inextensible");
-  app.add_option("--eb-hat", eb_hat, "bending modulus Eb / (Es r0^2) (0: no bending)")->check(CLI::NonNegativeNumber);
+  app.add_option("--law", p.law, "tension law (membrane.law): hookean, neo_hookean, skalak, inextensible");
+  app.add_option("--eb-hat", p.eb_hat, "bending modulus Eb / (Es r0^2) (0: no bending)")->check(CLI::NonNegativeNumber);
   app.add_option("--out", out, "output directory");
   app.add_option("--steps", steps, "stop each run after this many steps (smoke test)");
-  app.add_option("--nx", nx, "particles along x (ny = nx/2)");
-  app.add_option("--nb", nb, "markers (0: two per dx)");
-  app.add_option("--height", H, "channel height H (domain H x 2H, r0 = 0.4, confinement 2 r0/H)");
-  app.add_option("--t-end", t_end, "end time in units of 1/G");
-  app.add_option("--cfl", cfl, "time step dt = cfl dx / U, U = G H/2 the wall speed");
+  app.add_option("--nx", p.nx, "particles along x (ny = nx/2)");
+  app.add_option("--nb", p.nb, "markers (0: two per dx)");
+  app.add_option("--height", p.H, "channel height H (domain H x 2H, r0 = 0.4, confinement 2 r0/H)");
+  app.add_option("--t-end", p.t_end, "end time in units of 1/G");
+  app.add_option("--cfl", p.cfl, "time step dt = cfl dx / U, U = G H/2 the wall speed");
   app.add_option("--lambda", lambda, "viscosity ratio mu_in/mu_out (only 1 until the viscosity contrast exists)");
-  app.add_flag("--paper-pair", paper, "the paper's approximate projection and SPH interpolation (Eq. 63)");
-  app.add_flag("--explicit", explicit_force, "explicit membrane force (no stiff-force filter)");
-  app.add_flag("--sheared", sheared, "start from the developed shear u = (G y, 0) (default: at rest; the flow develops "
-               "from the walls in ~H^2/(10 nu))");
+  app.add_flag("--paper-pair", p.paper_pair, "the paper's approximate projection and SPH interpolation (Eq. 63)");
+  app.add_flag("--explicit", p.explicit_force, "explicit membrane force (no stiff-force filter)");
+  app.add_option("--interpolation", interp, "marker velocity (coupling.interpolation): auto (bspline with bending), "
+                 "bspline, divergence_free, sph")->check(CLI::IsMember({"auto", "bspline", "divergence_free", "sph"}));
+  app.add_flag("--sheared", p.sheared, "start from the developed shear u = (G y, 0) (default: at rest; the flow "
+               "develops from the walls in ~H^2/(10 nu))");
   CLI11_PARSE(app, argc, argv);
+  p.interpolation = interp == "bspline"           ? MarkerInterpolation::BSpline
+                    : interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
+                    : interp == "sph"             ? MarkerInterpolation::Sph
+                                                  : MarkerInterpolation::Auto;
   if (lambda != 1.0) {  // the hook for the viscosity contrast of issue 24 (coupling/, fluid/eulerian)
     std::fprintf(stderr, "capsule_shear: --lambda %g: this build has one viscosity (lambda = 1 only)\n", lambda);
     return 2;
   }
 
-  const double G = 1.0, U = G * H / 2, L = 2 * H, r0 = 0.4, rho = 1.0, mu = 1.0;
   std::filesystem::create_directories(out);
   std::ofstream table(out + "/table.csv.part");
   table << "Ca,Es,Eb,Ca_b,D,D_sd,D_drift,theta_deg,omega_over_G,D_lin,theta_lin_deg,area_relative_error,steps,"
@@ -64,32 +69,12 @@ int main(int argc, char** argv) {
   std::printf("%7s %8s %8s %8s %8s %9s %8s %8s %8s %8s %10s %7s\n", "Ca", "Ca_b", "D", "D sd", "D/D_lin", "drift",
               "theta", "th_lin", "omega/G", "D_lin", "area_err", "s");
   for (double Ca : cas) {
-    Scene s;
+    p.Ca = Ca;
+    Scene s = capsule_scene(p);
     char name[64];
     std::snprintf(name, sizeof name, "ca_%g", Ca);
     s.title = std::string("capsule in shear flow, ") + name;
-    FluidParams& f = s.sim.fluid;
-    f.domain = {-L / 2, L / 2, -H / 2, H / 2, /*periodic_x=*/true, /*periodic_y=*/false};
-    f.domain.wall_velocity[Top] = {U, 0.0};
-    f.domain.wall_velocity[Bottom] = {-U, 0.0};
-    f.nx = nx, f.ny = nx / 2, f.rho = rho, f.mu = mu;
-    if (paper) {
-      f.projection = Projection::Approximate;
-      s.sim.interpolation = MarkerInterpolation::Sph;
-    }
-    const double dx = L / nx, h_star = 1.4 * f.h_over_dx * dx;
-    Material mat;
-    mat.law = law;
-    mat.Es = mu * G * r0 / Ca;
-    mat.Eb = eb_hat * mat.Es * r0 * r0;
-    f.dt = cfl * dx / U;
-    const int n = nb > 0 ? nb : static_cast<int>(std::lround(2 * M_PI * r0 / (0.5 * dx)));  // two markers per dx
-    MembraneSetup m{make_membrane(circle(n, 0.0, 0.0, /*radius=*/r0), circle_reference(r0), mat), h_star};
-    m.semi_implicit = !explicit_force && (mat.Eb > 0 || law != "hookean");  // as the scene's default
-    s.sim.membranes.push_back(m);
-    if (sheared) s.sim.initial_velocity = [G](double, double y) { return Eigen::Vector2d(G * y, 0.0); };
-    s.t_end = t_end / G, s.max_steps = steps;
-
+    s.max_steps = steps;
     std::vector<std::array<double, 4>> hist;  // t, D, theta, omega at every diagnostics row
     s.observers = {
         {"D", [&](const Simulation& sim) {
@@ -99,7 +84,7 @@ int main(int argc, char** argv) {
            return e.deformation();
          }},
         {"theta_deg", [&](const Simulation&) { return hist.back()[2] * 180 / M_PI; }},
-        {"omega_over_G", [&](const Simulation&) { return hist.back()[3] / G; }},
+        {"omega_over_G", [&](const Simulation&) { return hist.back()[3] / p.G; }},
     };
     RunOptions run;
     run.out_dir = out + "/" + name;
@@ -115,17 +100,15 @@ int main(int argc, char** argv) {
         D2 += r[1] * r[1];
       }
     const double D = mean[1] / k, D_sd = std::sqrt(std::max(D2 / k - D * D, 0.0));
-    const double theta = mean[2] / k * 180 / M_PI, w = mean[3] / k / G;
+    const double theta = mean[2] / k * 180 / M_PI, w = mean[3] / k / p.G;
     const double drift = hist.back()[1] - first[1], area_err = summary["area_relative_error"];
-    // Small-deformation theory (bending only; docs/membrane_validation.md, "capsule in shear")
-    const double Ca_b = mat.Eb > 0 ? mu * G * r0 * r0 * r0 / mat.Eb : NAN;
-    const double D_lin = Ca_b / std::sqrt(9 + 4 * Ca_b * Ca_b), th_lin = 45 - std::atan(2 * Ca_b / 3) * 90 / M_PI;
-    std::printf("%7g %8.4g %8.5f %8.1e %8.4f %9.1e %8.3f %8.3f %8.4f %8.5f %10.2e %7.1f\n", Ca, Ca_b, D, D_sd, D / D_lin,
-                drift, theta, th_lin, w, D_lin, area_err, summary["wall_seconds"].get<double>());
+    std::printf("%7g %8.4g %8.5f %8.1e %8.4f %9.1e %8.3f %8.3f %8.4f %8.5f %10.2e %7.1f\n", Ca, p.Ca_b(), D, D_sd,
+                D / p.D_lin(), drift, theta, p.theta_lin_deg(), w, p.D_lin(), area_err,
+                summary["wall_seconds"].get<double>());
     std::fflush(stdout);  // (a later run that blows up must not take this line with it)
-    table << Ca << "," << mat.Es << "," << mat.Eb << "," << Ca_b << "," << D << "," << D_sd << "," << drift << ","
-          << theta << "," << w << "," << D_lin << "," << th_lin << "," << area_err << "," << summary["steps"] << ","
-          << summary["wall_seconds"] << "\n";
+    table << Ca << "," << p.Es() << "," << p.Eb() << "," << p.Ca_b() << "," << D << "," << D_sd << "," << drift << ","
+          << theta << "," << w << "," << p.D_lin() << "," << p.theta_lin_deg() << "," << area_err << ","
+          << summary["steps"] << "," << summary["wall_seconds"] << "\n";
   }
   table.close();
   std::filesystem::rename(out + "/table.csv.part", out + "/table.csv");
