@@ -28,6 +28,10 @@
 #   stability_bending  bench/stability_map --parts B (explicit and semi-implicit limits with Eb, Es)
 #   stiff            a stiff capsule (explicit limit ~100x below the flow's step) at the flow's step to t = 10
 #   bending_cost     paired cpu time, a step with bending against a Hookean step (bench/paired.sh)
+#   viscosity_contrast  membrane.viscosity_ratio: the indicator, layered Couette and a circular interface
+#                  against exact two-fluid flows, the operator's and the step's orders (build/viscosity_contrast),
+#                  and the capsule in shear at lambda = 0.2, 1, 5 (Ca = 0.05, 0.1; 64 x 32 and, Ca = 0.1,
+#                  128 x 64) to t = 10 (docs/viscosity_contrast.md)
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
 #   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
@@ -61,7 +65,7 @@ if [ "${PAIR:-}" = paper ]; then
 fi
 sections=("$@")
 [ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19 table3)
-cmake --build build --target sphib poiseuille_sweep capsule_shear membrane_relaxation stability_map > /dev/null
+cmake --build build --target sphib poiseuille_sweep capsule_shear membrane_relaxation stability_map viscosity_contrast > /dev/null
 
 for s in "${sections[@]}"; do
   case "$s" in
@@ -254,6 +258,13 @@ for s in "${sections[@]}"; do
     bending_cost)
       A="env OMP_NUM_THREADS=1 build/sphib run cases/membrane_oscillation.toml --quiet --set time.end=2"
       bash bench/paired.sh -n 6 -- "$A --out $OUT/bending_cost/a" "$A --out $OUT/bending_cost/b --set membrane.Eb=0.001" ;;
+    viscosity_contrast)
+      mkdir -p $OUT/viscosity_contrast
+      build/viscosity_contrast | tee $OUT/viscosity_contrast/numerics.txt
+      for l in 0.2 1 5; do
+        build/capsule_shear --ca 0.05,0.1 --lambda $l --t-end 10 --out $OUT/viscosity_contrast/capsule_64_lambda_$l
+        build/capsule_shear --ca 0.1 --lambda $l --t-end 10 --nx 128 --out $OUT/viscosity_contrast/capsule_128_lambda_$l
+      done ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done

@@ -12,7 +12,7 @@
 // length has no linear resistance to the shape change (D does not scale with Ca): no theory column.
 // Defaults: H = 2, U = 1 (G = 1), r0 = 0.4, rho = 1, mu = 1 (Re = rho G r0^2/mu = 0.16), Hookean
 // without bending, 64 x 32 particles, two markers per dx, t_end = 16/G, dt = 0.0125 dx/U, fluid at
-// rest at t = 0 (--sheared: the developed shear).
+// rest at t = 0 (--sheared: the developed shear), one viscosity (--lambda: mu_in / mu_out).
 // Writes DIR/ca_<Ca>/ (each run) and DIR/table.csv.
 #include <CLI/CLI.hpp>
 #include <array>
@@ -32,7 +32,6 @@ int main(int argc, char** argv) {
   std::string out = "out/capsule_shear";
   CapsuleParams p;
   long steps = 0;
-  double lambda = 1.0;
   std::string interp = "auto";
   CLI::App app{"capsule in simple shear: D(Ca), theta(Ca), tank-treading frequency"};
   app.add_option("--ca", cas, "capillary numbers mu G r0 / Es (comma-separated)")->delimiter(',');
@@ -45,7 +44,8 @@ int main(int argc, char** argv) {
   app.add_option("--height", p.H, "channel height H (domain H x 2H, r0 = 0.4, confinement 2 r0/H)");
   app.add_option("--t-end", p.t_end, "end time in units of 1/G");
   app.add_option("--cfl", p.cfl, "time step dt = cfl dx / U, U = G H/2 the wall speed");
-  app.add_option("--lambda", lambda, "viscosity ratio mu_in/mu_out (only 1 until the viscosity contrast exists)");
+  app.add_option("--lambda", p.lambda, "viscosity ratio mu_in / mu_out of the capsule's fluid (membrane.viscosity_ratio)")
+      ->check(CLI::Range(0.01, 100.0));
   app.add_flag("--paper-pair", p.paper_pair, "the paper's approximate projection and SPH interpolation (Eq. 63)");
   app.add_flag("--explicit", p.explicit_force, "explicit membrane force (no stiff-force filter)");
   app.add_option("--interpolation", interp, "marker velocity (coupling.interpolation): auto (bspline with bending), "
@@ -57,10 +57,6 @@ int main(int argc, char** argv) {
                     : interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                     : interp == "sph"             ? MarkerInterpolation::Sph
                                                   : MarkerInterpolation::Auto;
-  if (lambda != 1.0) {  // the hook for the viscosity contrast of issue 24 (coupling/, fluid/eulerian)
-    std::fprintf(stderr, "capsule_shear: --lambda %g: this build has one viscosity (lambda = 1 only)\n", lambda);
-    return 2;
-  }
 
   std::filesystem::create_directories(out);
   std::ofstream table(out + "/table.csv.part");
@@ -72,7 +68,8 @@ int main(int argc, char** argv) {
     p.Ca = Ca;
     Scene s = capsule_scene(p);
     char name[64];
-    std::snprintf(name, sizeof name, "ca_%g", Ca);
+    if (p.lambda == 1.0) std::snprintf(name, sizeof name, "ca_%g", Ca);
+    else std::snprintf(name, sizeof name, "ca_%g_lambda_%g", Ca, p.lambda);
     s.title = std::string("capsule in shear flow, ") + name;
     s.max_steps = steps;
     std::vector<std::array<double, 4>> hist;  // t, D, theta, omega at every diagnostics row

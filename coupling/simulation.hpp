@@ -6,6 +6,7 @@
 
 #include "coupling/marker_update.hpp"
 #include "coupling/stiff_force.hpp"
+#include "coupling/viscosity_contrast.hpp"
 #include "fluid/solver.hpp"
 #include "fluid/neighbours.hpp"
 #include "membrane/force.hpp"
@@ -17,6 +18,9 @@ struct MembraneSetup {
   double h_star = 0.05;   // spreading kernel's smoothing length h* (support 2h*)
   bool fixed = false;     // markers held in place (Section 5.2.1)
   bool semi_implicit = false;  // the stiff-force filter (coupling/stiff_force.hpp)
+  // lambda = mu_in / mu of the fluid it encloses (a viscosity contrast: coupling/viscosity_contrast.hpp;
+  // method "eulerian" only); 1: the same fluid inside and out
+  double viscosity_ratio = 1.0;
 };
 
 // How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
@@ -84,6 +88,9 @@ class Simulation {
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+  // The viscosity contrast of the membranes (their indicators and m), or nullptr when every
+  // viscosity_ratio is 1.
+  const ViscosityContrast* viscosity_contrast() const { return contrast_.get(); }
   MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
   // The smoothing length of the marker interpolation in use: h (SPH kernel) or the lattice spacing
   // (B-splines).
@@ -93,7 +100,8 @@ class Simulation {
   bool marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU = nullptr) const;
   // The coupling's floor: the bare kernels one step of it cannot avoid, each timed alone on the
   // current state, best of `reps` (as FluidSolver::floor_seconds for the fluid): the membrane
-  // forces, one spreading, the markers' stream function solve (divergence-free interpolation) and
+  // forces, the stiff-force filter (semi-implicit membranes), one spreading, the markers' stream
+  // function solve (divergence-free interpolations) and
   // one marker-velocity interpolation (with its gradient where the marker update linearises) per
   // free membrane. 0 without membranes.
   double coupling_floor_seconds(int reps = 20) const;
@@ -105,6 +113,7 @@ class Simulation {
   void stiff_forces();             // f~ of the semi-implicit membranes (coupling/stiff_force.hpp)
   void spread_membrane_forces();   // F += S f (Eq. 53), f~ where semi-implicit
   void move_markers();             // the trapezoidal fixed point (Eqs. 56-60)
+  void viscosity_now();            // mu^n from the indicators of X^n (a viscosity contrast)
 
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
@@ -112,8 +121,10 @@ class Simulation {
   CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
+  std::unique_ptr<ViscosityContrast> contrast_;  // when some viscosity_ratio differs from 1
+  std::vector<const Mat2*> X_now_;                // its markers
   Profile prof_;
-  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1;
+  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1, k_visc_ = -1;
 };
 
 }  // namespace sphib

@@ -159,7 +159,8 @@ void MembraneForce::compute(const Mat2& X, Mat2& f, Vec& T) {
 
 void MembraneForce::fit_energy(const Mat2& X) {
   if (fitted_to(X)) return;
-  PeriodicSpline::fit_pair(geo_.sx, X.data(), geo_.sy, X.data() + nb_);
+  if (mat_.Eb > 0.0) geo_.fit(X, true);  // the bending energy's curvature: the force's splines of X_s
+  else PeriodicSpline::fit_pair(geo_.sx, X.data(), geo_.sy, X.data() + nb_);
 }
 
 MembraneEnergy MembraneForce::energy() const {
@@ -170,10 +171,14 @@ MembraneEnergy MembraneForce::energy() const {
   }
   const double h = geo_.sx.h();
   const bool bending = mat_.Eb > 0.0;
-  double cx[4], cy[4], ca[4], ck[4];
+  double cx[4], cy[4], ca[4], ck[4], bx[4], by[4];
   for (int k = 0; k < nb_; ++k) {
     geo_.sx.segment(k, cx);
     geo_.sy.segment(k, cy);
+    if (bending) {
+      geo_.bx.segment(k, bx);
+      geo_.by.segment(k, by);
+    }
     if (!ref_.uniform()) ax_.segment(k, ca);
     if (ref_.kappa0.size()) kx_.segment(k, ck);
     for (int q = 0; q < 5; ++q) {
@@ -183,7 +188,9 @@ MembraneEnergy MembraneForce::energy() const {
       const double a = ref_.uniform() ? 1.0 : ca[0] + t * (ca[1] + t * (ca[2] + t * ca[3]));
       e.stretching += w * law_->energy(g / a) * a;  // int W(lambda) a ds
       if (!bending) continue;
-      const double xss = 2.0 * cx[2] + 6.0 * t * cx[3], yss = 2.0 * cy[2] + 6.0 * t * cy[3];
+      // X_ss as the force takes it: the derivative of the spline of X_s (O(h^4); the spline of X's own
+      // second derivative is piecewise linear, O(h^2))
+      const double xss = bx[1] + t * (2.0 * bx[2] + 3.0 * t * bx[3]), yss = by[1] + t * (2.0 * by[2] + 3.0 * t * by[3]);
       const double kappa = (xs * yss - ys * xss) / (g * g * g);
       const double k0 = mat_.spontaneous              ? mat_.spontaneous_curvature
                         : ref_.kappa0.size() ? ck[0] + t * (ck[1] + t * (ck[2] + t * ck[3]))

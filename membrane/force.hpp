@@ -62,7 +62,8 @@ class MembraneForce {
   void compute(const Mat2& X, Mat2& f, Vec& T);
   /// Of the markers of the last compute() (or of X after fit_energy(X)), Gauss 5-point per segment.
   MembraneEnergy energy() const;
-  /// Fits X's splines (no force) for energy(), unless the last compute() was of these markers.
+  /// Fits X's splines (and with bending those of X_s; no force) for energy(), unless the last
+  /// compute() was of these markers.
   void fit_energy(const Mat2& X);
   /// Of the markers of the last compute().
   MembraneStiffness stiffness() const;

@@ -9,7 +9,8 @@ namespace sphib {
 
 double signed_area(const Mat2& X);           // shoelace rule, > 0 anticlockwise
 Eigen::Vector2d polygon_centroid(const Mat2& X);
-bool is_simple(const Mat2& X);               // no two edges meet except neighbours at a vertex
+bool is_simple(const Mat2& X);               // no two edges meet except neighbours at a vertex: O(n log n)
+bool is_simple_plain(const Mat2& X);         // the same by testing every pair of edges: O(n^2)
 
 /// Area moments of the region enclosed by the polygon X (exact for the polygon) and the ellipse
 /// with the same moments: for an ellipse (or the affine image of a regular polygon) L, B and

@@ -15,7 +15,8 @@
 namespace sphib {
 
 // A diagnostics column of the user's choice: evaluated with the other diagnostics, written to
-// diagnostics.csv and the HDF5 series, its last value into summary.json under `name`.
+// diagnostics.csv and the HDF5 series, its last value into summary.json under `name`. The name is
+// its own: a run refuses one that another column or a field of every run's summary has.
 struct Observer {
   std::string name;
   std::function<double(const Simulation&)> value;
@@ -48,7 +49,7 @@ class Analysis {
 // The analyses of one run, in the order of their columns, and the series they sampled.
 class Observers {
  public:
-  void add(std::unique_ptr<Analysis> a);
+  void add(std::unique_ptr<Analysis> a);  // std::invalid_argument if a column of it is already there
   const std::vector<std::string>& columns() const { return series_.columns; }
   const Series& series() const { return series_; }
   double last(const std::string& column) const;  // the latest sample of a column (NaN: none)

@@ -30,7 +30,7 @@ class MembraneShapes final : public Analysis {
       for (const char* n : {"rx", "ry", "cx", "cy", "area", "area_rel_error", "elastic_energy", "length", "iterations"})
         c.push_back("m" + std::to_string(k) + "_" + n);
     for (size_t k = 0; k < D_.size(); ++k)
-      for (const char* n : {"D", "inclination", "omega", "bending_energy", "stretch_error"})
+      for (const char* n : {"D", "inclination", "omega", "bending_energy", "strain_max"})
         c.push_back("m" + std::to_string(k) + "_" + n);
     return c;
   }
@@ -55,7 +55,7 @@ class MembraneShapes final : public Analysis {
         row.push_back(v);
     }
     for (const Measures& a : all)
-      for (double v : {a.shape.moments.deformation(), a.shape.moments.theta, a.omega, a.bending, a.stretch_error})
+      for (double v : {a.shape.moments.deformation(), a.shape.moments.theta, a.omega, a.bending, a.strain_max})
         row.push_back(v);
   }
   void summarize(const Simulation& sim, const Series&, nlohmann::json& j) const override {
@@ -73,7 +73,7 @@ class MembraneShapes final : public Analysis {
     j["deformation"] = s.moments.deformation();
     j["inclination"] = s.moments.theta;
     j["omega"] = a.omega;
-    j["stretch_error"] = a.stretch_error;
+    j["strain_max"] = a.strain_max;
     for (const auto& [T, e] : area_at_) j["area_relative_error_at"][std::to_string(T)] = e;
     j["marker_iterations_last"] = m0.last.iterations;
     if (m0.updates > 0) j["marker_iterations_mean"] = static_cast<double>(m0.iterations) / m0.updates;
@@ -90,7 +90,7 @@ class MembraneShapes final : public Analysis {
  private:
   struct Measures {
     MembraneShape shape;
-    double omega = 0, bending = 0, stretch_error = 0;
+    double omega = 0, bending = 0, strain_max = 0;
   };
   Measures measure(const Simulation& sim, size_t k) const {
     const MembraneState& m = sim.membranes()[k];
@@ -102,7 +102,7 @@ class MembraneShapes final : public Analysis {
     a.bending = e.bending;
     const KnotGeometry& g = E_[k].geometry();
     for (int i = 0; i < m.m.nb(); ++i)
-      a.stretch_error = std::max(a.stretch_error, std::fabs(g.norm[i] / m.m.ref.a(i) - 1.0));
+      a.strain_max = std::max(a.strain_max, std::fabs(g.norm[i] / m.m.ref.a(i) - 1.0));
     // The markers' mean angular velocity about the centroid: the tank-treading frequency of a steady
     // shape. U^{n+1}(X^{n+1}) as the marker update left it, or interpolated now.
     if (m.fixed) return a;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "helpers.hpp"
 #include "membrane/geometry.hpp"
 #include "membrane/polygon.hpp"
 #include "membrane/shapes.hpp"
@@ -73,17 +74,7 @@ double ellipse_force_error(int nb, HookeanScheme scheme) {
   return (f - fe).cwiseAbs().maxCoeff() / fe.cwiseAbs().maxCoeff();
 }
 
-// A smooth asymmetric closed curve (no symmetry to cancel errors).
-Mat2 blob(int nb) {
-  Mat2 X(nb, 2);
-  for (int k = 0; k < nb; ++k) {
-    const double th = 2.0 * kPi * k / nb;
-    const double r = 0.6 + 0.08 * std::cos(2 * th + 0.3) + 0.05 * std::sin(3 * th);
-    X(k, 0) = 0.2 + 1.1 * r * std::cos(th);
-    X(k, 1) = -0.1 + r * std::sin(th);
-  }
-  return X;
-}
+using sphib_test::blob;
 
 template <class F>
 std::string thrown_message(F fn) {

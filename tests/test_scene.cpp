@@ -7,6 +7,7 @@
 #include <map>
 
 #include "io/run.hpp"
+#include "helpers.hpp"
 #include "io/scene.hpp"
 #include "scene_refusal.hpp"
 
@@ -14,17 +15,7 @@ using namespace sphib;
 
 namespace {
 
-const char* kMinimal = R"(
-[grid]
-nx = 16
-ny = 16
-[fluid]
-rho = 1.0
-mu = 1.0
-[time]
-dt = 0.001
-end = 0.01
-)";
+const char* const kMinimal = sphib_test::kMinimalScene;
 
 using test::refusal;
 
