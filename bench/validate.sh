@@ -226,6 +226,15 @@ for s in "${sections[@]}"; do
       $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/domain6_small_conv \
         --vary grid.nx=256,512 --derive grid.ny={grid.nx} --derive membrane.nb={grid.nx} --set domain.x=[-3,3] \
         --set domain.y=[-3,3] $SMALL $P --report $REP
+      # the kernel widths at a fixed lattice (64^2), and the 64^2 widths on a 128^2 lattice
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/h_over_dx_64 \
+        --vary kernel.h_over_dx=1.2,1.5,2.0 $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/h_over_dx_64_hs_fixed \
+        --vary kernel.h_over_dx=1.2,1.5,2.0 --set membrane.h_star=0.07875 $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/widths_of_64_at_128 \
+        --vary kernel.h_over_dx=2.4 --set grid.nx=128 --set grid.ny=128 --set membrane.nb=256 \
+        --set membrane.h_star=0.07875 $P --report $REP
+      /usr/bin/python3 scripts/lattice_kernel_factor.py 1.2 1.5 2.0 2.4
       /usr/bin/python3 scripts/membrane_theory.py oscillation
       /usr/bin/python3 scripts/membrane_theory.py oscillation --rx 0.63 --ry 0.5952380952 ;;
     rbc)
