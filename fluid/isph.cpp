@@ -313,12 +313,13 @@ void IsphFluid::make_solvers() {
   if (!explicit_viscous_)
     cn_ = crank_nicolson_solver(A_cn_, op_.lap_u.A, a_cn(), prm_.cn_solver, nullptr, Refactor::EveryStep,
                                 lattice ? LatticeReference{&lat_, &A_cn_} : LatticeReference{});
-  // auto: CG warm-started from the last p, preconditioned by a lagged CHOLMOD factor, with a free
-  // surface (measured, dam break 5000 particles to t = 0.15: 8.2 ms per step against 18.2 with a
-  // supernodal CHOLMOD factorisation every step, 34 simplicial); a full tank (the singular operator)
-  // takes the factorisation (CG stalls at a relative residual ~1e-13 there: Poiseuille 30^2).
-  SolverKind kind = prm_.poisson_solver;
-  if (kind == SolverKind::Auto && gauge_.dimension() > 0) kind = SolverKind::CholmodSupernodal;
+  // auto: CG warm-started from the last p, preconditioned by a lagged factor (measured, dam break 5000
+  // particles to t = 0.15: 8.2 ms per step against 18.2 with a supernodal CHOLMOD factorisation every
+  // step, 34 simplicial). A full tank's operator is singular (the constants): the gauge removes them
+  // from the right-hand side and from every preconditioned residual, and the factor is of the matrix
+  // pinned at one particle (NullSpaceHooks, linear_solver.hpp), so CG runs on the range of the
+  // operator; at isph.poisson_rtol it converges there as with a free surface (docs/free_surfaces.md).
+  const SolverKind kind = prm_.poisson_solver;
   // isph.poisson_rtol (default 1e-8, not the 1e-14 of LPSPH: ISPH's pressure is as accurate as its
   // O(h^2) Laplacian; measured, dam break 6000 steps: 7.1 CG iterations per solve and 1289
   // factorisations against 8.7 and 2172 at 1e-14, Poisson 49 s against 94, front and loads within the
