@@ -32,6 +32,12 @@ std::optional<ParamProblem> isph_problem(const FluidParams& p) {
     return ParamProblem{p.poisson_solver == SolverKind::PcgFft ? "solver.poisson" : "solver.crank_nicolson",
                         "\"pcg_fft\" does not apply to a partly filled tank (its preconditioner is the FFT solver of the "
                         "full lattice); use pcg_cholmod or a CHOLMOD factorisation"};
+  if (p.isph.scheme != "consistent" && p.isph.scheme != "paper")
+    return ParamProblem{"isph.scheme", "\"" + p.isph.scheme + "\" is not allowed (allowed: consistent | paper)"};
+  if (p.isph.shifting != "auto" && p.isph.shifting != "fickian" && p.isph.shifting != "xu" && p.isph.shifting != "none")
+    return ParamProblem{"isph.shifting", "\"" + p.isph.shifting + "\" is not allowed (allowed: auto | fickian | xu | none)"};
+  if (!(p.isph.shifting_A > 0) || !std::isfinite(p.isph.shifting_A))
+    return ParamProblem{"isph.shifting_A", "must be positive and finite (Lind et al. 2012: 1 to 6)"};
   if (p.isph.viscous == "explicit" && p.cn_solver != SolverKind::Auto)
     return ParamProblem{"solver.crank_nicolson", "does not apply with isph.viscous = \"explicit\" (A Eq. 22: no "
                                                  "Crank-Nicolson system)"};
@@ -43,6 +49,15 @@ namespace {
 ParticleSet particles_of(const FluidParams& p) {
   if (const auto e = isph_problem(p)) throw std::invalid_argument(e->key + ": " + e->what);
   return fill_particles(make_lattice(p.domain, p.nx, p.ny), p.free_surface.fill);
+}
+
+ShiftingParams shifting_params(const IsphParams& p) {
+  ShiftingParams s;
+  s.kind = p.shifting != "auto" ? shifting_from_name(p.shifting)
+           : p.scheme == "paper" ? Shifting::None
+                                 : Shifting::Fickian;
+  s.A = p.shifting_A;
+  return s;
 }
 
 // The Verlet skin (neighbours.hpp), adaptive in [0.01, 0.3] of the support 2h, as LPSPH's
@@ -57,7 +72,8 @@ IsphFluid::IsphFluid(const FluidParams& params)
 IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
     : ProjectionFluid(params, static_cast<int>(set.x.rows()), set.volume), x_(set.x), x_star_(set.x),
       walls_(make_virtual_walls(lat_, W_.support())),
-      verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x) {
+      verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x),
+      shifter_(shifting_params(params.isph)) {
   const FreeSurfaceParams& fs = prm_.free_surface;
   explicit_viscous_ = prm_.isph.viscous == "explicit";
   accel_ = prm_.gravity;  // A Eq. (22)
@@ -78,8 +94,15 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
   k_ = moving_phases("move particles (A Eq. 25)", "neighbours (Verlet list with the wall particles)",
                      "operators, systems, A Eq. (26) sums");
   k_surface_ = prof_.phase("free surface: Dirichlet rows (A Eq. 26)");
+  if (shifter_.params().kind != Shifting::None) k_shift_ = prof_.phase("particle shifting");
+  dr_ = Mat2::Zero(size(), 2);
   auto t0 = Profile::Clock::now();
   geometry(true);
+  consistent_ = prm_.isph.scheme == "consistent";
+  if (consistent_) {  // the full support's sums, then the mirror rows they set
+    reference_sums();
+    assemble(false);
+  }
   add_setup("neighbours", 0.0);
   add_setup("assembly", seconds_since(t0));
   t0 = Profile::Clock::now();
@@ -137,7 +160,7 @@ void IsphFluid::wall_pressure() {
 }
 
 void IsphFluid::project() {
-  wall_repulsion();
+  if (!consistent_) wall_repulsion();
   project_approximate();  // A Eqs. (23)-(24)
   clip_tension();
   // The wall particles' part of A Eq. (13) beyond 2 p_i (in the operator): p_w = p_i + rho g . (x_w - x_i)
@@ -152,6 +175,10 @@ void IsphFluid::project() {
     grad_phi_(i, 1) += g * P.ry[q];
     u_(i, 0) -= k * g * P.rx[q];
     u_(i, 1) -= k * g * P.ry[q];
+  }
+  if (consistent_) {  // the sum form over the lattice's second moment: exact for a linear p on the lattice
+    grad_phi_ /= M0_;
+    u_.noalias() = u_star_ - k * grad_phi_;
   }
   surface_gradient();
   wall_contact();
@@ -208,15 +235,17 @@ void IsphFluid::surface_gradient() {
     }
     // M^+ g over the directions in which the neighbours span (eigenvalues above 0.1 of a full support's 1)
     const double tr = m00 + m11, det = m00 * m11 - m01 * m01, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    const double lam1 = 0.5 * tr + disc, lam2 = 0.5 * tr - disc;
     double G[2] = {0, 0};
-    for (double lam : {0.5 * tr + disc, 0.5 * tr - disc}) {
-      if (lam < 0.1) continue;
-      double ex = m01, ey = lam - m00;  // eigenvector of [[m00, m01], [m01, m11]]
-      if (std::hypot(ex, ey) < 1e-12 * (1 + lam)) { ex = lam - m11; ey = m01; }
-      if (std::hypot(ex, ey) < 1e-12 * (1 + lam)) { ex = lam == 0.5 * tr + disc ? 1 : 0; ey = 1 - ex; }
-      const double n = std::hypot(ex, ey), c = (ex * gx + ey * gy) / (n * n * lam);
-      G[0] += c * ex;
-      G[1] += c * ey;
+    if (lam2 >= 0.1) {  // both directions: M^-1 g
+      G[0] = (m11 * gx - m01 * gy) / det;
+      G[1] = (m00 * gy - m01 * gx) / det;
+    } else if (lam1 >= 0.1) {  // one direction: the eigenvector of lam1
+      double ex = m01, ey = lam1 - m00;
+      if (std::hypot(ex, ey) <= 1e-12 * lam1) { ex = m00 >= m11 ? 1 : 0; ey = 1 - ex; }
+      const double n = std::hypot(ex, ey), c = (ex * gx + ey * gy) / (n * n * lam1);
+      G[0] = c * ex;
+      G[1] = c * ey;
     }
     u_(i, 0) = u_star_(i, 0) - k * G[0];
     u_(i, 1) = u_star_(i, 1) - k * G[1];
@@ -248,6 +277,76 @@ void IsphFluid::wall_contact() {
       }
 }
 
+// The consistent scheme's Poisson rows beside the free surface (see the header): a particle whose support
+// the surface cuts reads the missing neighbours as mirror images of itself with p = -p_i (the surface
+// the Dirichlet row p = 0 between), so -lap p_i gains -4 V p_i sum_missing F, sum_missing F = S_F -
+// sum_present F (S_F the full support's, reference_sums) over the particles and the wall particles.
+void IsphFluid::surface_mirror() {
+  const int N = size();
+  const double reach = verlet_.reach();
+  for (int i = 0; i < N; ++i) {
+    if (surface_[i]) continue;
+    bool near = false;
+    double present = 0;
+    for (int q = pairs_.offset[i]; q < pairs_.offset[i + 1]; ++q) {
+      if (pairs_.r[q] >= reach) continue;
+      present += W_.F(pairs_.r[q]);
+      if (pairs_.j[q] < N && surface_[pairs_.j[q]]) near = true;
+    }
+    const double missing = S_F_ - present;  // < 0 (F < 0): part of the support is beyond the surface
+    if (near && missing < 0) A_phi_.coeffRef(i, i) -= 4.0 * volume_ * missing;
+  }
+}
+
+// M0 = -sum_j V x_ij^2 F_ij and S_F = sum_j F_ij of a full support in the initial arrangement (the
+// lattice: 1.0105 and its own value at h = 1.3 dx; rings alike): the median over the particles with
+// no surface particle within their support, over their particle and wall-particle neighbours.
+void IsphFluid::reference_sums() {
+  const int N = size();
+  const double reach = verlet_.reach();
+  std::vector<double> m, f;
+  for (int i = 0; i < N; ++i) {
+    if (surface_[i]) continue;
+    bool cut = false;
+    double mi = 0, fi = 0;
+    for (int q = pairs_.offset[i]; q < pairs_.offset[i + 1] && !cut; ++q) {
+      const double r = pairs_.r[q];
+      if (r >= reach) continue;
+      const int j = pairs_.j[q];
+      if (j < N && surface_[j]) cut = true;
+      const double F = W_.F(r), V = j < N ? volume_ : lat_.volume;
+      mi -= 0.5 * V * r * r * F;  // half the trace of -sum V x_ij (x) x_ij F
+      fi += F;
+    }
+    if (cut) continue;
+    m.push_back(mi);
+    f.push_back(fi);
+  }
+  if (m.empty()) return;  // no particle with a full support: M0 = 1, S_F = 0 (no mirror rows)
+  std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());
+  std::nth_element(f.begin(), f.begin() + f.size() / 2, f.end());
+  M0_ = m[m.size() / 2];
+  S_F_ = f[f.size() / 2];
+}
+
+// A shift takes no particle closer to a wall than half a spacing (wall_contact's gap) nor closer than
+// it already is: the wall-normal part of dr_ towards a wall is cut to what keeps that distance.
+void IsphFluid::shift_off_walls() {
+  const Domain& d = prm_.domain;
+  const double gap[2] = {0.5 * lat_.dx, 0.5 * lat_.dy};
+  for (int i = 0; i < size(); ++i)
+    for (int a = 0; a < 2; ++a)
+      for (int s = 0; s < 2; ++s) {
+        const Side side = a == 0 ? (s == 0 ? Left : Right) : (s == 0 ? Bottom : Top);
+        if (!d.is_wall(side)) continue;
+        const double xi = x_(i, a), lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
+        const double dist = s == 0 ? xi - lo : hi - xi, towards = s == 0 ? -dr_(i, a) : dr_(i, a);
+        if (towards <= 0) continue;
+        const double allowed = std::max(0.0, dist - gap[a]);
+        if (towards > allowed) dr_(i, a) = s == 0 ? -allowed : allowed;
+      }
+}
+
 // The operators, both systems and A Eq. (26)'s sums at the list's positions (one pass), then the free
 // surface and the Poisson matrix's Dirichlet rows.
 void IsphFluid::assemble(bool new_pattern) {
@@ -274,6 +373,7 @@ void IsphFluid::assemble(bool new_pattern) {
   dirichlet_rows_.clear();
   for (int i = 0; i < size(); ++i)
     if (surface_[i]) dirichlet_rows_.push_back(i);
+  if (consistent_ && detect_) surface_mirror();
   eliminate_dirichlet(A_phi_);  // A Section 3.5: p = 0 embedded in the matrix, symmetrically
 }
 
@@ -366,8 +466,19 @@ void IsphFluid::viscous_rhs(const Mat2& F) {
 }
 
 void IsphFluid::end_step() {
-  ScopedTimer tm(prof_, k_.move);
-  x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}
+  {
+    ScopedTimer tm(prof_, k_.move);
+    x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}
+  }
+  if (k_shift_ >= 0) {  // shifting.hpp: the shifts from the step's pairs at x*, u carried to the new place
+    ScopedTimer tm(prof_, k_shift_);
+    const double reach = verlet_.reach();
+    shifter_.shifts(pairs_, size(), volume_, lat_.volume, W_, reach, 0.5 * (lat_.dx + lat_.dy), u_, prm_.dt,
+                    detect_ ? &surface_ : nullptr, dr_);
+    shifter_.carry_velocity(pairs_, size(), volume_, W_, reach, dr_, u_);
+    shift_off_walls();
+    x_ += dr_;
+  }
   keep_in_tank(prm_.domain, x_, t_, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");
 }
 
@@ -403,6 +514,11 @@ std::vector<std::string> IsphFluid::describe() const {
     << " (dx+dy)/2), " << static_cast<double>(within) / N << " neighbours per particle now; viscous predictor "
     << (explicit_viscous_ ? "explicit (A Eq. 22)" : "Crank-Nicolson (Eq. 28)") << ", nu dt max|lap_ii| = "
     << viscous_bound() << "; gravity (" << prm_.gravity.x() << ", " << prm_.gravity.y() << ")";
+  const Shifting sk = shifter_.params().kind;
+  m << "; particle shifting "
+    << (sk == Shifting::None      ? "none (A Eq. 25 alone)"
+        : sk == Shifting::Fickian ? "Fickian (Lind et al. 2012, D = " + std::to_string(shifter_.params().A) + " h |u| dt)"
+                                  : "Xu et al. (2009)");
   std::vector<std::string> lines{m.str()};
   std::ostringstream s;
   s << "ISPH: free surface ";

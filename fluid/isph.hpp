@@ -45,6 +45,11 @@
 // (a still tank then sinks); with the mirror rule the whole jump does, which makes -lap p = -(rho/dt)
 // div u* with dp/dn = 0 the discrete form of dp/dn = (rho/dt)(u* - u_w) . n at the wall.
 //
+// Particle shifting (shifting.hpp, isph.shifting; "none" is the paper's A Eq. 25 alone): after
+//   x^{n+1} = x^n + dt u^{n+1}, x^{n+1} += dr and u^{n+1} += (dr . grad) u^{n+1}, the shifts dr from the
+//   step's pairs at x* (Lind et al. 2012's Fickian shifting with its free-surface correction by
+//   default, or Xu et al. 2009's).
+//
 // Beyond the paper (each measured, isph.cpp): negative pressures clipped to 0 with a free surface and
 // u^{n+1} taken from the clipped p (clip_tension; as MPS); no particle within half a spacing of a
 // wall (wall_contact: its normal velocity towards the wall cut); a Lennard-Jones push of the inner
@@ -73,6 +78,7 @@
 #include "fluid/free_surface.hpp"
 #include "fluid/particle_operators.hpp"
 #include "fluid/projection_core.hpp"
+#include "fluid/shifting.hpp"
 #include "fluid/walls.hpp"
 
 namespace sphib {
@@ -119,6 +125,9 @@ class IsphFluid final : public ProjectionFluid {
   void surface_gradient();       // the renormalised gradient at surface particles (isph.cpp)
   void wall_contact();           // no particle within half a spacing of a wall (see the header)
   void wall_repulsion();         // Lennard-Jones force of the inner wall row on u* (isph.cpp)
+  void shift_off_walls();        // the shifts dr_ keep wall_contact's gap
+  void surface_mirror();         // consistent: the Poisson rows beside the surface (isph.cpp)
+  void reference_sums();         // consistent: M0_, S_F_ of a full support at t = 0
   void find_wall_pairs();        // wall_pairs_ from pairs_
   void wall_pressure();          // p_w_ from phi_ (A Eq. 30 normalised, with the hydrostatic term)
   void make_solvers();
@@ -137,8 +146,12 @@ class IsphFluid final : public ProjectionFluid {
   SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
   bool detect_ = false;
   std::vector<char> surface_;
+  ParticleShifter shifter_;   // after A Eq. (25) (shifting.hpp; isph.shifting)
+  Mat2 dr_;                   // the last step's shifts
+  bool consistent_ = false;   // isph.scheme = "consistent" (see the header)
+  double M0_ = 1, S_F_ = 0;   // consistent: a full support's -sum V x^2 F and sum F (reference_sums)
   MovingPhases k_;
-  int k_surface_;
+  int k_surface_, k_shift_ = -1;
 };
 
 }  // namespace sphib

@@ -535,6 +535,26 @@ void read_free_surface(Reader& r, Scene& s) {
                              false, 0.0, true, 1.0);
 }
 
+// The free-surface methods' regularisation (issue 29): ISPH's particle shifting (fluid/shifting.hpp),
+// WCSPH's delta-SPH density diffusion (fluid/wcsph.hpp).
+void read_regularisation(Reader& r, Scene& s) {
+  FluidParams& f = s.sim.fluid;
+  f.isph.scheme = r.choice("isph.scheme", "consistent", {"consistent", "paper"},
+                           "ISPH's operators: consistent (a fluid at rest stays at rest: the pressure gradient exact for a "
+                           "linear pressure on the initial arrangement, the Poisson rows beside the free surface mirrored, "
+                           "no Lennard-Jones push; fluid/isph.hpp) or paper (Afanasiev et al.'s Eqs. 13, 17 as before)");
+  f.isph.shifting = r.choice("isph.shifting", "auto", {"auto", "fickian", "xu", "none"},
+                             "ISPH's particle shifting after each step: fickian (Lind et al. 2012, with their free-surface "
+                             "correction), xu (Xu et al. 2009), none (Afanasiev et al.'s Eq. 25 alone); auto: fickian with "
+                             "isph.scheme = consistent, none with paper");
+  f.isph.shifting_A = r.number("isph.shifting_A", 2.0, "> 0", "Fickian shifting's D = A h |u| dt (Lind et al. 2012: A in [1, 6])",
+                               false, 0.0, true);
+  f.wcsph.delta = r.number("wcsph.delta", 0.0, ">= 0",
+                           "delta-SPH density diffusion delta h c sum_j V_j psi_ij . grad W (Antuono et al. 2010, 2012; "
+                           "predictor_corrector; 0: off, 0.1: theirs)",
+                           false, 0.0);
+}
+
 // The time step, the run's length and the linear solvers.
 void read_time_and_solvers(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
@@ -748,6 +768,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   read_domain(r, s);
   read_fluid(r, s);
   read_free_surface(r, s);
+  read_regularisation(r, s);
   read_time_and_solvers(r, s);
   read_output(r, s);
   read_probes(r, s);
