@@ -18,6 +18,7 @@ Shifting shifting_from_name(const std::string& name) {
 void ParticleShifter::shifts(const PairList& P, int N, double V, double V_wall, const CubicSplineKernel& W, double reach,
                              double dp, const Mat2& u, double dt, const std::vector<char>* surface, Mat2& dr) {
   dr.setZero(N, 2);
+  near_.clear();
   if (prm_.kind == Shifting::None) return;
   // grad C_i with the tensile term (Lind et al. Eq. 22): the Fickian shift and, for both kinds, the
   // surface normal.
@@ -101,8 +102,10 @@ void ParticleShifter::surface_tangential(const PairList& P, int N, const CubicSp
 void ParticleShifter::carry_velocity(const PairList& P, int N, double V, const CubicSplineKernel& W, double reach,
                                      const Mat2& dr, Mat2& u) {
   du_.setZero(N, 2);
+  const bool near = static_cast<int>(near_.size()) == N;  // the last shifts() had a free surface
   for (int i = 0; i < N; ++i) {
     if (dr(i, 0) == 0 && dr(i, 1) == 0) continue;
+    if (near && near_[i]) continue;  // at and beside the surface: not carried (see the header)
     double gxx = 0, gxy = 0, gyx = 0, gyy = 0;  // g_ab = d u_a / d x_b
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
       const int j = P.j[k];
