@@ -285,19 +285,9 @@ void IsphFluid::wall_contact() {
 // the Dirichlet row p = 0 between), so -lap p_i gains -4 V p_i sum_missing F, sum_missing F = S_F -
 // sum_present F (S_F the full support's, reference_sums) over the particles and the wall particles.
 void IsphFluid::surface_mirror() {
-  const int N = size();
-  const double reach = verlet_.reach();
-  for (int i = 0; i < N; ++i) {
-    if (surface_[i]) continue;
-    bool near = false;
-    double present = 0;
-    for (int q = pairs_.offset[i]; q < pairs_.offset[i + 1]; ++q) {
-      if (pairs_.r[q] >= reach) continue;
-      present += W_.F(pairs_.r[q]);
-      if (pairs_.j[q] < N && surface_[pairs_.j[q]]) near = true;
-    }
-    const double missing = S_F_ - present;  // < 0 (F < 0): part of the support is beyond the surface
-    if (near && missing < 0) A_phi_.coeffRef(i, i) -= 4.0 * volume_ * missing;
+  for (int i = 0; i < size(); ++i) {
+    const double missing = S_F_ - csum_.sum_F[i];  // < 0 (F < 0): part of the support is beyond the surface
+    if (csum_.near[i] && !surface_[i] && missing < 0) A_phi_.coeffRef(i, i) -= 4.0 * volume_ * missing;
   }
 }
 
@@ -376,6 +366,9 @@ void IsphFluid::assemble(bool new_pattern) {
   dirichlet_rows_.clear();
   for (int i = 0; i < size(); ++i)
     if (surface_[i]) dirichlet_rows_.push_back(i);
+  if (consistent_ || k_shift_ >= 0)  // one pass: the mirror rows' and the shifts' sums (shifting.hpp)
+    concentration_sums(pairs_, size(), volume_, lat_.volume, W_, verlet_.reach(), 0.5 * (lat_.dx + lat_.dy),
+                       shifter_.params().R, detect_ ? &surface_ : nullptr, csum_);
   if (consistent_ && detect_) surface_mirror();
   eliminate_dirichlet(A_phi_);  // A Section 3.5: p = 0 embedded in the matrix, symmetrically
 }
@@ -476,9 +469,8 @@ void IsphFluid::end_step() {
   if (k_shift_ >= 0) {  // shifting.hpp: the shifts from the step's pairs at x*, u carried to the new place
     ScopedTimer tm(prof_, k_shift_);
     const double reach = verlet_.reach();
-    shifter_.shifts(pairs_, size(), volume_, lat_.volume, W_, reach, 0.5 * (lat_.dx + lat_.dy), u_, prm_.dt,
-                    detect_ ? &surface_ : nullptr, dr_);
-    shifter_.carry_velocity(pairs_, size(), volume_, W_, reach, dr_, u_);
+    shifter_.shifts(pairs_, size(), W_, reach, csum_, u_, prm_.dt, detect_ ? &surface_ : nullptr, dr_);
+    shifter_.carry_velocity(op_.grad_ux.A, op_.grad_uy.A, csum_, dr_, u_);
     shift_off_walls();
     x_ += dr_;
   }

@@ -148,6 +148,7 @@ class IsphFluid final : public ProjectionFluid {
   std::vector<char> surface_;
   ParticleShifter shifter_;   // after A Eq. (25) (shifting.hpp; isph.shifting)
   Mat2 dr_;                   // the last step's shifts
+  ConcentrationSums csum_;    // grad C, sum F and the particles beside the surface at the step's x*
   bool consistent_ = false;   // isph.scheme = "consistent" (see the header)
   double M0_ = 1, S_F_ = 0;   // consistent: a full support's -sum V x^2 F and sum F (reference_sums)
   MovingPhases k_;

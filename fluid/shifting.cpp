@@ -15,30 +15,44 @@ Shifting shifting_from_name(const std::string& name) {
   throw std::invalid_argument("isph.shifting: \"" + name + "\" is not allowed (allowed: fickian | xu | none)");
 }
 
-void ParticleShifter::shifts(const PairList& P, int N, double V, double V_wall, const CubicSplineKernel& W, double reach,
-                             double dp, const Mat2& u, double dt, const std::vector<char>* surface, Mat2& dr) {
-  dr.setZero(N, 2);
-  near_.clear();
-  if (prm_.kind == Shifting::None) return;
-  // grad C_i with the tensile term (Lind et al. Eq. 22): the Fickian shift and, for both kinds, the
-  // surface normal.
-  gradC_.setZero(N, 2);
+void concentration_sums(const PairList& P, int N, double V, double V_wall, const CubicSplineKernel& W, double reach,
+                        double dp, double R, const std::vector<char>* surface, ConcentrationSums& out) {
+  out.grad_C.setZero(N, 2);
+  out.sum_F.setZero(N);
+  out.near.assign(N, 0);
+  const KernelWF K(W);
   const double W_dp = W.W(dp);
-  for (int i = 0; i < N; ++i)
+  for (int i = 0; i < N; ++i) {
+    double gx = 0, gy = 0, sf = 0;
+    bool near = surface && (*surface)[i];
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
       const double r = P.r[k];
       if (r >= reach) continue;
-      const double Vj = P.j[k] < N ? V : V_wall;
+      const int j = P.j[k];
       double w;
-      const double F = KernelWF(W).F(r, &w), q = w / W_dp, q2 = q * q;
-      const double f = Vj * (1.0 + prm_.R * q2 * q2) * F;  // grad_i W_ij = x_ij F_ij; (W_ij / W(dp))^4
-      gradC_(i, 0) += f * P.rx[k];
-      gradC_(i, 1) += f * P.ry[k];
+      const double F = K.F(r, &w), q = w / W_dp, q2 = q * q;
+      const double f = (j < N ? V : V_wall) * (1.0 + R * q2 * q2) * F;  // Lind et al. Eq. (22), n = 4
+      gx += f * P.rx[k];  // grad_i W_ij = x_ij F_ij
+      gy += f * P.ry[k];
+      sf += F;
+      if (surface && j < N && (*surface)[j]) near = true;
     }
+    out.grad_C(i, 0) = gx;
+    out.grad_C(i, 1) = gy;
+    out.sum_F[i] = sf;
+    out.near[i] = near;
+  }
+}
+
+void ParticleShifter::shifts(const PairList& P, int N, const CubicSplineKernel& W, double reach,
+                             const ConcentrationSums& c, const Mat2& u, double dt, const std::vector<char>* surface,
+                             Mat2& dr) {
+  dr.setZero(N, 2);
+  if (prm_.kind == Shifting::None) return;
   if (prm_.kind == Shifting::Fickian) {
     for (int i = 0; i < N; ++i) {
       const double D = prm_.A * W.h * u.row(i).norm() * dt;  // Lind et al. Eq. (24)
-      dr.row(i) = -D * gradC_.row(i);                        // Lind et al. Eq. (21)
+      dr.row(i) = -D * c.grad_C.row(i);                      // Lind et al. Eq. (21)
     }
   } else {  // Xu et al. (2009) Eq. (35): beta rbar_i^2 u_max dt sum_j x_ij / r_ij^3
     const double umax = u.rowwise().norm().maxCoeff();
@@ -55,12 +69,12 @@ void ParticleShifter::shifts(const PairList& P, int N, double V, double V_wall, 
         ++n;
       }
       if (n == 0) continue;
-      const double rbar = rsum / n, c = prm_.beta * rbar * rbar * umax * dt;
-      dr(i, 0) = c * sx;
-      dr(i, 1) = c * sy;
+      const double rbar = rsum / n, a = prm_.beta * rbar * rbar * umax * dt;
+      dr(i, 0) = a * sx;
+      dr(i, 1) = a * sy;
     }
   }
-  if (surface) surface_tangential(P, N, W, reach, *surface, dr);
+  if (surface) surface_tangential(P, N, W, reach, c, dr);
   const double cap = prm_.max_shift * W.h;
   for (int i = 0; i < N; ++i) {
     const double s = dr.row(i).norm();
@@ -71,54 +85,37 @@ void ParticleShifter::shifts(const PairList& P, int N, double V, double V_wall, 
 // Lind et al. (2012) Section 3.3: at the surface and within the support of a surface particle only the
 // shift along the surface (see the header).
 void ParticleShifter::surface_tangential(const PairList& P, int N, const CubicSplineKernel& W, double reach,
-                                         const std::vector<char>& surface, Mat2& dr) {
-  near_.assign(N, 0);
-  for (int i = 0; i < N; ++i) {
-    if (surface[i]) { near_[i] = 1; continue; }
-    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k)
-      if (P.j[k] < N && P.r[k] < reach && surface[P.j[k]]) { near_[i] = 1; break; }
-  }
-  normal_.setZero(N, 2);
+                                         const ConcentrationSums& c, Mat2& dr) {
   const double W0 = W.W(0.0);
   for (int i = 0; i < N; ++i) {
-    if (!near_[i]) continue;
-    normal_.row(i) = W0 * gradC_.row(i);
+    if (!c.near[i]) continue;
+    double nx = W0 * c.grad_C(i, 0), ny = W0 * c.grad_C(i, 1);
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
       const int j = P.j[k];
-      if (j < N && P.r[k] < reach) normal_.row(i) += W.W(P.r[k]) * gradC_.row(j);
+      if (j >= N || P.r[k] >= reach) continue;
+      const double w = W.W(P.r[k]);
+      nx += w * c.grad_C(j, 0);
+      ny += w * c.grad_C(j, 1);
     }
-  }
-  for (int i = 0; i < N; ++i) {
-    if (!near_[i]) continue;
-    const double n = normal_.row(i).norm();
+    const double n = std::hypot(nx, ny);
     if (n == 0) { dr.row(i).setZero(); continue; }
-    const double nx = normal_(i, 0) / n, ny = normal_(i, 1) / n;  // s = (-ny, nx)
-    const double ds = -ny * dr(i, 0) + nx * dr(i, 1);             // Lind et al. Eq. (27), alpha = 0
+    nx /= n, ny /= n;                                  // s = (-ny, nx)
+    const double ds = -ny * dr(i, 0) + nx * dr(i, 1);  // Lind et al. Eq. (27), alpha = 0
     dr(i, 0) = -ny * ds;
     dr(i, 1) = nx * ds;
   }
 }
 
-void ParticleShifter::carry_velocity(const PairList& P, int N, double V, const CubicSplineKernel& W, double reach,
-                                     const Mat2& dr, Mat2& u) {
-  du_.setZero(N, 2);
-  const bool near = static_cast<int>(near_.size()) == N;  // the last shifts() had a free surface
+void ParticleShifter::carry_velocity(const SpMat& gx, const SpMat& gy, const ConcentrationSums& c, const Mat2& dr,
+                                     Mat2& u) {
+  const int N = static_cast<int>(u.rows());
+  gxu_.noalias() = gx * u;  // d u_a / d x, a = 0, 1
+  gyu_.noalias() = gy * u;  // d u_a / d y
   for (int i = 0; i < N; ++i) {
-    if (dr(i, 0) == 0 && dr(i, 1) == 0) continue;
-    if (near && near_[i]) continue;  // at and beside the surface: not carried (see the header)
-    double gxx = 0, gxy = 0, gyx = 0, gyy = 0;  // g_ab = d u_a / d x_b
-    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
-      const int j = P.j[k];
-      if (j >= N || P.r[k] >= reach) continue;
-      const double f = V * W.F(P.r[k]), ax = f * P.rx[k], ay = f * P.ry[k];  // V grad_i W_ij
-      const double dux = u(j, 0) - u(i, 0), duy = u(j, 1) - u(i, 1);
-      gxx += dux * ax; gxy += dux * ay;
-      gyx += duy * ax; gyy += duy * ay;
-    }
-    du_(i, 0) = gxx * dr(i, 0) + gxy * dr(i, 1);  // Xu et al. (2009) Eq. (37)
-    du_(i, 1) = gyx * dr(i, 0) + gyy * dr(i, 1);
+    if (c.near[i]) continue;  // at and beside the surface: not carried (see the header)
+    u(i, 0) += gxu_(i, 0) * dr(i, 0) + gyu_(i, 0) * dr(i, 1);  // Xu et al. (2009) Eq. (37)
+    u(i, 1) += gxu_(i, 1) * dr(i, 0) + gyu_(i, 1) * dr(i, 1);
   }
-  u += du_;
 }
 
 }  // namespace sphib

@@ -45,30 +45,39 @@ struct ShiftingParams {
   double max_shift = 0.1;   // |dr_i| <= max_shift h
 };
 
-// The shifts of N particles from their pair list P (i's neighbours in [P.offset[i], P.offset[i+1]),
-// j >= N a fixed wall particle of volume V_wall; pairs at or beyond `reach` are skipped), the
-// particles' volume V, their velocities u, the time step, the initial spacing dp and the surface flags
-// (nullptr: no free surface).
+// One pass over the pairs of N particles (i's neighbours in [P.offset[i], P.offset[i+1]), j >= N a
+// fixed wall particle of volume V_wall; pairs at or beyond `reach` skipped; the particles' volume V, dp
+// the initial spacing): grad C_i with the tensile term (Lind et al. Eq. 22, R), the kernel sum
+// sum_j F_ij over every neighbour, and near_i = 1 for the particles at or beside the free surface
+// (surface[i], or a surface particle within reach; all 0 without a surface).
+struct ConcentrationSums {
+  Mat2 grad_C;
+  Vec sum_F;
+  std::vector<char> near;
+};
+void concentration_sums(const PairList& P, int N, double V, double V_wall, const CubicSplineKernel& W, double reach,
+                        double dp, double R, const std::vector<char>* surface, ConcentrationSums& out);
+
+// The shifts dr of N particles from the sums of the step's pairs (concentration_sums), their
+// velocities u, the time step and the surface flags (nullptr: no free surface).
 class ParticleShifter {
  public:
   explicit ParticleShifter(const ShiftingParams& p) : prm_(p) {}
   const ShiftingParams& params() const { return prm_; }
 
-  void shifts(const PairList& P, int N, double V, double V_wall, const CubicSplineKernel& W, double reach, double dp,
+  void shifts(const PairList& P, int N, const CubicSplineKernel& W, double reach, const ConcentrationSums& c,
               const Mat2& u, double dt, const std::vector<char>* surface, Mat2& dr);
-  // u_i += (dr_i . grad) u_i, grad u_i = sum_j V (u_j - u_i) grad_i W_ij over i's fluid neighbours,
-  // for the particles the last shifts() found away from the free surface.
-  void carry_velocity(const PairList& P, int N, double V, const CubicSplineKernel& W, double reach, const Mat2& dr,
-                      Mat2& u);
-  const Mat2& concentration_gradient() const { return gradC_; }  // Fickian: grad C_i of the last shifts()
+  // u_i += (dr_i . grad) u_i away from the free surface (c.near_i = 0), grad u the difference-form
+  // gradient by the operators gx = d/dx, gy = d/dy on the particle values (A Eq. 14's, the walls'
+  // mirror rule included: isph.cpp's op_.grad_ux.A, grad_uy.A).
+  void carry_velocity(const SpMat& gx, const SpMat& gy, const ConcentrationSums& c, const Mat2& dr, Mat2& u);
 
  private:
   void surface_tangential(const PairList& P, int N, const CubicSplineKernel& W, double reach,
-                          const std::vector<char>& surface, Mat2& dr);
+                          const ConcentrationSums& c, Mat2& dr);
 
   ShiftingParams prm_;
-  Mat2 gradC_, normal_, du_;
-  std::vector<char> near_;
+  Mat2 gxu_, gyu_;
 };
 
 }  // namespace sphib
