@@ -175,11 +175,12 @@ void WcsphFluid::accelerations(const Mat2& F) {
         if (j < N) drho_[j] += m_ * ux * Fk;                       // the same from j
         if (j < N && dhc > 0) {
           // delta-SPH (see the header): psi_ij . grad_i W_ij = -2 (rho_j - rho_i) F_ij
-          //   - (<grad rho>_i^L + <grad rho>_j^L) . x_ij F_ij, the same for the pair seen from j
+          //   - (<grad rho>_i^L + <grad rho>_j^L) . x_ij F_ij; seen from j (psi_ji = psi_ij,
+          //   grad_j W_ji = -grad_i W_ij) its negative: the diffusion conserves mass
           const double d = (-2.0 * (rho_[j] - rho_[i]) - ((grad_rho_(i, 0) + grad_rho_(j, 0)) * rx +
                                                            (grad_rho_(i, 1) + grad_rho_(j, 1)) * ry)) * Fk * dhc;
           drho_[i] += V_[j] * d;
-          drho_[j] += V_[i] * d;
+          drho_[j] -= V_[i] * d;
         }
       }
       if (av > 0 && ux < 0) Pi = -av * (ux / (P.r[k] * P.r[k] + eta2)) / (0.5 * (rho_[i] + rho_j));

@@ -8,10 +8,10 @@
 // e the wall's direction, each point's p the kernel interpolation of the particles' pressure with the
 // hydrostatic term of Adami, Hu & Adams (2012, J. Comput. Phys. 231, Eq. 27), which extrapolates a
 // fluid at rest exactly to the wall:
-//   p(x) = sum_j V_j W(x - x_j) [p_j + rho0 g . (x - x_j)] / max(sum_j V_j W(x - x_j), 1/2).
-// The denominator is the Shepard sum, bounded below by its value at a wetted wall (half the kernel's
-// support filled: 1/2), so a sensor point reached by a few splash particles reads their share, not
-// their pressure. The reading is then averaged over the window [t - window, t] of the steps
+//   p(x) = sum_j V_j W(x - x_j) [p_j + rho0 g . (x - x_j)] / max(sum_j V_j W(x - x_j), 0.4).
+// The denominator is the Shepard sum, bounded below by 0.4, under its value at a wetted wall (half the
+// kernel's support filled: about 1/2, 0.495 on the lattice at h = 1.3 dx), so that a sensor point
+// reached by a few splash particles reads their share, not their pressure. The reading is then averaged over the window [t - window, t] of the steps
 // (window = 0: the step's own value). Columns probe_<name>; the summary adds each probe's largest
 // windowed reading (probe_<name>_max) and its time (probe_<name>_max_t), over every step.
 #include <algorithm>
@@ -107,7 +107,7 @@ class PressureProbes final : public Analysis {
           num += w * (p[j] + rho0 * (g.x() * dx + g.y() * dy));  // Adami et al. (2012) Eq. (27)
           den += w;
         }
-        ps += num / std::max(den, 0.5);
+        ps += num / std::max(den, 0.4);
       }
       ps /= static_cast<double>(s.points.size());
       s.window.emplace_back(t, ps);
