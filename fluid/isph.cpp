@@ -286,9 +286,34 @@ void IsphFluid::wall_contact() {
 // sum_present F (S_F the full support's, reference_sums) over the particles and the wall particles.
 void IsphFluid::surface_mirror() {
   for (int i = 0; i < size(); ++i) {
-    const double missing = S_F_ - csum_.sum_F[i];  // < 0 (F < 0): part of the support is beyond the surface
-    if (csum_.near[i] && !surface_[i] && missing < 0) A_phi_.coeffRef(i, i) -= 4.0 * volume_ * missing;
+    const double missing = S_F_ - csum_.sum_F[i];  // < 0 (F < 0): part of the support is empty
+    if (!surface_[i] && missing < 0) A_phi_.coeffRef(i, i) -= 4.0 * volume_ * missing;
   }
+}
+
+// The sums of the mirror rows and of the shifts (shifting.hpp's ConcentrationSums) from what the
+// assembly made, without a pass of their own over the pairs' kernels: grad C_i = (G 1)_i / 2, G the
+// sum-form gradient of A Eq. (13) (the wall particles by the rule p_w = p_i: V_w x_iw F_iw twice);
+// sum_j F_ij = -A_phi,ii / (2 V) over the particles plus the wall pairs' F; the particles beside the
+// surface: the surface and those with a Poisson entry to a surface particle (A_phi before the
+// Dirichlet rows). Lind et al.'s tensile term (R) is not in this grad C.
+void IsphFluid::surface_sums() {
+  const int N = size();
+  ones_.setOnes(N);
+  csum_.grad_C.resize(N, 2);
+  csum_.grad_C.col(0).noalias() = 0.5 * (op_.grad_phix * ones_);
+  csum_.grad_C.col(1).noalias() = 0.5 * (op_.grad_phiy * ones_);
+  csum_.sum_F.resize(N);
+  csum_.near.assign(N, 0);
+  for (int i = 0; i < N; ++i) {
+    bool near = detect_ && surface_[i];
+    for (SpMat::InnerIterator it(A_phi_, i); it; ++it) {
+      if (it.col() == i) csum_.sum_F[i] = -it.value() / (2.0 * volume_);
+      else if (detect_ && !near && it.value() != 0 && surface_[it.col()]) near = true;
+    }
+    csum_.near[i] = near;
+  }
+  for (int q = 0; q < wall_pairs_.size(); ++q) csum_.sum_F[wall_pairs_.i[q]] += wall_pairs_.F[q];
 }
 
 // M0 = -sum_j V x_ij^2 F_ij and S_F = sum_j F_ij of a full support in the initial arrangement (the
@@ -366,9 +391,7 @@ void IsphFluid::assemble(bool new_pattern) {
   dirichlet_rows_.clear();
   for (int i = 0; i < size(); ++i)
     if (surface_[i]) dirichlet_rows_.push_back(i);
-  if (consistent_ || k_shift_ >= 0)  // one pass: the mirror rows' and the shifts' sums (shifting.hpp)
-    concentration_sums(pairs_, size(), volume_, lat_.volume, W_, verlet_.reach(), 0.5 * (lat_.dx + lat_.dy),
-                       shifter_.params().R, detect_ ? &surface_ : nullptr, csum_);
+  if (consistent_ || k_shift_ >= 0) surface_sums();
   if (consistent_ && detect_) surface_mirror();
   eliminate_dirichlet(A_phi_);  // A Section 3.5: p = 0 embedded in the matrix, symmetrically
 }

@@ -127,6 +127,7 @@ class IsphFluid final : public ProjectionFluid {
   void wall_repulsion();         // Lennard-Jones force of the inner wall row on u* (isph.cpp)
   void shift_off_walls();        // the shifts dr_ keep wall_contact's gap
   void surface_mirror();         // consistent: the Poisson rows beside the surface (isph.cpp)
+  void surface_sums();           // csum_ from the assembly's operators (isph.cpp)
   void reference_sums();         // consistent: M0_, S_F_ of a full support at t = 0
   void find_wall_pairs();        // wall_pairs_ from pairs_
   void wall_pressure();          // p_w_ from phi_ (A Eq. 30 normalised, with the hydrostatic term)
@@ -149,6 +150,7 @@ class IsphFluid final : public ProjectionFluid {
   ParticleShifter shifter_;   // after A Eq. (25) (shifting.hpp; isph.shifting)
   Mat2 dr_;                   // the last step's shifts
   ConcentrationSums csum_;    // grad C, sum F and the particles beside the surface at the step's x*
+  Vec ones_;
   bool consistent_ = false;   // isph.scheme = "consistent" (see the header)
   double M0_ = 1, S_F_ = 0;   // consistent: a full support's -sum V x^2 F and sum F (reference_sums)
   MovingPhases k_;
