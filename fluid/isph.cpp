@@ -191,8 +191,17 @@ void IsphFluid::project() {
 // (measured, dam break at 1250 particles: blow-up at t = 0.22 with dt = 5e-5, a particle through the
 // right wall at t = 0.34 with 1e-4; with it both run to 0.6).
 void IsphFluid::clip_tension() {
-  if (gauge_.dimension() > 0) return;  // a full tank: p is defined up to a constant (zero mean)
-  phi_ = phi_.cwiseMax(0.0);
+  if (gauge_.dimension() > 0) {
+    // A full tank: p is defined up to a constant, and the gauge's zero mean makes it negative in part
+    // of the tank, where the sum form's 2 p_i grad C_i pulls particles together (the tensile
+    // instability: measured, a closed tank under gravity 40 x 20 blew up at t = 0.14 with the paper's
+    // operators, 0.81 with the consistent ones). The consistent scheme takes the constant that makes
+    // the smallest p zero (the gradient of a constant is zero on a full support).
+    if (!consistent_) return;
+    phi_.array() -= phi_.minCoeff();
+  } else {
+    phi_ = phi_.cwiseMax(0.0);
+  }
   gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
   u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
 }
@@ -287,7 +296,7 @@ void IsphFluid::wall_contact() {
 void IsphFluid::surface_mirror() {
   for (int i = 0; i < size(); ++i) {
     const double missing = S_F_ - csum_.sum_F[i];  // < 0 (F < 0): part of the support is empty
-    if (!surface_[i] && missing < 0) A_phi_.coeffRef(i, i) -= 4.0 * volume_ * missing;
+    if (!surface_[i] && missing < 0) A_phi_.valuePtr()[diag_[i]] -= 4.0 * volume_ * missing;
   }
 }
 
@@ -296,21 +305,30 @@ void IsphFluid::surface_mirror() {
 // sum-form gradient of A Eq. (13) (the wall particles by the rule p_w = p_i: V_w x_iw F_iw twice);
 // sum_j F_ij = -A_phi,ii / (2 V) over the particles plus the wall pairs' F; the particles beside the
 // surface: the surface and those with a Poisson entry to a surface particle (A_phi before the
-// Dirichlet rows). Lind et al.'s tensile term (R) is not in this grad C.
+// Dirichlet rows). One pass over the rows of A_phi and G (the operators' one pattern, particle_operators.hpp).
+// Lind et al.'s tensile term (R) is not in this grad C.
 void IsphFluid::surface_sums() {
   const int N = size();
-  ones_.setOnes(N);
+  if (op_.grad_phix.nonZeros() != A_phi_.nonZeros() || op_.grad_phiy.nonZeros() != A_phi_.nonZeros())
+    throw std::logic_error("ISPH: the Poisson matrix and the gradient do not share their pattern");
+  const int *outer = A_phi_.outerIndexPtr(), *col = A_phi_.innerIndexPtr();
+  const double *a = A_phi_.valuePtr(), *gx = op_.grad_phix.valuePtr(), *gy = op_.grad_phiy.valuePtr();
   csum_.grad_C.resize(N, 2);
-  csum_.grad_C.col(0).noalias() = 0.5 * (op_.grad_phix * ones_);
-  csum_.grad_C.col(1).noalias() = 0.5 * (op_.grad_phiy * ones_);
   csum_.sum_F.resize(N);
   csum_.near.assign(N, 0);
+  diag_.resize(N);
   for (int i = 0; i < N; ++i) {
     bool near = detect_ && surface_[i];
-    for (SpMat::InnerIterator it(A_phi_, i); it; ++it) {
-      if (it.col() == i) csum_.sum_F[i] = -it.value() / (2.0 * volume_);
-      else if (detect_ && !near && it.value() != 0 && surface_[it.col()]) near = true;
+    double sx = 0, sy = 0;
+    for (int k = outer[i]; k < outer[i + 1]; ++k) {
+      sx += gx[k];
+      sy += gy[k];
+      if (col[k] == i) diag_[i] = k;
+      else if (detect_ && !near && a[k] != 0 && surface_[col[k]]) near = true;
     }
+    csum_.grad_C(i, 0) = 0.5 * sx;
+    csum_.grad_C(i, 1) = 0.5 * sy;
+    csum_.sum_F[i] = -a[diag_[i]] / (2.0 * volume_);
     csum_.near[i] = near;
   }
   for (int q = 0; q < wall_pairs_.size(); ++q) csum_.sum_F[wall_pairs_.i[q]] += wall_pairs_.F[q];

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "fluid/particle_operators.hpp"
+#include "fluid/products.hpp"
 
 namespace sphib {
 
@@ -109,8 +110,9 @@ void ParticleShifter::surface_tangential(const PairList& P, int N, const CubicSp
 void ParticleShifter::carry_velocity(const SpMat& gx, const SpMat& gy, const ConcentrationSums& c, const Mat2& dr,
                                      Mat2& u) {
   const int N = static_cast<int>(u.rows());
-  gxu_.noalias() = gx * u;  // d u_a / d x, a = 0, 1
-  gyu_.noalias() = gy * u;  // d u_a / d y
+  gxu_.resize(N, 2);
+  gyu_.resize(N, 2);
+  gradient2(gx, gy, u, gxu_, gyu_);  // d u_a / d x, d u_a / d y (products.hpp: one pass over the pattern)
   for (int i = 0; i < N; ++i) {
     if (c.near[i]) continue;  // at and beside the surface: not carried (see the header)
     u(i, 0) += gxu_(i, 0) * dr(i, 0) + gyu_(i, 0) * dr(i, 1);  // Xu et al. (2009) Eq. (37)
