@@ -199,11 +199,28 @@ void IsphFluid::clip_tension() {
     // the smallest p zero (the gradient of a constant is zero on a full support).
     if (!consistent_) return;
     phi_.array() -= phi_.minCoeff();
-  } else {
-    phi_ = phi_.cwiseMax(0.0);
+    gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+    u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
+    return;
   }
-  gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
-  u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
+  // Only the clipped particles' values change, so only their columns of the gradient: the particles'
+  // entries of A Eq. (13)'s sum form are antisymmetric (G_ij = V x_ij F_ij = -G_ji, one volume), so
+  // column j off the diagonal is minus row j; the diagonal G_jj (with the wall pairs) is row j's.
+  const double k = prm_.dt / prm_.rho;
+  for (int j = 0; j < size(); ++j) {
+    if (!(phi_[j] < 0)) continue;
+    const double d = -phi_[j];  // phi_j's change
+    phi_[j] = 0.0;
+    SpMat::InnerIterator gx(op_.grad_phix, j), gy(op_.grad_phiy, j);
+    for (; gx; ++gx, ++gy) {
+      const int i = static_cast<int>(gx.col());
+      const double ax = (i == j ? gx.value() : -gx.value()) * d, ay = (i == j ? gy.value() : -gy.value()) * d;
+      grad_phi_(i, 0) += ax;
+      grad_phi_(i, 1) += ay;
+      u_(i, 0) -= k * ax;
+      u_(i, 1) -= k * ay;
+    }
+  }
 }
 
 // Lennard-Jones repulsion of the inner wall row on u* (Monaghan's wall particles, A Section 3.6, with
