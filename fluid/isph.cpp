@@ -318,12 +318,12 @@ void IsphFluid::surface_mirror() {
 }
 
 // The sums of the mirror rows and of the shifts (shifting.hpp's ConcentrationSums) from what the
-// assembly made, without a pass of their own over the pairs' kernels: grad C_i = (G 1)_i / 2, G the
-// sum-form gradient of A Eq. (13) (the wall particles by the rule p_w = p_i: V_w x_iw F_iw twice);
-// sum_j F_ij = -A_phi,ii / (2 V) over the particles plus the wall pairs' F; the particles beside the
-// surface: the surface and those with a Poisson entry to a surface particle (A_phi before the
-// Dirichlet rows). One pass over the rows of A_phi and G (the operators' one pattern, particle_operators.hpp).
-// Lind et al.'s tensile term (R) is not in this grad C.
+// assembly made, without a pass of their own over the pairs: grad C_i = sum_j V_j x_ij F_ij is the
+// diagonal of the sum-form gradient G of A Eq. (13) less its wall pairs' second half (the rule
+// p_w = p_i puts V_w x_iw F_iw there twice); sum_j F_ij = -A_phi,ii / (2 V) over the particles plus the
+// wall pairs' F; the particles beside the surface: the surface and those with a Poisson entry to a
+// surface particle (A_phi before the Dirichlet rows; the operators share one pattern,
+// particle_operators.hpp). Lind et al.'s tensile term (R) is not in this grad C.
 void IsphFluid::surface_sums() {
   const int N = size();
   if (op_.grad_phix.nonZeros() != A_phi_.nonZeros() || op_.grad_phiy.nonZeros() != A_phi_.nonZeros())
@@ -335,20 +335,25 @@ void IsphFluid::surface_sums() {
   csum_.near.assign(N, 0);
   diag_.resize(N);
   for (int i = 0; i < N; ++i) {
-    bool near = detect_ && surface_[i];
-    double sx = 0, sy = 0;
-    for (int k = outer[i]; k < outer[i + 1]; ++k) {
-      sx += gx[k];
-      sy += gy[k];
-      if (col[k] == i) diag_[i] = k;
-      else if (detect_ && !near && a[k] != 0 && surface_[col[k]]) near = true;
-    }
-    csum_.grad_C(i, 0) = 0.5 * sx;
-    csum_.grad_C(i, 1) = 0.5 * sy;
-    csum_.sum_F[i] = -a[diag_[i]] / (2.0 * volume_);
-    csum_.near[i] = near;
+    const int d = static_cast<int>(std::lower_bound(col + outer[i], col + outer[i + 1], i) - col);  // columns sorted
+    diag_[i] = d;
+    csum_.grad_C(i, 0) = gx[d];  // sum_j V x_ij F_ij over the particles, the wall pairs twice (below)
+    csum_.grad_C(i, 1) = gy[d];
+    csum_.sum_F[i] = -a[d] / (2.0 * volume_);
   }
-  for (int q = 0; q < wall_pairs_.size(); ++q) csum_.sum_F[wall_pairs_.i[q]] += wall_pairs_.F[q];
+  const double Vw = lat_.volume;
+  for (int q = 0; q < wall_pairs_.size(); ++q) {
+    const int i = wall_pairs_.i[q];
+    const double F = wall_pairs_.F[q];
+    csum_.grad_C(i, 0) -= Vw * wall_pairs_.rx[q] * F;
+    csum_.grad_C(i, 1) -= Vw * wall_pairs_.ry[q] * F;
+    csum_.sum_F[i] += F;
+  }
+  for (int s : dirichlet_rows_) {  // A_phi is symmetric: a surface particle's row names its neighbours
+    csum_.near[s] = 1;
+    for (int k = outer[s]; k < outer[s + 1]; ++k)
+      if (a[k] != 0) csum_.near[col[k]] = 1;
+  }
 }
 
 // M0 = -sum_j V x_ij^2 F_ij and S_F = sum_j F_ij of a full support in the initial arrangement (the
