@@ -162,7 +162,7 @@ for s in "${sections[@]}"; do
         --report particles,droplet_axis_error,droplet_axis_error_extent,max_density_variation,seconds_per_step ;;
     fs_lobovsky)
       $SWEEP --scene cases/dam_break_lobovsky_wcsph.toml --out $OUT/fs_lobovsky --vary grid.nx=268,536 \
-        --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.02144/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
+        --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.01474/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
         --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,max_density_variation,seconds_per_step
       /usr/bin/python3 scripts/plot_probes.py $OUT/fs_lobovsky/probes.png $OUT/fs_lobovsky/run_000 $OUT/fs_lobovsky/run_001 ;;
     isph_poiseuille|isph_inclined|isph_droplet|isph_scheme)
