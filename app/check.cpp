@@ -8,6 +8,9 @@
 
 #include "io/footprint.hpp"
 #include "io/scene_checks.hpp"
+#include "fluid/free_surface.hpp"
+#include "fluid/wcsph.hpp"
+#include "membrane/force.hpp"
 #include "membrane/geometry.hpp"
 
 namespace sphib::app {
@@ -54,7 +57,7 @@ void report_membranes(const Picture& p, std::ostream& out) {
     double current = 0;  // mean chord between neighbouring markers
     for (int i = 0; i < nb; ++i) current += (m.m.X.row((i + 1) % nb) - m.m.X.row(i)).norm();
     current /= nb;
-    out << "  membrane " << k << ": " << nb << " markers, T0 = " << m.m.T0 << ", h* = " << num(m.h_star)
+    out << "  membrane " << k << ": " << nb << " markers, " << describe(m.m.mat) << ", h* = " << num(m.h_star)
         << (m.fixed ? ", fixed" : "") << "; markers per grid spacing: dx / rest spacing = " << num(p.dx / m.m.ds())
         << ", dx / current spacing = " << num(p.dx / current) << "\n";
   }
@@ -65,7 +68,10 @@ int report_memory(const Scene& scene, const MemoryEstimate& e, std::ostream& out
   const MachineMemory m = machine_memory();
   out << "  memory estimate: " << bytes(e.bytes) << " at the run's peak = " << bytes(e.base)
       << " (this process and the run's fixed overhead) + " << e.particles << " particles x " << e.neighbours
-      << " neighbours x " << num(e.per_neighbour) << " bytes (" << e.path << ", measured: README \"Memory\"); machine: "
+      << " neighbours x " << num(e.per_neighbour) << " bytes (" << e.path << ", measured: documentation, \"Memory\")";
+  if (e.marker_count > 0)
+    out << " + " << e.marker_count << " markers: " << bytes(e.markers) << " (measured: documentation, \"Data safety\", \"Memory\")";
+  out << "; machine: "
       << bytes(m.bytes) << " (" << m.source << ")";
   if (scene.memory_limit_gb > 0) out << ", limits.memory_gb = " << scene.memory_limit_gb;
   out << "\n";
@@ -82,8 +88,9 @@ void report_built(const Simulation& sim, std::ostream& out) {
   const double images = figure(f, "images", NAN), neighbours = figure(f, "neighbours_per_particle", NAN);
   out << "  particles " << f.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(f.lattice().dx)
       << ", dy = " << num(f.lattice().dy) << "), images "
-      << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10)) << ", neighbours per particle "
-      << num(neighbours) << ", h = " << num(f.h()) << "\n";
+      << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10))
+      << (std::isnan(neighbours) ? std::string() : ", neighbours per particle " + num(neighbours)) << ", h = " << num(f.h())
+      << "\n";
   if (const auto kept = f.footprint())
     out << "  kept for the run: " << kept->operator_nonzeros << " operator non-zeros, " << kept->factor_nonzeros
         << " factor non-zeros, " << kept->pairs << " pairs\n";
@@ -118,7 +125,7 @@ int check_scene(const Scene& scene, std::ostream& out, bool build) {
     for (int i = 0; i < L.size(); ++i) u0.row(i) = scene.sim.initial_velocity(L.x(i, 0), L.x(i, 1)).transpose();
   std::vector<MembraneState> membranes(scene.sim.membranes.begin(), scene.sim.membranes.end());
   MarkerInterpolation interp = scene.sim.interpolation;
-  if (interp == MarkerInterpolation::Auto) interp = fp.method == "eulerian" ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
+  if (interp == MarkerInterpolation::Auto) interp = fp.method == "eulerian" ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;  // (B-splines too: not the paper's pair)
   const Picture p{fp, L.dx, L.dy, L.x, u0, membranes, paper_pair_of(fp, interp, fp.method != "eulerian")};
   out << "  not built: its estimated peak, " << bytes(e.bytes) << ", is above " << bytes(kBuildBytes)
       << " (sphib check --build builds it: the factorisations, and a membrane too close to a wall, are then checked too)\n"
@@ -181,21 +188,40 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
     if (std::isfinite(L)) U_F = std::min(U_F, F * L * L / (8.0 * fp.mu));
     scales.push_back({U_F, "body force: min(F L^2/(8 mu), F t_end/rho)"});
   }
+  if (const double g = fp.gravity.norm(); g > 0) {
+    // A column of height H along g released: the dam-break front's speed 2 sqrt(g H) (Ritter's
+    // shallow-water solution), the largest a free surface falling under gravity reaches in bulk.
+    const double H = fluid_height(fp.free_surface.fill, d, fp.gravity);
+    scales.push_back({2.0 * std::sqrt(g * H), "gravity: 2 sqrt(|g| H), H = " + num(H) + " the fluid's height along g"});
+  }
   for (size_t k = 0; k < p.membranes.size(); ++k) {
     const auto& m = p.membranes[k];
-    if (m.fixed || m.m.T0 <= 0) continue;
-    // The elastic energy E released into the fluid: the Stokes speed T0 eps_max/(4 mu) of the
-    // largest strain (a line force density f at wavenumber k moves a line at f/(4 mu k), here
-    // f ~ T0 eps k), or, if smaller, the inertial speed sqrt(2 E/(rho A)) of the enclosed area A.
-    HookeanForce hooke(m.m.nb(), m.m.L0);
+    if (m.fixed) continue;
+    // The elastic energy E released into the fluid: the Stokes speed of the largest stress (a line
+    // force density f at wavenumber k moves a line at f/(4 mu k); the tension T gives f ~ T k, the
+    // bending moment m f ~ m k^2 with k ~ 1/R on a membrane of length 2 pi R), or, if smaller, the
+    // inertial speed sqrt(2 E/(rho A)) of the enclosed area A.
+    MembraneForce force(m.m);
     Mat2 fk;
     Vec T;
-    hooke.compute(m.m.X, m.m.T0, fk, T);
-    MembraneDiagnostics diag(m.m.nb(), m.m.L0);
-    const MembraneShape s = diag.measure(m.m.X, m.m.T0);
-    const double eps = T.cwiseAbs().maxCoeff() / m.m.T0;
-    const double U_m = std::min(m.m.T0 * eps / (4.0 * fp.mu), std::sqrt(2.0 * s.energy / (fp.rho * s.area)));
-    scales.push_back({U_m, "membrane " + std::to_string(k) + ": min(T0 eps_max/(4 mu), sqrt(2 E_el/(rho A)))"});
+    force.compute(m.m.X, fk, T);
+    MembraneDiagnostics diag(m.m.nb(), m.m.L0());
+    const MembraneShape s = diag.measure(m.m.X);
+    const MembraneStiffness st = force.stiffness();
+    double moment = 0.0;  // max |Eb (kappa - kappa0)| at the markers
+    if (st.Eb > 0) {
+      KnotGeometry g(m.m.nb(), m.m.L0());
+      g.fit(m.m.X, true);
+      for (int i = 0; i < m.m.nb(); ++i) {
+        const double k0 = m.m.mat.spontaneous ? m.m.mat.spontaneous_curvature : m.m.ref.kappa(i);
+        moment = std::max(moment, st.Eb * std::fabs(g.kappa[i] - k0));
+      }
+    }
+    constexpr double kPi = 3.14159265358979323846;
+    const double stress = T.cwiseAbs().maxCoeff() + moment * 2.0 * kPi / st.length;
+    if (!(stress > 0)) continue;
+    const double U_m = std::min(stress / (4.0 * fp.mu), std::sqrt(2.0 * force.energy().total() / (fp.rho * s.area)));
+    scales.push_back({U_m, "membrane " + std::to_string(k) + ": min((max|T| + max|m|/R)/(4 mu), sqrt(2 E_el/(rho A)))"});
   }
   const auto top = *std::max_element(scales.begin(), scales.end(), [](auto& a, auto& b) { return a.U < b.U; });
   out << "  time step dt = " << dt << ":\n";
@@ -208,22 +234,44 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   } else {
     out << "    convective CFL: no velocity scale (fluid at rest, no forcing)\n";
   }
+  const double h = fp.h_over_dx * 0.5 * (dx + dy), nu = fp.mu / fp.rho;
+  if (fp.method == "wcsph") {
+    // The solver refuses a dt above this limit (fluid/wcsph.hpp): a WARNING only for a scene too large to build here.
+    const double c = wcsph_sound_speed(fp), limit = coelho_dt_limit(h, c, nu);
+    const bool over = dt > limit;
+    warnings += over;
+    out << "    " << (over ? "WARNING: " : "") << "acoustic and viscous limit (Coelho et al. Eq. 19): dt < min(0.25 h/c, "
+        << "0.125 h^2/nu) = " << num(limit) << " with c = " << num(c) << (over ? ": dt exceeds it (sphib run refuses it)" : ": ok")
+        << "\n";
+  } else if (fp.method == "isph" && fp.isph.viscous == "explicit") {
+    // The explicit viscous predictor (Afanasiev et al. Eq. 22) is a forward-Euler diffusion step.
+    const double limit = 0.125 * h * h / nu;
+    const bool over = dt > limit;
+    warnings += over;
+    out << "    " << (over ? "WARNING: " : "") << "explicit viscous limit: dt < 0.125 h^2/nu = " << num(limit)
+        << (over ? ": dt exceeds it (isph.viscous = \"crank_nicolson\" lifts it)" : ": ok") << "\n";
+  }
   // Explicit elastic limit. The membrane force is explicit in X^n (Eq. 50 at t_n), so the stiffest
   // membrane mode the spreading kernel passes (wavenumber k ~ 1/h*) limits dt, as in every explicit
   // IB method. Two scalings: inertial, T0 k^3 dt^2 / rho below a constant (a stretching wave with
   // the fluid's added mass rho/k; the T0 dt^2/h scaling of the explicit-IB stability analysis of
   // Hua & Peskin 2021, arXiv:2111.15065), and viscous, dt below a constant times mu/(T0 k) (the
   // Stokes relaxation rate of that mode). The constants are NOT from a source: they were measured
-  // with this code, a factor-of-two guide, not a bound (README: "sphib check", "Stability at the
-  // extremes"). The inertial constant depends on the pair: the paper's (approximate projection,
+  // with this code, a factor-of-two guide, not a bound (docs/guide/check_and_sweeps.md,
+  // docs/performance/stability.md). The inertial constant depends on the pair: the paper's (approximate projection,
   // Eq. 63 markers) leaks area and with it elastic energy, which lets it run with dt about 3 times
   // larger (bench/stability_map, fitted in h* form: 0.32 conservative, about 1 paper's).
   const double c_i = p.paper_pair ? 1.0 : 0.3;
   for (size_t k = 0; k < p.membranes.size(); ++k) {
     const auto& m = p.membranes[k];
-    if (m.fixed || m.m.T0 <= 0) continue;
+    MembraneForce force(m.m);
+    Mat2 fk;
+    Vec T;
+    force.compute(m.m.X, fk, T);
+    const double Et = force.stiffness().Et;
+    if (m.fixed || Et <= 0) continue;
     const double hs = m.h_star;
-    const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / m.m.T0), viscous = 10.0 * fp.mu * hs / m.m.T0;
+    const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / Et), viscous = 10.0 * fp.mu * hs / Et;
     const double limit = std::max(inertial, viscous);
     const bool over = dt > limit;
     warnings += over;

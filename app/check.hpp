@@ -16,8 +16,9 @@ int check_scene(const Scene& scene, std::ostream& out, bool build = false);
 
 // The warnings alone, for a simulation already built (sphib run prints them before running and
 // refuses the scene with --strict): a kernel narrower than 0.9 lattice spacings, markers farther
-// apart than a lattice spacing, dt above the convective CFL estimate, dt above the explicit elastic
-// estimate. Returns their number.
+// apart than a lattice spacing, dt above the convective CFL estimate (the velocity scale from the
+// walls, the initial flow, a body force, gravity or a membrane's elastic energy), dt above the
+// explicit elastic estimate, WCSPH's acoustic limit, ISPH's explicit viscous limit. Returns their number.
 int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& out);
 
 }  // namespace sphib::app

@@ -22,8 +22,19 @@ class Parser {
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
-    throw ExpressionError("expression \"" + s_ + "\": " + what + " at position " + std::to_string(i_ + 1));
+    const std::string shown = s_.size() > 80 ? s_.substr(0, 60) + "..." : s_;
+    throw ExpressionError("expression \"" + shown + "\": " + what + " at position " + std::to_string(i_ + 1));
   }
+  // Every recursion (a parenthesis, a sign, an exponent) passes through unary(): its depth is bounded,
+  // so that deep input is refused instead of overflowing the stack.
+  static constexpr int kMaxDepth = 200;
+  struct Deeper {
+    Parser& p;
+    explicit Deeper(Parser& parser) : p(parser) {
+      if (++p.depth_ > kMaxDepth) p.fail("nested more than " + std::to_string(kMaxDepth) + " deep (parentheses, signs, powers)");
+    }
+    ~Deeper() { --p.depth_; }
+  };
   void skip() {
     while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
   }
@@ -54,6 +65,7 @@ class Parser {
     }
   }
   Number unary() {
+    const Deeper guard(*this);
     if (eat("-")) { Number v = unary(); v.value = -v.value; return v; }
     if (eat("+")) return unary();
     return power();
@@ -117,6 +129,7 @@ class Parser {
 
   const std::string& s_;
   size_t i_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace

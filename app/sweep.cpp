@@ -100,8 +100,24 @@ Plan parse_plan(const SweepOptions& o) {
     if (p.values.back().empty()) throw UsageError("--vary " + v + ": no values");
   }
   if (p.keys.empty()) throw UsageError("give at least one --vary key=v1,v2,...");
-  for (const auto& d : o.derive) p.derives.push_back(split_kv(d, "--derive"));
-  for (const auto& s : o.set) split_kv(s, "--set");
+  auto varied = [&](const std::string& k) { return std::find(p.keys.begin(), p.keys.end(), k) != p.keys.end(); };
+  for (size_t k = 0; k < p.keys.size(); ++k)
+    if (std::find(p.keys.begin(), p.keys.begin() + k, p.keys[k]) != p.keys.begin() + k)
+      throw UsageError("--vary " + p.keys[k] + ": the key is varied twice (give all its values in one --vary)");
+  for (const auto& d : o.derive) {
+    p.derives.push_back(split_kv(d, "--derive"));
+    if (varied(p.derives.back().first))
+      throw UsageError("--derive " + p.derives.back().first + ": the key is varied (--vary " + p.derives.back().first +
+                       "); a key is either varied or derived");
+  }
+  for (const auto& s : o.set) {
+    const std::string k = split_kv(s, "--set").first;
+    if (varied(k))
+      throw UsageError("--set " + k + ": the key is varied (--vary " + k + "): its value would replace every varied one; "
+                       "give its values in --vary only");
+    for (const auto& [dk, e] : p.derives)
+      if (dk == k) throw UsageError("--set " + k + ": the key is derived (--derive " + k + "); give it in one of the two");
+  }
   if (o.report.empty()) throw UsageError("give the summary fields to tabulate: --report a,b");
   return p;
 }
@@ -135,25 +151,31 @@ std::vector<Run> combinations(const Plan& p, const SweepOptions& o) {
   }
 }
 
-// Runs r unless a complete earlier run is in its directory (an interrupted one is run again);
-// returns its summary, or null if set-up failed before anything was written.
+// Runs r unless its directory holds a complete run of the same scene (summary.json with this scene's
+// hash of every resolved value; one stopped by a signal, or of another scene, is run again, its files
+// replaced); returns its summary, or null if set-up failed before anything was written.
 nlohmann::json run_or_reuse(const Run& r, const SweepOptions& o, SweepResult& res) {
   const std::string summary_path = r.dir + "/summary.json";
-  bool done = false;
+  bool done = false, other_scene = false;
   if (fs::exists(summary_path)) {
     std::ifstream in(summary_path);
-    try {  // a run stopped by a signal is run again
-      const std::string why = nlohmann::json::parse(in).value("stop_reason", "");
-      done = why != "interrupted" && why != "terminated" && why.rfind("signal", 0) != 0;
+    try {
+      const nlohmann::json j = nlohmann::json::parse(in);
+      const nlohmann::json why = j.value("stop_reason", nlohmann::json()), hash = j.value("scene_hash", nlohmann::json());
+      other_scene = !hash.is_string() || hash.get<std::string>() != scene_hash(r.scene);
+      done = !other_scene && why.is_string() && !j.contains("stop_signal") && why != "interrupted" &&
+             why != "terminated" && why.get<std::string>().rfind("signal", 0) != 0;
     } catch (const std::exception&) {}
   }
   if (done) {
     ++res.reused;
-    if (o.log) *o.log << "sweep: " << r.dir << ": already run (summary.json kept)" << std::endl;
+    if (o.log) *o.log << "sweep: " << r.dir << ": already run with this scene (summary.json kept)" << std::endl;
   } else {
     std::string settings;
     for (const auto& kv : r.sets) settings += " " + kv;
-    if (o.log) *o.log << "sweep: " << r.dir << ":" << settings << std::endl;
+    if (o.log)
+      *o.log << "sweep: " << r.dir << ":" << settings << (other_scene ? " (it held a run of another scene: replaced)" : "")
+             << std::endl;
     RunOptions ro;
     ro.out_dir = r.dir;
     ro.stop = o.stop;
@@ -166,7 +188,11 @@ nlohmann::json run_or_reuse(const Run& r, const SweepOptions& o, SweepResult& re
   }
   if (!fs::exists(summary_path)) return nullptr;
   std::ifstream in(summary_path);
-  try { return nlohmann::json::parse(in); } catch (const std::exception&) { return nlohmann::json::object(); }
+  nlohmann::json j;
+  try { j = nlohmann::json::parse(in); } catch (const std::exception&) { return nlohmann::json::object(); }
+  // A run that failed before it wrote (its set-up) leaves another scene's summary: not this run's figures.
+  if (!j.is_object() || j.value("scene_hash", nlohmann::json()) != scene_hash(r.scene)) return nullptr;
+  return j;
 }
 
 // A summary field by its name; a dotted name reaches into nested objects. nullptr if there is none.
@@ -182,7 +208,7 @@ const nlohmann::json* field(const nlohmann::json& s, const std::string& name) {
 // A --report field the first run's summary does not have is a mistake (it gave an empty column):
 // refused, naming the fields there are. The runs done so far are kept and reused by the next call.
 void check_report(const nlohmann::json& s, const Run& r, const std::vector<std::string>& report) {
-  if (s.value("stop_reason", "") == "fault") return;  // a fault's summary has no figures
+  if (s.value("stop_reason", nlohmann::json()) == "fault") return;  // a fault's summary has no figures
   for (const auto& rep : report) {
     if (field(s, rep)) continue;
     std::string names;

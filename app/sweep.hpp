@@ -33,8 +33,9 @@ struct SweepResult {
 
 // Every combination of the --vary values (the last key varying fastest) is set up first (a bad
 // key or value throws SceneError before anything runs), then run with run_scene into
-// DIR/run_NNN unless DIR/run_NNN/summary.json exists from a run that was not interrupted (delete
-// DIR to start over). A --report field missing from the first run's summary throws UsageError
+// DIR/run_NNN unless DIR/run_NNN/summary.json is of a run of the same scene (its scene_hash: every
+// resolved value) that was not stopped by a signal; a run of another scene there is replaced. A key
+// both varied and set (--set) or derived (--derive) throws UsageError. A --report field missing from the first run's summary throws UsageError
 // naming the fields it has (the runs done are kept). A run that fails is reported and the sweep goes on; its row has the
 // figures its summary has, if any.
 // Observed orders: between successive values of the first varied key with the other varied keys

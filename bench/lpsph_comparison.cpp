@@ -323,7 +323,7 @@ Fig9Run fig9_run(int nx, const std::string& method, int reinit, const Options& o
   const std::vector<std::string> sets{"method=" + method, "grid.nx=" + std::to_string(nx), "grid.ny=" + std::to_string(nx),
                                       "time.dt=" + num(dt), "lagrangian.reinit_every=" + std::to_string(reinit)};
   sphib::Scene s = sphib::load_scene(scene.string(), sets);
-  const double re = s.membranes[0].radius, jump_exact = s.membranes[0].T0 / re * (re / s.membranes[0].r0 - 1.0);
+  const double re = s.membranes[0].radius, jump_exact = s.membranes[0].Es / re * (re / s.membranes[0].r0 - 1.0);
   const auto t0 = Clock::now();
   sphib::Simulation sim(s.sim);
   const long n = std::lround(o.fig9_end / dt);
@@ -424,7 +424,7 @@ Fig18Run fig18_run(const Options& o) {
   sphib::Scene se = sphib::load_scene(scene.string(), {"time.end=" + num(o.fig18_end), "method=eulerian"});
   sphib::Simulation sim(s.sim), sim_e(se.sim);
   const auto* l = dynamic_cast<const sphib::LagrangianFluid*>(&sim.fluid());
-  sphib::MembraneDiagnostics D(sim.membranes()[0].m.nb(), sim.membranes()[0].m.L0);
+  sphib::MembraneDiagnostics D(sim.membranes()[0].m.nb(), sim.membranes()[0].m.L0());
   const long n = std::lround(s.t_end / s.sim.fluid.dt), every = 250;
   bool broken = false;
   const auto t_start = Clock::now();
@@ -443,8 +443,8 @@ Fig18Run fig18_run(const Options& o) {
     sim_e.step();
     r.seconds_e += seconds_since(t0);
     if (k % every == 0 || k == n) {
-      const sphib::MembraneShape a = D.measure(sim.membranes()[0].m.X, sim.membranes()[0].m.T0);
-      const sphib::MembraneShape b = D.measure(sim_e.membranes()[0].m.X, sim_e.membranes()[0].m.T0);
+      const sphib::MembraneShape a = D.measure(sim.membranes()[0].m.X);
+      const sphib::MembraneShape b = D.measure(sim_e.membranes()[0].m.X);
       r.samples.push_back({sim_e.time(), broken ? NAN : l->kernel_sums().minCoeff(), broken ? NAN : a.rx,
                            broken ? NAN : a.ry, b.rx, b.ry});
       if (k % (10 * every) == 0)

@@ -270,10 +270,10 @@ class Bench {
       return;
     }
     const auto& m0 = sim->membranes()[0];
-    sphib::MembraneDiagnostics D(m0.m.nb(), m0.m.L0);
+    sphib::MembraneForce E = m0.force;
     auto energy = [&]() {
-      D.fit(sim->membranes()[0].m.X);
-      return sim->fluid().kinetic_energy() + D.energy(sim->membranes()[0].m.T0);
+      E.fit_energy(sim->membranes()[0].m.X);
+      return sim->fluid().kinetic_energy() + E.energy().total();
     };
     const double e0 = energy();
     double emax = e0;

@@ -16,6 +16,10 @@
 #   oscillation_pair the main job with each projection x interpolation pair (area at t = 1, 2, 10)
 #   capsule        the capsule in shear (build/capsule_shear), Ca = 0.05, 0.1, 0.2
 #   kernel_width   Couette (64 x 64, dt = 1e-3, t = 1) and Poiseuille errors against kernel.h_over_dx 0.51-1.2
+#   viscosity_contrast  membrane.viscosity_ratio: the indicator, layered Couette and a circular interface
+#                  against exact two-fluid flows, the operator's and the step's orders (build/viscosity_contrast),
+#                  and the capsule in shear at lambda = 0.2, 1, 5 (Ca = 0.05, 0.1; 64 x 32 and, Ca = 0.1,
+#                  128 x 64) to t = 10 (docs/viscosity_contrast.md)
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
 #   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
@@ -58,7 +62,7 @@ if [ "${PAIR:-}" = paper ]; then
 fi
 sections=("$@")
 [ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19 table3)
-cmake --build build --target sphib poiseuille_sweep capsule_shear > /dev/null
+cmake --build build --target sphib poiseuille_sweep capsule_shear viscosity_contrast > /dev/null
 
 for s in "${sections[@]}"; do
   case "$s" in
@@ -202,6 +206,13 @@ for s in "${sections[@]}"; do
         --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.067/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
         --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
       /usr/bin/python3 scripts/plot_probes.py $OUT/isph_lobovsky/probes.png $OUT/isph_lobovsky/run_000 $OUT/isph_lobovsky/run_001 ;;
+    viscosity_contrast)
+      mkdir -p $OUT/viscosity_contrast
+      build/viscosity_contrast | tee $OUT/viscosity_contrast/numerics.txt
+      for l in 0.2 1 5; do
+        build/capsule_shear --ca 0.05,0.1 --lambda $l --t-end 10 --out $OUT/viscosity_contrast/capsule_64_lambda_$l
+        build/capsule_shear --ca 0.1 --lambda $l --t-end 10 --nx 128 --out $OUT/viscosity_contrast/capsule_128_lambda_$l
+      done ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   std::string out = "out/capsule_shear";
   long steps = 0;
   int nx = 64;
-  double t_end = 16.0, cfl = 0.0125;
+  double t_end = 16.0, cfl = 0.0125, lambda = 1.0;
   CLI::App app{"capsule in simple shear: D(Ca), theta(Ca), tank-treading frequency"};
   app.add_option("--ca", cas, "capillary numbers mu G r0 / T0 (comma-separated)")->delimiter(',');
   app.add_option("--out", out, "output directory");
@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   app.add_option("--nx", nx, "particles along x (ny = nx/2)");
   app.add_option("--t-end", t_end, "end time in units of 1/G");
   app.add_option("--cfl", cfl, "time step dt = cfl dx / U");
+  app.add_option("--lambda", lambda, "viscosity ratio mu_in / mu_out of the capsule's fluid (method eulerian)");
   bool paper = false;
   app.add_flag("--paper-pair", paper, "the paper's approximate projection and SPH interpolation (Eq. 63)");
   CLI11_PARSE(app, argc, argv);
@@ -51,7 +52,8 @@ int main(int argc, char** argv) {
   for (double Ca : cas) {
     Scene s;
     char name[64];
-    std::snprintf(name, sizeof name, "ca_%g", Ca);
+    if (lambda == 1.0) std::snprintf(name, sizeof name, "ca_%g", Ca);
+    else std::snprintf(name, sizeof name, "ca_%g_lambda_%g", Ca, lambda);
     s.title = std::string("capsule in shear flow, ") + name;
     FluidParams& f = s.sim.fluid;
     f.domain = {-L / 2, L / 2, -H / 2, H / 2, /*periodic_x=*/true, /*periodic_y=*/false};
@@ -66,6 +68,7 @@ int main(int argc, char** argv) {
     f.dt = cfl * dx / U;  // below the elastic limit max(sqrt(rho h*^3/T0), 10 mu h*/T0) of `sphib check`
     const int nb = static_cast<int>(std::lround(2 * M_PI * r0 / (0.5 * dx)));  // two markers per dx
     s.sim.membranes.push_back({make_membrane(circle(nb, 0.0, 0.0, /*radius=*/r0), r0, T0), h_star});
+    s.sim.membranes.back().viscosity_ratio = lambda;
     s.t_end = t_end / G, s.max_steps = steps;
 
     std::vector<std::array<double, 4>> hist;  // t, D, theta, omega at every diagnostics row

@@ -69,7 +69,6 @@ int main(int argc, char** argv) {
     s.observers.push_back({m + "u", [=](const Simulation& sim) { return vel(sim).x(); }});
     s.observers.push_back({m + "v", [=](const Simulation& sim) { return vel(sim).y(); }});
     s.observers.push_back({m + "lag", [=](const Simulation& sim) { return vel(sim).x() / u_poiseuille(shape(sim).centroid.y()); }});
-    s.observers.push_back({m + "D", [=](const Simulation& sim) { return shape(sim).deformation(); }});
     s.observers.push_back({m + "theta_deg", [=](const Simulation& sim) { return shape(sim).theta * 180 / M_PI; }});
   }
   const nlohmann::json summary = run_scene(s, run);

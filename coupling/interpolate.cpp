@@ -3,6 +3,8 @@
 #include "coupling/neighbourhood.hpp"
 #include "fluid/interpolation.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -98,6 +100,81 @@ double sum(Lanes2 a) { return a[0] + a[1]; }
     (*dU)(k, 1) = pyy;   // dUx/dy
     (*dU)(k, 2) = -pxx;  // dUy/dx
     (*dU)(k, 3) = -pxy;  // dUy/dy
+  }
+}
+
+}  // namespace sphib
+
+namespace sphib {
+
+namespace {
+// The cubic B-spline with unit knot spacing, its first and second derivatives: support |t| < 2,
+// sum_i B(t - i) = 1 and sum_i i B(t - i) = t (it reproduces linear functions on the lattice).
+inline void bspline3(double t, double& b, double& d1, double& d2) {
+  const double a = std::fabs(t), s = t < 0 ? -1.0 : 1.0;
+  if (a < 1.0) {
+    b = 2.0 / 3.0 - a * a + 0.5 * a * a * a;
+    d1 = s * (-2.0 * a + 1.5 * a * a);
+    d2 = -2.0 + 3.0 * a;
+  } else if (a < 2.0) {
+    const double r = 2.0 - a;
+    b = r * r * r / 6.0;
+    d1 = -s * 0.5 * r * r;
+    d2 = r;
+  } else {
+    b = d1 = d2 = 0.0;
+  }
+}
+}  // namespace
+
+void interpolate_curl_bspline(const CellGrid& grid, double dx, double dy, const Vec& psi, const Eigen::Vector2d& U_mean,
+                              const Mat2& X, Mat2& U, Jacobians* dU) {
+  if (!grid.lattice_mode()) throw std::invalid_argument("interpolate_curl_bspline: needs the fixed lattice (EPSPH)");
+  if (dU) dU->resize(X.rows(), 4);
+  CellGrid::LatticeBox box;
+  const double r = 2.0 * std::max(dx, dy);
+  for (int k = 0; k < X.rows(); ++k) {
+    grid.lattice_box(X(k, 0), X(k, 1), r, box);
+    double bx[CellGrid::LatticeBox::kMax], gx[CellGrid::LatticeBox::kMax], hx[CellGrid::LatticeBox::kMax];
+    for (int c = 0; c < box.ncol; ++c) {
+      bspline3(box.cdx[c] / dx, bx[c], gx[c], hx[c]);
+      gx[c] /= dx;
+      hx[c] /= dx * dx;
+    }
+    double px = 0, py = 0, pxx = 0, pxy = 0, pyy = 0, sw = 0;
+    for (int rr = 0; rr < box.nrow; ++rr) {
+      double by, gy, hy;
+      bspline3(box.ry[rr] / dy, by, gy, hy);
+      gy /= dy;
+      hy /= dy * dy;
+      double s0 = 0, s1 = 0, s2 = 0, w0 = 0;
+      for (int c = 0; c < box.ncol; ++c) {
+        const double p = psi[box.base[rr] + box.col[c]];
+        s0 += p * bx[c];
+        s1 += p * gx[c];
+        s2 += p * hx[c];
+        w0 += bx[c];
+      }
+      sw += w0 * by;
+      px += s1 * by;   // d psi_h/dx: d/dX of B((X - x_i)/dx) = B'/dx
+      py += s0 * gy;
+      pxx += s2 * by;
+      pxy += s1 * gy;
+      pyy += s0 * hy;
+    }
+    if (!(std::fabs(sw - 1.0) < 1e-9)) {  // the stencil left the lattice (a wall)
+      std::ostringstream m;
+      m << "interpolation: marker " << k << " at (" << X(k, 0) << ", " << X(k, 1)
+        << ") is within two lattice spacings of a wall (its B-spline stencil leaves the lattice)";
+      throw std::runtime_error(m.str());
+    }
+    U(k, 0) = U_mean.x() + py;
+    U(k, 1) = U_mean.y() - px;
+    if (!dU) continue;
+    (*dU)(k, 0) = pxy;
+    (*dU)(k, 1) = pyy;
+    (*dU)(k, 2) = -pxx;
+    (*dU)(k, 3) = -pxy;
   }
 }
 

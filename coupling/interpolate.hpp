@@ -35,4 +35,16 @@ void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, cons
 void interpolate_curl(const CellGrid& grid, const CubicSplineKernel& W, const Vec& psi,
                       const Eigen::Vector2d& U_mean, const Mat2& X, Mat2& U, Jacobians* dU = nullptr);
 
+// The same curl with psi interpolated by tensor-product cubic B-splines of the lattice spacing,
+//   psi_h(X) = sum_ij psi_ij B((X - x_i)/dx) B((Y - y_j)/dy),   U(X) = U_mean + (d psi_h/dy, -d psi_h/dx),
+// B the cubic B-spline (support 2 spacings). On the uniform lattice sum_i B = 1 and sum_i x_i B = X
+// exactly, so psi_h reproduces linear stream functions (uniform flows) and its derivatives carry no
+// lattice-periodic ripple; the kernel form above reproduces only constants, and its gradient of a
+// linear psi ripples at the lattice scale (measured: second differences along a line 120x those of
+// Eq. 63), which bending stiffness turns into marker-scale growth. 16 lattice points per marker.
+// `grid` must be in lattice mode (EPSPH); throws like interpolate_velocity when a point's 4 x 4
+// stencil leaves the lattice (within two spacings of a wall).
+void interpolate_curl_bspline(const CellGrid& grid, double dx, double dy, const Vec& psi, const Eigen::Vector2d& U_mean,
+                              const Mat2& X, Mat2& U, Jacobians* dU = nullptr);
+
 }  // namespace sphib

@@ -1,6 +1,7 @@
 #include "coupling/simulation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,6 +20,10 @@ void check_membrane(const Domain& d, const MembraneSetup& s, double h, int index
   if (!(s.h_star > 0)) { m << "h_star must be positive (got " << s.h_star << ")"; throw std::invalid_argument(m.str()); }
   if (s.membrane.nb() < 4) { m << "needs at least 4 markers (got " << s.membrane.nb() << ")"; throw std::invalid_argument(m.str()); }
   if (!s.membrane.X.allFinite()) { m << "marker positions are not finite"; throw std::invalid_argument(m.str()); }
+  if (!(s.viscosity_ratio > 0) || !std::isfinite(s.viscosity_ratio)) {
+    m << "viscosity_ratio must be positive and finite (got " << s.viscosity_ratio << ")";
+    throw std::invalid_argument(m.str());
+  }
   const double reach = std::max(2.0 * s.h_star, 2.0 * h);
   const double xmin = s.membrane.X.col(0).minCoeff(), xmax = s.membrane.X.col(0).maxCoeff();
   const double ymin = s.membrane.X.col(1).minCoeff(), ymax = s.membrane.X.col(1).maxCoeff();
@@ -39,8 +44,13 @@ void check_membrane(const Domain& d, const MembraneSetup& s, double h, int index
 }  // namespace
 
 MembraneState::MembraneState(const MembraneSetup& s)
-    : m(s.membrane), h_star(s.h_star), fixed(s.fixed), W_star(s.h_star), hooke(s.membrane.nb(), s.membrane.L0),
-      f(Mat2::Zero(s.membrane.nb(), 2)), U_n(f), U(f), X_n(s.membrane.X), T(Vec::Zero(s.membrane.nb())) {}
+    : m(s.membrane), h_star(s.h_star), fixed(s.fixed), W_star(s.h_star), force(s.membrane),
+      f(Mat2::Zero(s.membrane.nb(), 2)), U_n(f), U(f), X_n(s.membrane.X), T(Vec::Zero(s.membrane.nb())) {
+  if (s.semi_implicit && !s.fixed) {
+    filter = std::make_unique<StiffForceFilter>(s.membrane.nb());
+    f_tilde = f;
+  }
+}
 
 Simulation::Simulation(const SimulationParams& params)
     : prm_(params), fluid_(make_fluid(params.fluid)),
@@ -55,17 +65,49 @@ Simulation::Simulation(const SimulationParams& params)
   if (prm_.markers.max_move <= 0)  // a marker moving more than a lattice spacing in a step is a blow-up
     prm_.markers.max_move = std::min(fluid_->lattice().dx, fluid_->lattice().dy);
   interp_ = prm_.interpolation;
-  if (interp_ == MarkerInterpolation::Auto)
-    interp_ = fluid_->has_stream_function() ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;
-  if (interp_ == MarkerInterpolation::DivergenceFree && !fluid_->has_stream_function())
-    throw std::invalid_argument("coupling.interpolation = \"divergence_free\" needs a stream function of the fluid, which method \"" +
-                                prm_.fluid.method + "\" does not provide (use \"sph\")");
+  if (interp_ == MarkerInterpolation::Auto) {
+    bool bending = false;
+    for (const auto& s : prm_.membranes) bending |= s.membrane.mat.Eb > 0;
+    interp_ = !fluid_->has_stream_function() ? MarkerInterpolation::Sph
+              : bending                      ? MarkerInterpolation::BSpline
+                                             : MarkerInterpolation::DivergenceFree;
+  }
+  if (interp_ != MarkerInterpolation::Sph && !fluid_->has_stream_function())
+    throw std::invalid_argument(std::string("coupling.interpolation = \"") +
+                                (interp_ == MarkerInterpolation::BSpline ? "bspline" : "divergence_free") +
+                                "\" needs a stream function of the fluid, which method \"" + prm_.fluid.method +
+                                "\" does not provide (use \"sph\")");
   if (!mem_.empty()) {  // no membranes, no coupling
     if (fluid_->particles_move()) grid_.build(fluid_->x());
     else grid_.use_lattice(fluid_->lattice());  // EPSPH: index arithmetic on the fixed lattice
     bool free = false;
     for (const auto& s : mem_) free |= !s.fixed;
-    if (free && interp_ == MarkerInterpolation::DivergenceFree) fluid_->stream_function();  // its set-up, now
+    if (free && interp_ != MarkerInterpolation::Sph) fluid_->stream_function();  // its set-up, now
+  }
+  // A viscosity contrast: the fluid's variable viscosity, from the indicators of the markers
+  bool contrast = false;
+  for (const auto& s : prm_.membranes) contrast |= s.viscosity_ratio != 1.0;
+  if (contrast) {
+    if (!fluid_->supports_variable_viscosity())
+      throw std::invalid_argument("membrane.viscosity_ratio != 1 (a viscosity contrast) needs method \"eulerian\"; method \"" +
+                                  prm_.fluid.method + "\" has one viscosity everywhere");
+    std::vector<double> lambda;
+    for (const auto& s : prm_.membranes) lambda.push_back(s.viscosity_ratio);
+    // A ratio below 1 takes its cross term explicitly (fluid/variable_viscosity.hpp): measured stable
+    // for nu (1 - lambda) dt / dx^2 <= 0.5 across a sharp interface (a circle at lambda = 0.01, 0.1 in
+    // a periodic box blows up at 0.6; lambda = 0.5 is stable at 0.7)
+    const double lo = *std::min_element(lambda.begin(), lambda.end()), dx = std::min(fluid_->lattice().dx, fluid_->lattice().dy);
+    const double number = fluid_->nu() * (1.0 - lo) * prm_.fluid.dt / (dx * dx);
+    if (number > 0.5) {
+      std::ostringstream e;
+      e << "membrane.viscosity_ratio = " << lo << " < 1 takes the less viscous inside's cross term explicitly, stable for "
+        << "nu (1 - viscosity_ratio) time.dt / dx^2 <= 0.5: here " << number << " (nu = " << fluid_->nu()
+        << ", dx = " << dx << "); lower time.dt to " << 0.5 * dx * dx / (fluid_->nu() * (1.0 - lo)) << " or below";
+      throw std::invalid_argument(e.str());
+    }
+    contrast_ = std::make_unique<ViscosityContrast>(fluid_->lattice(), lambda);
+    k_visc_ = prof_.phase("viscosity contrast (indicator)");
+    viscosity_now();  // m^0: the fluid's variable-viscosity state exists before a restart restores it
   }
   if (prm_.initial_velocity) {
     const Mat2& x = fluid_->x();
@@ -84,6 +126,8 @@ Simulation::Simulation(const SimulationParams& params)
   k_spread_ = prof_.phase("spreading (Eq. 53)");
   k_interp_ = prof_.phase("interpolation u^n(X^n) (Eq. 63)");
   k_markers_ = prof_.phase("marker update (Eqs. 56-60)");
+  for (const auto& s : mem_)
+    if (s.filter) k_stiff_ = prof_.phase("stiff-force filter (coupling/stiff_force.hpp)");
   update_membrane_forces();  // f and T at t = 0 (a stretched membrane starts under tension)
 }
 
@@ -93,7 +137,7 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
   mem_[k].m.X = X;
   mem_[k].U_revision = -1;
   mem_[k].U_n_known = mem_[k].U_prev_known = false;  // a jump: no history for the predictor
-  mem_[k].hooke.compute(mem_[k].m.X, mem_[k].m.T0, mem_[k].f, mem_[k].T);
+  mem_[k].force.compute(mem_[k].m.X, mem_[k].f, mem_[k].T);
 }
 
 void Simulation::set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next) {
@@ -112,7 +156,7 @@ const Mat2* Simulation::next_marker_velocity(size_t k) const {
 }
 
 void Simulation::update_membrane_forces() {
-  for (auto& s : mem_) s.hooke.compute(s.m.X, s.m.T0, s.f, s.T);
+  for (auto& s : mem_) s.force.compute(s.m.X, s.f, s.T);
 }
 
 bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
@@ -122,27 +166,40 @@ bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
     interpolate_curl(grid_, fluid.kernel(), *sf.psi, sf.mean, X, U, dU);
     return dU != nullptr;
   }
+  if (interp_ == MarkerInterpolation::BSpline) {
+    const StreamFunction sf = fluid.stream_function();
+    interpolate_curl_bspline(grid_, fluid.lattice().dx, fluid.lattice().dy, *sf.psi, sf.mean, X, U, dU);
+    return dU != nullptr;
+  }
   interpolate_velocity(grid_, fluid.kernel(), fluid.volumes(), fluid.u(), X, U);  // Eq. (63)
   return false;
 }
 
 double Simulation::coupling_floor_seconds(int reps) const {
   if (mem_.empty()) return 0.0;
-  std::vector<HookeanForce> hooke;  // copies: the states' splines stay as they are
-  for (const auto& s : mem_) hooke.push_back(s.hooke);
+  std::vector<MembraneForce> force;  // copies: the states' splines stay as they are
+  for (const auto& s : mem_) force.push_back(s.force);
   Mat2 f, F = F_, U;
   Vec T;
   Jacobians dU;
   double total = best_of(reps, [&] {
-    for (size_t k = 0; k < mem_.size(); ++k) hooke[k].compute(mem_[k].m.X, mem_[k].m.T0, f, T);  // Eqs. (47)-(50)
+    for (size_t k = 0; k < mem_.size(); ++k) force[k].compute(mem_[k].m.X, f, T);  // Eqs. (47)-(50)
   });
+  if (k_stiff_ >= 0) {
+    Mat2 ft;
+    const FluidParams& p = fluid_->params();
+    total += best_of(reps, [&] {
+      for (const auto& s : mem_)
+        if (s.filter) s.filter->apply(s.force, s.f, s.U_n, {p.rho, p.mu, p.dt, s.h_star, interpolation_length()}, ft);
+    });
+  }
   total += best_of(reps, [&] {
     for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F);  // Eq. (53)
   });
   bool free = false;
   for (const auto& s : mem_) free |= !s.fixed;
   if (!free) return total;
-  if (interp_ == MarkerInterpolation::DivergenceFree) total += fluid_->stream_function_floor_seconds(reps);
+  if (interp_ != MarkerInterpolation::Sph) total += fluid_->stream_function_floor_seconds(reps);
   total += best_of(reps, [&] {
     for (const auto& s : mem_) {
       if (s.fixed) continue;
@@ -157,8 +214,10 @@ double Simulation::coupling_floor_seconds(int reps) const {
 //   F^n = body force + S f^n;  PMIII: u^n -> u^{n+1};  X^{n+1} by the trapezoidal rule;  f^{n+1}.
 void Simulation::step() {
   external_force(time());      // F^n: the body force at t_n
-  spread_membrane_forces();    // F^n += sum_k f_k^n W(x_i - X_k^n, h*) ds (Eq. 53)
   marker_velocities_now();     // U^n(X^n), the explicit half of the trapezoidal rule (Eq. 59)
+  if (contrast_) viscosity_now();  // mu^n = mu (1 + (lambda - 1) I(X^n)) (coupling/viscosity_contrast.hpp)
+  stiff_forces();              // semi-implicit membranes: f~ ~ f^{n+1}, linearised (stiff_force.hpp)
+  spread_membrane_forces();    // F^n += sum_k f_k^n W(x_i - X_k^n, h*) ds (Eq. 53)
   fluid_->step(F_);            // PMIII with prefactored systems: u^n -> u*, u^{n+1} (Eqs. 28-35)
   move_markers();              // X^{n+1} = X^n + dt/2 (U^n(X^n) + U^{n+1}(X^{n+1})) (Eqs. 56-60)
   ScopedTimer t(prof_, k_force_);
@@ -177,9 +236,22 @@ void Simulation::external_force(double t) {
   if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // LPSPH, WCSPH: O(N)
 }
 
+double Simulation::interpolation_length() const {
+  if (interp_ == MarkerInterpolation::BSpline) return std::min(fluid_->lattice().dx, fluid_->lattice().dy);
+  return fluid_->h();
+}
+
+void Simulation::stiff_forces() {
+  if (k_stiff_ < 0) return;
+  ScopedTimer t(prof_, k_stiff_);
+  const FluidParams& p = fluid_->params();
+  for (auto& s : mem_)
+    if (s.filter) s.filter->apply(s.force, s.f, s.U_n, {p.rho, p.mu, p.dt, s.h_star, interpolation_length()}, s.f_tilde);
+}
+
 void Simulation::spread_membrane_forces() {
   ScopedTimer t(prof_, k_spread_);
-  for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.f, s.m.ds(), F_);  // Eq. (53)
+  for (const auto& s : mem_) spread_force(grid_, s.W_star, s.m.X, s.filter ? s.f_tilde : s.f, s.m.ds(), F_);  // Eq. (53)
 }
 
 void Simulation::marker_velocities_now() {
@@ -194,6 +266,13 @@ void Simulation::marker_velocities_now() {
     if (s.U_revision == fluid_->revision()) s.U_n = s.U;  // the last marker update's u^n at X^n
     else marker_velocity(s.m.X, s.U_n);
   }
+}
+
+void Simulation::viscosity_now() {
+  ScopedTimer t(prof_, k_visc_);
+  X_now_.clear();
+  for (const auto& s : mem_) X_now_.push_back(&s.m.X);
+  contrast_->update(X_now_, *fluid_);
 }
 
 void Simulation::move_markers() {

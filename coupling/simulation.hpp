@@ -5,23 +5,31 @@
 #include <vector>
 
 #include "coupling/marker_update.hpp"
+#include "coupling/stiff_force.hpp"
+#include "coupling/viscosity_contrast.hpp"
 #include "fluid/solver.hpp"
 #include "fluid/neighbours.hpp"
-#include "membrane/hookean.hpp"
+#include "membrane/force.hpp"
 
 namespace sphib {
 
 struct MembraneSetup {
-  Membrane membrane;      // markers, rest length L0, T0
+  Membrane membrane;      // markers, reference state, material (law, moduli)
   double h_star = 0.05;   // spreading kernel's smoothing length h* (support 2h*)
   bool fixed = false;     // markers held in place (Section 5.2.1)
+  bool semi_implicit = false;  // the stiff-force filter (coupling/stiff_force.hpp)
+  // lambda = mu_in / mu of the fluid it encloses (a viscosity contrast: coupling/viscosity_contrast.hpp;
+  // method "eulerian" only); 1: the same fluid inside and out
+  double viscosity_ratio = 1.0;
 };
 
 // How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
-// of the interpolated stream function: a closed membrane keeps its area) or the paper's normalised
-// SPH interpolation, Eq. (63). Auto: divergence-free where the fluid method has a stream function
-// (EPSPH), SPH otherwise.
-enum class MarkerInterpolation { Auto, DivergenceFree, Sph };
+// of the stream function interpolated by the SPH kernel, or by tensor cubic B-splines on the
+// lattice: a closed membrane keeps its area) or the paper's normalised SPH interpolation, Eq. (63).
+// Auto: where the fluid method has a stream function (EPSPH), divergence-free, by B-splines when a
+// membrane has bending (the kernel's curl carries a lattice-scale ripple that bending amplifies);
+// SPH otherwise.
+enum class MarkerInterpolation { Auto, DivergenceFree, BSpline, Sph };
 
 struct SimulationParams {
   FluidParams fluid;
@@ -41,7 +49,9 @@ struct MembraneState {
   double h_star;
   bool fixed;
   CubicSplineKernel W_star;
-  HookeanForce hooke;
+  MembraneForce force;   // f, T and the energy by the membrane's law (membrane/force.hpp)
+  std::unique_ptr<StiffForceFilter> filter;  // semi_implicit: f~, the force spread (stiff_force.hpp)
+  Mat2 f_tilde;
   Mat2 f, U_n, U, X_n;  // force density, u^n(X^n), u^{n+1}(X^{n+1}), workspace
   Mat2 U_prev;          // u^{n-1}(X^{n-1}): the marker predictor's extrapolation
   bool U_n_known = false, U_prev_known = false;
@@ -78,13 +88,20 @@ class Simulation {
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+  // The viscosity contrast of the membranes (their indicators and m), or nullptr when every
+  // viscosity_ratio is 1.
+  const ViscosityContrast* viscosity_contrast() const { return contrast_.get(); }
   MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
+  // The smoothing length of the marker interpolation in use: h (SPH kernel) or the lattice spacing
+  // (B-splines).
+  double interpolation_length() const;
   // The marker velocity of the fluid's current state at the points X, by the interpolation in use;
   // with dU non-null also its gradient at X where the interpolation has one (returns whether it has).
   bool marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU = nullptr) const;
   // The coupling's floor: the bare kernels one step of it cannot avoid, each timed alone on the
   // current state, best of `reps` (as FluidSolver::floor_seconds for the fluid): the membrane
-  // forces, one spreading, the markers' stream function solve (divergence-free interpolation) and
+  // forces, the stiff-force filter (semi-implicit membranes), one spreading, the markers' stream
+  // function solve (divergence-free interpolations) and
   // one marker-velocity interpolation (with its gradient where the marker update linearises) per
   // free membrane. 0 without membranes.
   double coupling_floor_seconds(int reps = 20) const;
@@ -92,9 +109,11 @@ class Simulation {
  private:
   // The named parts of step():
   void external_force(double t);   // F = the body force at t
-  void spread_membrane_forces();   // F += S f (Eq. 53)
   void marker_velocities_now();    // U^n(X^n) of every free membrane
+  void stiff_forces();             // f~ of the semi-implicit membranes (coupling/stiff_force.hpp)
+  void spread_membrane_forces();   // F += S f (Eq. 53), f~ where semi-implicit
   void move_markers();             // the trapezoidal fixed point (Eqs. 56-60)
+  void viscosity_now();            // mu^n from the indicators of X^n (a viscosity contrast)
 
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
@@ -102,8 +121,10 @@ class Simulation {
   CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
+  std::unique_ptr<ViscosityContrast> contrast_;  // when some viscosity_ratio differs from 1
+  std::vector<const Mat2*> X_now_;                // its markers
   Profile prof_;
-  int k_force_, k_spread_, k_interp_, k_markers_;
+  int k_force_, k_spread_, k_interp_, k_markers_, k_stiff_ = -1, k_visc_ = -1;
 };
 
 }  // namespace sphib

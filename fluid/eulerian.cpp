@@ -79,6 +79,24 @@ void EulerianFluid::viscous_rhs(const Mat2& F) {
   p.conv = conv_.data();
   p.rhs = rhs_.data();
   predictor_rhs(p);
+  // A variable viscosity: its difference from the constant operator and its cross term, in the rows
+  // where the viscosity is not uniformly mu (fluid/variable_viscosity.hpp).
+  if (visc_ && visc_->active())
+    visc_->add_rhs(u_, c_wall_, c_star_, grad_phi_, prm_.dt / prm_.rho, prm_.dt * nu(), first_, rhs_);
+}
+
+void EulerianFluid::set_viscosity(const int* at, const double* m, int n) {
+  if (!visc_) {
+    bool uniform = true;
+    for (int q = 0; q < n && uniform; ++q) uniform = m[q] == 1.0;
+    if (uniform) return;  // nothing differs from the constant-viscosity step
+    VariableViscosityParams vp = visc_prm_;
+    vp.a = a_cn();
+    visc_ = std::make_unique<VariableViscosity>(pairs_, im_, size(), volume_, W_, crank_nicolson_matrix(), *cn_, vp);
+    k_visc_ = prof_.phase("variable viscosity (operator rows)");
+  }
+  ScopedTimer tm(prof_, k_visc_);
+  visc_->set(at, m, n);
 }
 
 void EulerianFluid::project() {
@@ -145,6 +163,7 @@ double EulerianFluid::poisson_residual() const {
 
 std::vector<SolverInfo> EulerianFluid::solver_info() const {
   std::vector<SolverInfo> v{cn_->info()};
+  if (visc_) v.push_back(visc_->solver().info());
   if (streams_ && exact()) v.push_back(streams_->psi_solver().info());
   if (poisson_) v.push_back(poisson_->info());
   if (streams_ && !exact() && streams_->has_psi_solver()) v.push_back(streams_->psi_solver().info());
@@ -170,6 +189,7 @@ std::vector<std::pair<std::string, double>> EulerianFluid::figures() const {
   std::vector<std::pair<std::string, double>> f{{"images", im_.size()},
                                                 {"neighbours_per_particle", static_cast<double>(pairs_.size()) / size()}};
   if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
+  if (visc_) f.emplace_back("variable_viscosity_cg_iterations", visc_->solver().mean_iterations());
   return f;
 }
 
@@ -200,11 +220,18 @@ double EulerianFluid::stream_function_floor_seconds(int reps) const {
 // projection, C^T u* and its flux (the markers' stream function of u^{n+1}).
 void EulerianFluid::extra_state(NamedArrays& st) const {
   st.emplace_back("conv_old", conv_old_);
+  if (visc_) visc_->save(st);
   if (exact()) streams_->save(st);
 }
 
 void EulerianFluid::restore_extra(const NamedArrays& st) {
   conv_old_ = state_entry(st, "conv_old", size(), 2);
+  bool has_visc = false;
+  for (const auto& e : st) has_visc |= e.first == "viscous_cross_old";
+  if (has_visc != static_cast<bool>(visc_))
+    throw std::runtime_error(visc_ ? "checkpoint: no variable viscosity's state, but this scene has one"
+                                   : "checkpoint: a variable viscosity's state, but this scene has none");
+  if (visc_) visc_->load(st);
   phi_step_ = n_;
   if (exact()) streams_->load(st, revision_);
 }

@@ -12,6 +12,7 @@
 #include "fluid/exact_projection.hpp"
 #include "fluid/fused_passes.hpp"
 #include "fluid/projection_core.hpp"
+#include "fluid/variable_viscosity.hpp"
 
 namespace sphib {
 
@@ -35,6 +36,15 @@ class EulerianFluid final : public ProjectionFluid {
   StreamFunction stream_function() const override;
   bool has_stream_function() const override { return true; }
 
+  // A variable viscosity mu m (fluid/variable_viscosity.hpp), made when some m first differs from 1:
+  // until then, and whenever every m is 1 again, the constant-viscosity step, unchanged.
+  bool supports_variable_viscosity() const override { return true; }
+  void set_viscosity(const int* at, const double* m, int n) override;
+  const VariableViscosity* variable_viscosity() const { return visc_.get(); }
+  // Its options (rtol, the form for m > 1: fluid/variable_viscosity.hpp) for the next set_viscosity
+  // that makes it (benchmarks; a and the rest are the fluid's).
+  void set_variable_viscosity_params(const VariableViscosityParams& p) { visc_prm_ = p; }
+
   std::vector<SolverInfo> solver_info() const override;
   double cn_mean_iterations() const { return cn_->mean_iterations(); }
   std::vector<std::string> describe() const override;
@@ -49,6 +59,7 @@ class EulerianFluid final : public ProjectionFluid {
  private:
   void viscous_rhs(const Mat2& F) override;  // Eqs. (28), (39)-(41) in one pass (fluid/fused_passes.hpp)
   void project() override;
+  LinearSolver& predictor_solver() override { return visc_ && visc_->active() ? visc_->solver_for_step(n_, first_) : *cn_; }
   void extra_state(NamedArrays& st) const override;
   void restore_extra(const NamedArrays& st) override;
   bool exact() const { return prm_.projection == Projection::Exact; }
@@ -60,6 +71,9 @@ class EulerianFluid final : public ProjectionFluid {
   Mat2 lap_star_;                   // B c* of the Laplacian (this step's images; zero off the wall rows)
   Mat2 conv_old_;                   // N^n kept for AB2 (Eq. 39)
   mutable std::unique_ptr<ExactProjection> streams_;  // made when first needed (approximate projection)
+  std::unique_ptr<VariableViscosity> visc_;           // made when a viscosity first differs from mu
+  VariableViscosityParams visc_prm_;
+  int k_visc_ = -1;                                   // its profile phase (set_viscosity)
   mutable long phi_step_ = 0;  // exact projection: the step phi_ belongs to
   int k_psi_;
 };

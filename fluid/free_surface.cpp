@@ -121,7 +121,15 @@ ParticleSet fill_particles(const Lattice& L, const FluidRegion& r) {
       if (in) pts.push_back(p);
     }
   }
-  if (pts.empty()) refuse(r.shape == FluidRegion::Shape::Block ? "fill.x" : "fill.radius", "the fluid region holds no particle of the lattice");
+  if (pts.empty() && r.shape == FluidRegion::Shape::Block) {  // name the extent that misses the lattice
+    bool column = false, row = false;
+    for (int i = 0; i < L.size(); ++i) {
+      column |= L.x(i, 0) >= r.x0 && L.x(i, 0) <= r.x1;
+      row |= L.x(i, 1) >= r.y0 && L.x(i, 1) <= r.y1;
+    }
+    refuse(column && !row ? "fill.y" : "fill.x", "the fluid region holds no particle of the lattice");
+  }
+  if (pts.empty()) refuse("fill.radius", "the fluid region holds no particle of the lattice");
   s.x.resize(static_cast<int>(pts.size()), 2);
   for (size_t k = 0; k < pts.size(); ++k) s.x.row(static_cast<int>(k)) = pts[k].transpose();
   return s;

@@ -132,11 +132,12 @@ void ProjectionFluid::viscous_predictor(const Mat2& F) {
   ScopedTimer tm(prof_, k_solve_cn_);
   // u and v: two right-hand sides of one factorisation. An iterative solver starts from the
   // linear extrapolation 2 u*_{n-1} - u*_{n-2} (direct solvers ignore it).
-  if (cn_->info().nnz_factor == 0) {
+  LinearSolver& cn = predictor_solver();
+  if (cn.info().nnz_factor == 0) {
     u_star_old_ = 2.0 * u_star_ - u_star_old_;
     u_star_old_.swap(u_star_);  // u_star_ = guess, u_star_old_ = u*_{n-1}
   }
-  cn_->solve(rhs_.data(), u_star_.data(), 2);
+  cn.solve(rhs_.data(), u_star_.data(), 2);
 }
 
 void ProjectionFluid::divergence_with_images(const Mat2& u, const Mat2& c, Vec& d) const {

@@ -107,6 +107,9 @@ class ProjectionFluid : public FluidSolver {
   // Eq. 22) and there is no Crank-Nicolson solve.
   virtual void viscous_rhs(const Mat2& F);
   virtual void project() { project_approximate(); }
+  // The solver of Eq. (28)'s matrix this step: cn_, or (EPSPH with a variable viscosity) the CG on
+  // the variable matrix (fluid/variable_viscosity.hpp).
+  virtual LinearSolver& predictor_solver() { return *cn_; }
   virtual void end_step() {}    // after t and n have advanced
   virtual void extra_state(NamedArrays&) const {}
   virtual void restore_extra(const NamedArrays&) {}  // (after the core's part: t_ and n_ are set)

@@ -45,6 +45,11 @@ void FluidSolver::restore(const NamedArrays&) {
   throw std::runtime_error("checkpoints are not available for method \"" + params().method + "\"");
 }
 
+void FluidSolver::set_viscosity(const int*, const double*, int) {
+  throw std::invalid_argument("a variable viscosity (membrane.viscosity_ratio != 1) is not available for method \"" +
+                              params().method + "\" (use method = \"eulerian\")");
+}
+
 WallForces FluidSolver::wall_forces() const {
   return wall_forces_by_interpolation(params().domain, x(), volumes(), p(), kernel(), lattice().dx, lattice().dy);
 }

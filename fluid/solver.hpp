@@ -166,6 +166,13 @@ class FluidSolver {
   // image walls); methods with wall particles of their own pressure sum those (A Eq. 32).
   virtual WallForces wall_forces() const;
 
+  // A viscosity that varies in space, mu_i = mu m_i (a viscosity contrast between the fluid inside
+  // and outside membranes: coupling/viscosity_contrast.hpp): m at the particles at[0..n), the others
+  // keeping theirs (every m is 1 at first), m > 0. Only methods for which supports_variable_viscosity
+  // holds (EPSPH: fluid/variable_viscosity.hpp); the others throw std::invalid_argument.
+  virtual bool supports_variable_viscosity() const { return false; }
+  virtual void set_viscosity(const int* at, const double* m, int n);
+
   // Everything that determines the following steps (for checkpoints), and its restoration into a
   // solver built from the same parameters. Methods without checkpoints throw std::runtime_error.
   virtual NamedArrays state() const;

@@ -46,6 +46,37 @@ void commit_part(const std::string& part, const std::string& path) {
   fsync_path(dir.empty() ? "." : dir.string(), true);
 }
 
+void publish_all(const std::vector<PartFile>& files) {
+  for (const PartFile& f : files) fsync_path(f.part, false);
+  std::error_code ec;
+  for (size_t k = 0; k < files.size(); ++k) {
+    fs::rename(files[k].part, files[k].path, ec);
+    if (!ec) continue;
+    const std::string why = ec.message();
+    for (size_t j = k; j-- > 0;) fs::rename(files[j].path, files[j].part, ec);
+    throw WriteError("cannot rename '" + files[k].part + "' to '" + files[k].path + "': " + why +
+                     " (the run's files stay .part)");
+  }
+  for (const PartFile& f : files) {
+    const fs::path dir = fs::path(f.path).parent_path();
+    fsync_path(dir.empty() ? "." : dir.string(), true);
+  }
+}
+
+PartFile write_part(const std::string& path, const std::string& content) {
+  const std::string part = part_path(path);
+  std::FILE* f = std::fopen(part.c_str(), "wb");
+  if (!f) throw WriteError("cannot open '" + part + "' for writing: " + std::strerror(errno));
+  const bool written = std::fwrite(content.data(), 1, content.size(), f) == content.size();
+  const int err = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!written || !closed) {
+    std::remove(part.c_str());
+    throw WriteError("cannot write '" + part + "': " + std::strerror(written ? errno : err));
+  }
+  return {part, path};
+}
+
 void write_file_atomic(const std::string& path, const std::string& content) {
   const std::string part = part_path(path);
   std::FILE* f = std::fopen(part.c_str(), "wb");

@@ -3,6 +3,7 @@
 // half-written one (a killed run leaves only `<path>.part`).
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sphib {
 
@@ -18,6 +19,19 @@ std::string part_path(const std::string& path);
 // fsync `part`, rename it over `path` (atomic on POSIX), fsync the directory.
 // Throws WriteError naming both files on failure.
 void commit_part(const std::string& part, const std::string& path);
+
+// A finished file still under its .part name, and the name it is published under.
+struct PartFile {
+  std::string part, path;
+};
+
+// Publishes finished files together: fsyncs every part, then renames each to its name; if a rename
+// fails, the ones done are renamed back (every file stays .part) and WriteError is thrown. The
+// directories are fsynced at the end.
+void publish_all(const std::vector<PartFile>& files);
+
+// Writes `content` to part_path(path) and fsyncs it (not yet published). Throws WriteError.
+PartFile write_part(const std::string& path, const std::string& content);
 
 // Write `content` to part_path(path), then commit_part. Throws WriteError naming the file.
 void write_file_atomic(const std::string& path, const std::string& content);

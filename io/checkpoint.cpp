@@ -1,5 +1,10 @@
 #include "io/checkpoint.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 
@@ -7,19 +12,29 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/atomic_file.hpp"
+#include "io/digest.hpp"
 #include "io/hdf5_writer.hpp"
 #include "sphib_version.hpp"
 
 namespace sphib {
 
+bool restart_may_change(const std::string& key) {
+  return key == "time.end" || key == "time.max_steps" || key.rfind("output.", 0) == 0 || key.rfind("limits.", 0) == 0 ||
+         key == "title";
+}
+
 namespace {
 
-// Layout (format 2):
-//   /                    attributes sphib_version, checkpoint_format (text)
+// Layout (format 3):
+//   bytes 0-511          the seal (an HDF5 user block, which HDF5 skips): "sphib checkpoint 3\n"
+//                        "sha256 <64 hex digits>\n", then zeros; the digest is of every byte after it
+//   /                    attributes sphib_version, checkpoint_format, scene_file (text)
 //   /scene               one text attribute per resolved scene key
 //   /fluid/<name>        FluidSolver::state(), each a matrix
 //   /membranes/<k>       X of membrane k; /marker_velocities/<k> U^n(X^n) of the free ones
@@ -34,6 +49,54 @@ namespace {
 
 [[noreturn]] void write_failed(const std::string& path, const std::string& what) {
   throw WriteError("checkpoint " + path + ": " + what);
+}
+
+constexpr long long kSealBytes = 512;  // the user block (HDF5 needs a power of two >= 512)
+const std::string kSealMagic = "sphib checkpoint " + std::to_string(kCheckpointFormat) + "\n";
+
+// A file descriptor closed at scope exit.
+struct Fd {
+  int fd;
+  ~Fd() { if (fd >= 0) ::close(fd); }
+};
+
+// The seal a checkpoint of these bytes carries: the magic line, the digest line, zeros.
+std::string seal_text(const std::string& digest) {
+  std::string s = kSealMagic + "sha256 " + digest + "\n";
+  s.resize(static_cast<size_t>(kSealBytes), '\0');
+  return s;
+}
+
+// Why the file at path, open as fd, is not a sealed checkpoint whose bytes are those it was sealed
+// with ("" if it is). Nothing of it is parsed as HDF5 before this holds.
+std::string seal_problem(int fd, const std::string& path) {
+  std::string head(static_cast<size_t>(kSealBytes), '\0');
+  const ssize_t n = ::pread(fd, head.data(), head.size(), 0);
+  if (n < 0) return std::string("cannot be read: ") + std::strerror(errno);
+  const std::string hdf5_signature = "\x89HDF\r\n\x1a\n";
+  if (n < kSealBytes || head.compare(0, kSealMagic.size(), kSealMagic) != 0) {
+    if (head.compare(0, hdf5_signature.size(), hdf5_signature) == 0) return "unsealed HDF5";
+    if (head.compare(0, 16, kSealMagic, 0, 16) == 0 && n >= kSealBytes)
+      return "it is a checkpoint of another format (" + head.substr(0, head.find('\n')) + "; this sphib reads format " +
+             std::to_string(kCheckpointFormat) + "): run the scene from the start";
+    return "not a sphib checkpoint (no checkpoint seal" + std::string(n < kSealBytes ? ", and shorter than one" : "") + ")";
+  }
+  const std::string digest_line = "sha256 ";
+  const size_t at = kSealMagic.size(), end = at + digest_line.size() + 64;
+  if (head.compare(at, digest_line.size(), digest_line) != 0 || head[end] != '\n' ||
+      head.find_first_not_of('\0', end + 1) != std::string::npos)
+    return "damaged: its seal (the first 512 bytes) is not as written";
+  const std::string sealed = head.substr(at + digest_line.size(), 64);
+  std::string now;
+  try {
+    now = sha256_file_hex(fd, kSealBytes, path);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  if (now != sealed)
+    return "damaged: its SHA-256 (" + now.substr(0, 16) + "...) is not the one sealed in it when it was written (" +
+           sealed.substr(0, 16) + "...): a changed bit, a truncated or an edited file cannot be trusted";
+  return "";
 }
 
 // Closes an HDF5 handle at scope exit.
@@ -115,12 +178,6 @@ std::string read_text(hid_t loc, const std::string& name, const std::string& pat
   return v[0];
 }
 
-// Keys that say how long to run, what to write and what the machine allows; a restart may change them.
-bool may_differ(const std::string& key) {
-  return key.rfind("time.end", 0) == 0 || key.rfind("time.max_steps", 0) == 0 || key.rfind("output.", 0) == 0 ||
-         key.rfind("limits.", 0) == 0 || key == "title";
-}
-
 double checkpoint_bytes(const Simulation& sim, const std::vector<std::pair<std::string, std::string>>& scene,
                         const Observers* observers) {
   double b = 0;
@@ -132,9 +189,10 @@ double checkpoint_bytes(const Simulation& sim, const std::vector<std::pair<std::
 }
 
 void write_state(hid_t f, const Simulation& sim, const std::vector<std::pair<std::string, std::string>>& scene,
-                 const std::string& path) {
+                 const std::string& scene_file, const std::string& path) {
   write_text(f, "sphib_version", SPHIB_VERSION, path);
   write_text(f, "checkpoint_format", std::to_string(kCheckpointFormat), path);
+  write_text(f, "scene_file", scene_file, path);
   H sc{H5Gcreate2(f, "scene", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
   for (const auto& [k, v] : scene) write_text(sc.id, k, v, path);
   H fl{H5Gcreate2(f, "fluid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
@@ -215,12 +273,14 @@ void require_finite(const Eigen::MatrixXd& m, const std::string& what, const std
 
 void write_checkpoint(const std::string& path, const Simulation& sim,
                       const std::vector<std::pair<std::string, std::string>>& scene, const std::string& run_id,
-                      const Observers* observers) {
+                      const Observers* observers, const std::string& scene_file) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const std::string part = part_path(path);
   {
     errno = 0;
-    H f{H5Fcreate(part.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose};
+    H fcpl{H5Pcreate(H5P_FILE_CREATE), H5Pclose};
+    H5Pset_userblock(fcpl.id, static_cast<hsize_t>(kSealBytes));  // room for the seal
+    H f{H5Fcreate(part.c_str(), H5F_ACC_TRUNC, fcpl.id, H5P_DEFAULT), H5Fclose};
     if (f.id < 0) {  // (a full disk: HDF5 may have made the file without its superblock)
       const std::string why = errno ? std::string(": ") + std::strerror(errno) : "";
       std::remove(part.c_str());
@@ -228,7 +288,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim,
     }
     try {
       reserve_hdf5_space(f.id, checkpoint_bytes(sim, scene, observers), part);
-      write_state(f.id, sim, scene, path);
+      write_state(f.id, sim, scene, scene_file, path);
       if (observers) write_run(f.id, run_id, *observers, path);
       if (H5Fflush(f.id, H5F_SCOPE_GLOBAL) < 0) write_failed(path, "cannot flush (disk full?)");
     } catch (...) {
@@ -237,20 +297,87 @@ void write_checkpoint(const std::string& path, const Simulation& sim,
       std::remove(part.c_str());
       throw;
     }
+    const hid_t id = f.id;
+    f.id = -1;
+    if (H5Fclose(id) < 0) {
+      std::remove(part.c_str());
+      write_failed(path, "cannot close " + part + " (disk full?)");
+    }
+  }
+  try {
+    seal_checkpoint(part);
+  } catch (const std::exception& e) {
+    std::remove(part.c_str());
+    write_failed(path, e.what());
   }
   commit_part(part, path);
 }
 
+void seal_checkpoint(const std::string& path) {
+  const Fd f{::open(path.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW)};
+  if (f.fd < 0) throw WriteError("cannot open " + path + " to seal it: " + std::strerror(errno));
+  const std::string seal = seal_text(sha256_file_hex(f.fd, kSealBytes, path));
+  if (::pwrite(f.fd, seal.data(), seal.size(), 0) != static_cast<ssize_t>(seal.size()))
+    throw WriteError("cannot write the seal of " + path + ": " + std::strerror(errno));
+}
+
+namespace {
+
+// Why an HDF5 file without a seal is not a checkpoint this sphib reads (it never was one, so no
+// damage of a sealed checkpoint is parsed here: one changed bit cannot move the seal's HDF5
+// signature from byte 512 to byte 0).
+std::string unsealed_kind(const std::string& path) {
+  H f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+  if (f.id >= 0 && H5Lexists(f.id, "snapshots", H5P_DEFAULT) > 0)
+    return "a run's output file (its snapshots), not a checkpoint: restart from the checkpoint.h5 beside it";
+  if (f.id >= 0 && H5Aexists(f.id, "checkpoint_format") > 0)
+    return "written in checkpoint format " + read_text(f.id, "checkpoint_format", path) + " (this sphib reads format " +
+           std::to_string(kCheckpointFormat) + ", sealed with its SHA-256): run the scene from the start";
+  return "an HDF5 file, not a sphib checkpoint (no checkpoint seal)";
+}
+
+// Opens the verified file: a failure now is HDF5's file locking (another program has it open for
+// writing) or a file that changed since it was verified.
+hid_t open_verified(const std::string& path) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f >= 0) return f;
+  H fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+  H5Pset_file_locking(fapl.id, false, true);
+  H unlocked{H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.id), H5Fclose};
+  if (unlocked.id >= 0)
+    refuse(path, "it is locked by another program that has it open for writing (HDF5 file locking, e.g. h5py's 'r+'): "
+                 "close it there first");
+  refuse(path, "cannot open it as HDF5 although its seal holds (changed while it was read?)");
+}
+
+}  // namespace
+
 Checkpoint read_checkpoint(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  H f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
-  if (f.id < 0) refuse(path, "cannot open it as HDF5 (missing, or not a checkpoint)");
+  // A plain file, verified against its seal before HDF5 parses a byte of it (a FIFO would block, a
+  // damaged file could mislead or crash HDF5).
+  struct stat st {};
+  if (path.empty()) refuse("\"\"", "no file named (an empty --restart)");
+  if (::stat(path.c_str(), &st) != 0) refuse(path, std::string("cannot be read: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) refuse(path, "not a plain file (a directory, a FIFO or a device): not a checkpoint");
+  {
+    const Fd fd{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK)};
+    if (fd.fd < 0) refuse(path, std::string("cannot be read: ") + std::strerror(errno));
+    // HDF5 locks a file it writes (flock, exclusive): such a file is changing under the reader.
+    if (::flock(fd.fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK)
+      refuse(path, "it is locked by another program that has it open for writing (HDF5 file locking, e.g. h5py's "
+                   "'r+'): close it there first");
+    const std::string why = seal_problem(fd.fd, path);
+    if (why == "unsealed HDF5") refuse(path, unsealed_kind(path));
+    if (!why.empty()) refuse(path, why);
+  }
+  H f{open_verified(path), H5Fclose};
   Checkpoint c;
   if (H5Aexists(f.id, "sphib_version") <= 0) refuse(path, "not a sphib checkpoint (no sphib_version)");
   if (H5Aexists(f.id, "checkpoint_format") <= 0 || read_text(f.id, "checkpoint_format", path) != std::to_string(kCheckpointFormat))
-    refuse(path, "written in an older checkpoint format (this sphib reads format " + std::to_string(kCheckpointFormat) +
-                     "): run the scene from the start");
+    refuse(path, "not written in checkpoint format " + std::to_string(kCheckpointFormat) + ": run the scene from the start");
   c.version = read_text(f.id, "sphib_version", path);
+  if (H5Aexists(f.id, "scene_file") > 0) c.scene_file = read_text(f.id, "scene_file", path);
   H sc{H5Gopen2(f.id, "scene", H5P_DEFAULT), H5Gclose};
   if (sc.id < 0) refuse(path, "no scene group");
   c.scene = read_group_texts(sc.id, path);
@@ -298,11 +425,11 @@ void restore_checkpoint(const Checkpoint& c, const std::string& path,
     refuse(path, "written by sphib " + c.version + ", this is " + SPHIB_VERSION);
   std::map<std::string, std::string> saved(c.scene.begin(), c.scene.end()), now(scene.begin(), scene.end());
   for (const auto& [k, v] : now)
-    if (!may_differ(k) && (!saved.count(k) || saved[k] != v))
+    if (!restart_may_change(k) && !restates_other_keys(k) && (!saved.count(k) || saved[k] != v))
       refuse(path, "its scene does not match: " + k + " = " + (saved.count(k) ? saved[k] : "(unset)") +
                        " in the checkpoint, " + v + " now");
   for (const auto& [k, v] : saved)
-    if (!may_differ(k) && !now.count(k)) refuse(path, "its scene does not match: " + k + " = " + v + " is not set now");
+    if (!restart_may_change(k) && !restates_other_keys(k) && !now.count(k)) refuse(path, "its scene does not match: " + k + " = " + v + " is not set now");
   if (c.markers.size() != sim.membranes().size()) refuse(path, "it has a different number of membranes");
   try {
     sim.fluid().restore(c.fluid);
@@ -316,6 +443,37 @@ void restore_checkpoint(const Checkpoint& c, const std::string& path,
   }
   if (!(std::isfinite(sim.time()) && sim.time() >= 0) || sim.steps() < 0)
     refuse(path, "its clock is not valid (t = " + std::to_string(sim.time()) + ", step " + std::to_string(sim.steps()) + ")");
+  // t is the sum of `steps` steps of dt: each addition rounds by at most eps t <= eps n dt, so
+  // |t - n dt| <= n^2 eps dt (and never half a step).
+  const double dt = sim.fluid().params().dt, n = static_cast<double>(sim.steps());
+  const double tol = std::min(0.5, 1e-9 + n * n * 2.3e-16) * dt;
+  if (!(std::fabs(sim.time() - n * dt) <= tol)) {
+    std::ostringstream m;
+    m.precision(17);
+    m << "its clock is not valid: t = " << sim.time() << " at step " << sim.steps() << " is not " << sim.steps()
+      << " steps of time.dt = " << dt << " (" << n * dt << ")";
+    refuse(path, m.str());
+  }
+}
+
+Scene checkpoint_scene(const Checkpoint& c, const std::string& path, const std::vector<std::string>& overrides) {
+  for (const std::string& kv : overrides) {
+    const std::string key = kv.substr(0, kv.find('='));
+    if (!restart_may_change(key))
+      refuse(path, "--set " + key + ": a restart keeps the checkpoint's scene; it may change only time.end, "
+                   "time.max_steps, output.*, limits.* and title (run the scene from the start to change " + key + ")");
+  }
+  namespace fs = std::filesystem;
+  const std::string name = c.scene_file.empty() ? path + " (its scene)" : c.scene_file;
+  const std::string base = c.scene_file.empty() ? fs::path(path).parent_path().string() : fs::path(c.scene_file).parent_path().string();
+  Scene s;
+  try {
+    s = scene_from_values(c.scene, name, overrides, base.empty() ? "." : base);
+  } catch (const SceneError& e) {
+    refuse(path, std::string("its scene: ") + e.what());
+  }
+  s.path = name;
+  return s;
 }
 
 }  // namespace sphib

@@ -73,6 +73,11 @@ void CsvWriter::row(const std::vector<double>& values) {
 
 void CsvWriter::close() {
   if (!file_) return;
+  commit_part(close_to_part().part, path_);
+}
+
+PartFile CsvWriter::close_to_part() {
+  if (!file_) throw std::logic_error("CsvWriter '" + path_ + "': closed twice");
   std::FILE* f = file_;
   file_ = nullptr;  // closed even if the final flush fails: never retried
   const bool flushed = std::fflush(f) == 0;
@@ -81,7 +86,7 @@ void CsvWriter::close() {
     errno = flushed ? errno : err;
     fail("close of");
   }
-  commit_part(part_, path_);
+  return {part_, path_};
 }
 
 void CsvWriter::abandon() {

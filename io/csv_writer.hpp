@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "io/atomic_file.hpp"
+
 namespace sphib {
 
 class CsvWriter {
@@ -22,6 +24,9 @@ class CsvWriter {
   // Throws WriteError naming the file if the write fails (e.g. disk full).
   void row(const std::vector<double>& values);
   void close();  // flush, fsync, rename path.part -> path; idempotent
+  // Flush and close, leaving path.part for publish_all (io/atomic_file.hpp) to rename with the run's
+  // other files. Throws WriteError.
+  PartFile close_to_part();
   void abandon();  // close without the rename: path.part stays, incomplete by its name (a run that failed to write)
 
   const std::string& path() const { return path_; }

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -20,11 +21,19 @@ namespace {
 //     approximate 165-189;
 //   EPSPH, CHOLMOD (a box, doubly periodic, or solvers chosen): the factors grow like log2 N:
 //     exact 34-51 x log2 N, approximate 11-25 x log2 N (44 and 22 keep 64^2-256^2 within 18%);
-//   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N).
-// The constants are chosen for the main path's error across 64^2-1024^2 (README "Memory").
+//   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N);
+//   ISPH (cases/dam_break.toml at 200 x 800 to 800 x 3200, 5000-80000 fluid particles;
+//     still_tank_isph.toml at 160^2): 14-19 x log2 N, N the fluid particles (not the lattice's sites).
+// The constants are chosen for the main path's error across 64^2-1024^2 (docs/performance/memory.md).
 constexpr double kFftExact = 325, kFftApproximate = 185;
 constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;
+constexpr double kIsphPerLog = 19;
+// Bytes per membrane marker at a run's peak (positions, forces, tension, the spline, the spreading's
+// and the interpolation's weights, the marker update's iterates): 541-553 kB per 1000 markers,
+// measured from the peaks of two-step runs of membrane_oscillation.toml at Nb = 1e5, 3e5 and 1e6 on
+// 32^2, 64^2 and 128^2 lattices and h* = 0.7, 1.4, 2.8 h (docs/data_safety.md, "Memory").
+constexpr double kPerMarker = 570;
 // The run's fixed overhead over the process before it (OpenMP threads, HDF5, FFTW, CHOLMOD):
 // a 16^2 run peaks at 32.2 MB, the command holds 15.7 MB when it estimates (/proc/self/statm).
 constexpr double kOverhead = 16.5e6;
@@ -50,6 +59,22 @@ long lattice_neighbours(const FluidParams& f) {
   return n;
 }
 
+// The particles a run starts with: the lattice, or for a fluid region (free-surface methods) the
+// lattice sites inside it, counted by its area (a block or circle of the lattice's sites; rings hold
+// as many to within one ring).
+long particle_count(const FluidParams& f) {
+  const double lattice = static_cast<double>(f.nx) * f.ny;
+  const FluidRegion& r = f.free_surface.fill;
+  if (r.shape == FluidRegion::Shape::Domain) return static_cast<long>(lattice);
+  const Domain& d = f.domain;
+  double area = 0;
+  if (r.shape == FluidRegion::Shape::Block)
+    area = std::max(0.0, std::min(r.x1, d.x1) - std::max(r.x0, d.x0)) * std::max(0.0, std::min(r.y1, d.y1) - std::max(r.y0, d.y0));
+  else
+    area = M_PI * r.radius * r.radius;
+  return static_cast<long>(std::ceil(std::min(1.0, area / (d.Lx() * d.Ly())) * lattice));
+}
+
 // EPSPH's systems go to the lattice solvers of fluid/fft_poisson.hpp on every domain kind (channel,
 // closed box, doubly periodic) unless a solver key asks for another.
 bool fft_solvers(const FluidParams& f) {
@@ -72,7 +97,7 @@ std::string bytes_text(double b) {
 MemoryEstimate estimate_memory(const Scene& s) {
   const FluidParams& f = s.sim.fluid;
   MemoryEstimate e;
-  e.particles = static_cast<long>(f.nx) * f.ny;
+  e.particles = particle_count(f);
   e.neighbours = lattice_neighbours(f);
   const double log2N = std::log2(std::max(2.0, static_cast<double>(e.particles)));
   const bool approximate = f.projection == Projection::Approximate ||
@@ -80,6 +105,9 @@ MemoryEstimate estimate_memory(const Scene& s) {
   if (f.method == "wcsph") {
     e.path = "WCSPH";
     e.per_neighbour = kWcsph;
+  } else if (f.method == "isph") {
+    e.path = "ISPH";
+    e.per_neighbour = kIsphPerLog * log2N;
   } else if (f.method == "lagrangian") {
     e.path = "LPSPH";
     e.per_neighbour = kLagrangianPerLog * log2N;
@@ -92,7 +120,9 @@ MemoryEstimate estimate_memory(const Scene& s) {
   }
   e.base = resident_bytes() + kOverhead;
   e.fluid = static_cast<double>(e.particles) * static_cast<double>(e.neighbours) * e.per_neighbour;
-  e.bytes = e.base + e.fluid;
+  for (const MembraneScene& m : s.membranes) e.marker_count += m.nb;
+  e.markers = kPerMarker * static_cast<double>(e.marker_count);
+  e.bytes = e.base + e.fluid + e.markers;
   return e;
 }
 
@@ -127,7 +157,9 @@ std::string memory_problem(const Scene& s, const MemoryEstimate& e, const Machin
   if (!(limit > 0) || e.bytes <= limit) return "";
   std::ostringstream w;
   w << "the run would need about " << bytes_text(e.bytes) << " (" << e.particles << " particles x " << e.neighbours
-    << " neighbours x " << bytes_text(e.per_neighbour) << ", " << e.path << ", + " << bytes_text(e.base) << "), more than ";
+    << " neighbours x " << bytes_text(e.per_neighbour) << ", " << e.path;
+  if (e.marker_count > 0) w << ", + " << e.marker_count << " markers x " << bytes_text(kPerMarker);
+  w << ", + " << bytes_text(e.base) << "), more than ";
   if (s.memory_limit_gb > 0) w << "limits.memory_gb = " << s.memory_limit_gb;
   else w << "this machine's " << bytes_text(m.bytes) << " (" << m.source << ")";
   w << "; set limits.memory_gb to run it anyway (see `sphib check`)";

@@ -10,7 +10,8 @@
 // (pairs, operator matrices, their images, factors, the set-up's temporaries). c was measured for each
 // path (/usr/bin/time -v, peak resident memory of two-step runs at 64^2-256^2 and h_over_dx
 // 0.9-2.0; see io/footprint.cpp); bench/memory_estimate.sh compares the estimate with the peak
-// measured at 64^2 to 1024^2.
+// measured at 64^2 to 1024^2. Markers add a fixed amount each (measured at 32^2-128^2, Nb 1e5-1e6,
+// h* 0.7-2.8 h: it depends on neither the lattice nor h*).
 #include <string>
 
 namespace sphib {
@@ -21,6 +22,8 @@ struct MemoryEstimate {
   double bytes = 0;          // the run's peak resident memory: base + fluid
   double base = 0;           // this process now and the run's fixed overhead
   double fluid = 0;          // N x n2 x per_neighbour
+  double markers = 0;        // the membranes' markers: Nb x per_marker, summed over membranes
+  long marker_count = 0;     // their Nb, summed
   long particles = 0;        // N
   long neighbours = 0;       // n2: lattice neighbours inside the support 2h (the sparsity of every operator)
   double per_neighbour = 0;  // c: bytes per particle and neighbour of the path

@@ -501,6 +501,14 @@ void Hdf5Writer::close() {
     abandon();
     return;
   }
+  publish_all(close_to_parts());
+}
+
+std::vector<PartFile> Hdf5Writer::close_to_parts() {
+  if (file_ < 0 || broken_) {
+    abandon();
+    throw WriteError("'" + part_ + "' cannot be completed (closed, or a write to it failed)");
+  }
   std::set<long> counts;  // one vertex connectivity per count of moving particles
   for (const auto& s : snapshots_)
     if (s.lattice.empty() && !s.lattice_pending) counts.insert(s.n);
@@ -541,10 +549,10 @@ void Hdf5Writer::close() {
     throw;
   }
   check(H5Fclose(file), part_, "H5Fclose");
-  commit_part(part_, path_);
-  write_file_atomic(xdmf_path(), xdmf_text(false));
+  std::vector<PartFile> parts{{part_, path_}, write_part(xdmf_path(), xdmf_text(false))};
   const bool membranes = std::any_of(snapshots_.begin(), snapshots_.end(), [](const auto& s) { return !s.nb.empty(); });
-  if (membranes) write_file_atomic(membranes_xdmf_path(), xdmf_text(true));
+  if (membranes) parts.push_back(write_part(membranes_xdmf_path(), xdmf_text(true)));
+  return parts;
 }
 
 // XDMF (read by ParaView 5.11's Xdmf3 reader, its default, and its legacy XDMF reader): a temporal

@@ -36,6 +36,7 @@
 
 #include "fluid/lattice.hpp"
 #include "fluid/types.hpp"
+#include "io/atomic_file.hpp"
 
 namespace sphib {
 
@@ -92,6 +93,9 @@ class Hdf5Writer {
   // Closes the HDF5 file, renames path.part -> path, writes the XDMF (tmp + rename). Idempotent.
   // After a failed write it only closes (what HDF5 still can): path.part stays, incomplete by name.
   void close();
+  // The same, but leaves path.part and the XDMF files' .part for publish_all (io/atomic_file.hpp) to
+  // rename with the run's other files; returns them. Throws WriteError (every file stays .part).
+  std::vector<PartFile> close_to_parts();
   // Closes without completing: path.part stays (a run that could not write its output). Idempotent.
   void abandon();
 

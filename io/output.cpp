@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "io/checkpoint.hpp"
 #include "io/scene_checks.hpp"
@@ -29,6 +30,15 @@ RunAttributes attributes(const Scene& scene, const Simulation& sim) {
   return a;
 }
 
+// The scene's path made absolute ("" if it has none): a restart from the checkpoint alone takes
+// observe.reference_dir relative to it.
+std::string scene_file(const Scene& scene) {
+  std::error_code ec;
+  if (scene.path.empty()) return "";
+  const std::filesystem::path p = std::filesystem::absolute(scene.path, ec);
+  return ec ? "" : p.lexically_normal().string();
+}
+
 // Steps between outputs (0: none); an interval longer than any run never falls due.
 long steps_per(double interval, double dt) {
   if (!(interval > 0)) return 0;
@@ -51,14 +61,22 @@ RunOutput::RunOutput(const Scene& scene, const Simulation& sim, const Observers&
       observers_(observers),
       run_id_(target.run_id),
       h5_(open_hdf5(scene, sim, target)),
-      csv_(target.dir + "/diagnostics.csv", observers.columns()),
+      dir_(target.dir),
       checkpoint_path_(target.dir + "/checkpoint.h5"),
+      scene_file_(scene_file(scene)),
       snapshot_every_(steps_per(scene.output_interval, sim.fluid().params().dt)),
       checkpoint_every_(steps_per(scene.checkpoint_interval, sim.fluid().params().dt)),
       u_(sim.fluid().size()),
       v_(sim.fluid().size()) {
   for (double t : scene.output_times) snapshot_steps_.push_back(std::lround(t / sim.fluid().params().dt));
-  for (const auto& r : observers.series().rows) csv_.row(r);  // a restart's series so far
+  try {  // a failure leaves output.h5.part as it is: never completed under its final name
+    csv_ = std::make_unique<CsvWriter>(target.dir + "/diagnostics.csv", observers.columns());
+    for (const auto& r : observers.series().rows) csv_->row(r);  // a restart's series so far
+  } catch (...) {
+    h5_->abandon();
+    if (csv_) csv_->abandon();
+    throw;
+  }
 }
 
 RunOutput::~RunOutput() { abandon(); }
@@ -78,7 +96,7 @@ void RunOutput::write_due(const Simulation& sim) {  // the restart point first: 
 }
 
 void RunOutput::checkpoint(const Simulation& sim) {
-  write_checkpoint(checkpoint_path_, sim, scene_.resolved, run_id_, &observers_);
+  write_checkpoint(checkpoint_path_, sim, scene_.resolved, run_id_, &observers_, scene_file_);
   checkpoint_time_ = sim.time();
 }
 
@@ -108,17 +126,29 @@ void RunOutput::snapshot(const Simulation& sim) {
 void RunOutput::finish(const Simulation& sim, bool good) {
   if (good) snapshot(sim);
   h5_->write_series("diagnostics", observers_.columns(), observers_.series().rows);
-  h5_->close();
-  csv_.close();
-  done_ = true;
+  done_ = true;  // from here on, what is closed stays .part unless published
+  try {
+    parts_ = h5_->close_to_parts();
+  } catch (...) {
+    csv_->abandon();
+    throw;
+  }
+  parts_.push_back(csv_->close_to_part());
   if (good && sim.steps() > 0) checkpoint(sim);
+}
+
+void RunOutput::publish(const std::string& summary) {
+  std::vector<PartFile> all = parts_;
+  all.push_back(write_part(dir_ + "/summary.json", summary));
+  publish_all(all);
+  parts_.clear();
 }
 
 void RunOutput::abandon() {
   if (done_) return;
   done_ = true;
   h5_->abandon();
-  csv_.abandon();
+  csv_->abandon();
 }
 
 }  // namespace sphib

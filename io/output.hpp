@@ -27,15 +27,18 @@ class RunOutput {
   RunOutput(const Scene& scene, const Simulation& sim, const Observers& observers, const OutputTarget& target);
   ~RunOutput();  // neither finished nor abandoned (an exception on its way out): abandons
 
-  void row(const std::vector<double>& values) { csv_.row(values); }
+  void row(const std::vector<double>& values) { csv_->row(values); }
   bool due(long step) const;            // a snapshot or a checkpoint falls on this step
   bool snapshot_due(long step) const;   // a snapshot (output.interval or output.times) falls on this step
   void write_due(const Simulation& sim);  // the snapshot and checkpoint due now
   void snapshot(const Simulation& sim);
   void checkpoint(const Simulation& sim);  // dir/checkpoint.h5 with the observers' series and state
-  // The last good state (none after a fault: a faulty state is never written), the series, close;
-  // then the checkpoint of that state.
+  // The last good state (none after a fault: a faulty state is never written), the series, closed
+  // but still .part; then the checkpoint of that state.
   void finish(const Simulation& sim, bool good);
+  // After finish: writes the summary (JSON text) and renames every file of the run to its final
+  // name together, summary.json last (publish_all: a failure leaves them all .part).
+  void publish(const std::string& summary);
   void abandon();  // closes without completing (after a write error): the .part files stay
 
   // The last checkpoint written by this run (t < 0: none).
@@ -47,8 +50,11 @@ class RunOutput {
   const Observers& observers_;
   std::string run_id_;
   std::unique_ptr<Hdf5Writer> h5_;
-  CsvWriter csv_;
+  std::unique_ptr<CsvWriter> csv_;
+  std::string dir_;
+  std::vector<PartFile> parts_;  // finished, not yet published
   std::string checkpoint_path_;
+  std::string scene_file_;  // kept in checkpoints
   double checkpoint_time_ = -1;
   long snapshot_every_ = 0, checkpoint_every_ = 0;  // steps (0: only the first and last snapshot, the last checkpoint)
   bool done_ = false;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -39,9 +40,19 @@ std::string owner_text() {
   return "pid " + std::to_string(::getpid()) + " on " + host + ", started " + when + "\n";
 }
 
+// Why the open file is not a lock this run may write ("" if it is): a lock is a plain file with one
+// name (a hard link to a user's file would be truncated and overwritten through it).
+std::string not_a_lock(int fd) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return std::string("cannot be examined: ") + std::strerror(errno);
+  if (!S_ISREG(st.st_mode)) return "is not a plain file";
+  if (st.st_nlink != 1) return "has " + std::to_string(st.st_nlink) + " names (a hard link to another file)";
+  return "";
+}
+
 bool same_file(int fd, const std::string& path) {
   struct stat a {}, b {};
-  return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_ino == b.st_ino && a.st_dev == b.st_dev;
+  return ::fstat(fd, &a) == 0 && ::lstat(path.c_str(), &b) == 0 && a.st_ino == b.st_ino && a.st_dev == b.st_dev;
 }
 
 }  // namespace
@@ -60,11 +71,23 @@ OutputDirectory::OutputDirectory(std::string dir) : dir_(std::move(dir)) {
     throw WriteError("output directory " + dir_ + " cannot be created" + (ec ? ": " + ec.message() : ": a file has its name"));
   const std::string lock = file(kLock);
   for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
-    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // Never through a link: a symbolic link is not followed (O_NOFOLLOW), a FIFO does not block
+    // (O_NONBLOCK), and anything but a plain file of one name is refused before it is written.
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
     if (fd < 0) {
-      const std::string why = std::strerror(errno);
+      const int err = errno;
       abandon();
-      throw WriteError("output directory " + dir_ + ": cannot create its lock file " + lock + ": " + why);
+      if (err == ELOOP)
+        throw LockRefused("output directory " + dir_ + ": its lock file " + lock +
+                          " is a symbolic link (not a sphib lock; nothing was written through it): remove it, or give "
+                          "this run another --out");
+      throw WriteError("output directory " + dir_ + ": cannot create its lock file " + lock + ": " + std::strerror(err));
+    }
+    if (const std::string why = not_a_lock(fd); !why.empty()) {
+      ::close(fd);
+      abandon();
+      throw LockRefused("output directory " + dir_ + ": its lock file " + lock + " " + why +
+                        " (not a sphib lock; nothing was written to it): remove it, or give this run another --out");
     }
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
@@ -110,17 +133,36 @@ std::vector<std::string> OutputDirectory::earlier_files() const {
 }
 
 std::vector<std::string> OutputDirectory::remove_earlier_files(const std::vector<std::string>& keep, bool parts_only) {
-  std::vector<std::string> removed;
+  std::vector<std::string> doomed;
   std::error_code ec;
   for (const std::string& n : earlier_files()) {
-    if (parts_only && n.size() < 5) continue;
-    if (parts_only && n.compare(n.size() - 5, 5, ".part") != 0) continue;
+    if (parts_only && (n.size() < 5 || n.compare(n.size() - 5, 5, ".part") != 0)) continue;
     if (std::any_of(keep.begin(), keep.end(), [&](const std::string& k) { return !k.empty() && fs::equivalent(file(n), k, ec); }))
       continue;
-    if (!fs::remove(file(n), ec) || ec) throw WriteError("cannot remove the earlier run's " + file(n) + ": " + ec.message());
-    removed.push_back(n);
+    const fs::file_status st = fs::symlink_status(file(n), ec);
+    if (!fs::is_regular_file(st) && !fs::is_symlink(st))
+      throw LockRefused("output directory " + dir_ + ": " + n + " is not a file a run wrote (a directory or a device): " +
+                        "nothing was removed or written; move it away, or give this run another --out");
+    doomed.push_back(n);
   }
-  return removed;
+  if (doomed.empty()) return doomed;
+  // All or nothing: every file is first moved into a directory of its own (a rename, which needs no
+  // new inode for the file), and moved back if one cannot be; only then is that directory removed.
+  std::string trash = file(".sphib-removing-XXXXXX");
+  if (!::mkdtemp(trash.data()))
+    throw WriteError("cannot remove the earlier run's files in " + dir_ + " (nothing was removed): cannot create " + trash +
+                     ": " + std::strerror(errno));
+  std::vector<std::string> moved;
+  for (const std::string& n : doomed) {
+    fs::rename(file(n), trash + "/" + n, ec);
+    if (!ec) { moved.push_back(n); continue; }
+    const std::string why = ec.message();
+    for (const std::string& m : moved) fs::rename(trash + "/" + m, file(m), ec);
+    fs::remove(trash, ec);
+    throw WriteError("cannot remove the earlier run's " + file(n) + ": " + why + " (nothing was removed)");
+  }
+  fs::remove_all(trash, ec);  // the run's names are free now; a leftover here is only space
+  return doomed;
 }
 
 }  // namespace sphib

@@ -3,7 +3,8 @@
 // writes or removes anything there, so a second run into the same directory is refused before it
 // touches a file, and the first run's output stays intact. The lock file holds the owner's pid and
 // start time, and is removed when the run ends (a killed run's stale lock file is taken over: the
-// kernel released its lock).
+// kernel released its lock). It is opened without following links and written only when it is a plain
+// file with one name.
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,6 +13,12 @@ namespace sphib {
 
 // Another run holds the directory (nothing was written; the command's exit status 2).
 struct DirectoryBusy : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// DIR/.sphib.lock is not a lock this run may write (a symbolic link, a hard link to another file, not
+// a plain file), or a run's file name there is not a file: nothing was written (exit status 2).
+struct LockRefused : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
@@ -37,7 +44,8 @@ class OutputDirectory {
   // The files of earlier runs present now (run_file_names() and their .part siblings).
   std::vector<std::string> earlier_files() const;
   // Removes them (only the .part ones if parts_only), but not those in `keep` (e.g. the checkpoint a
-  // restart reads); returns their names.
+  // restart reads); returns their names. All or nothing: a name that is not a file (a directory)
+  // throws LockRefused and one that cannot be moved throws WriteError, with every file still there.
   std::vector<std::string> remove_earlier_files(const std::vector<std::string>& keep = {}, bool parts_only = false);
 
  private:

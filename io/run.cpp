@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "io/atomic_file.hpp"
@@ -44,7 +45,7 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
   const bool membranes = !scene.membranes.empty();
   if (scene.exact == "membrane_equilibrium" && membranes) {
     const MembraneScene& m = scene.membranes[0];
-    o.add(membrane_equilibrium(sim, m.radius, m.r0, m.T0));
+    o.add(membrane_equilibrium(sim, m.radius, m.r0));
   }
   o.add(user_observers(scene.observers));
   o.add(membrane_shapes(sim));
@@ -53,12 +54,14 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
   return o;
 }
 
-// How long, and how often a diagnostics row.
+// How long, and how often a diagnostics row; whether time.max_steps ends the run before time.end.
 struct Schedule {
   long steps, sample_every;
+  bool by_max_steps;
   explicit Schedule(const Scene& s)
       : steps(planned_steps(s)),
-        sample_every(s.diagnostics_every > 0 ? s.diagnostics_every : std::max<long>(1, steps / 500)) {}
+        sample_every(s.diagnostics_every > 0 ? s.diagnostics_every : std::max<long>(1, steps / 500)),
+        by_max_steps(s.max_steps > 0 && s.max_steps < std::round(s.t_end / s.sim.fluid.dt)) {}
 };
 
 // The run log's opening: the scene, the fluid's set-up (its describe() lines), the membranes and
@@ -75,9 +78,16 @@ std::string setup_report(const Scene& scene, const Simulation& sim, double setup
     << fl.setup_seconds("assembly") << " s, factorisation " << fl.setup_seconds("factorisation") << " s)";
   for (size_t k = 0; k < sim.membranes().size(); ++k) {
     const auto& ms = sim.membranes()[k];
-    m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0 << ", T0 = " << ms.m.T0
-      << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << ", markers per grid spacing "
-      << fl.lattice().dx / ms.m.ds();
+    m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0() << ", " << describe(ms.m.mat)
+      << ", h* = " << ms.h_star << (ms.fixed ? ", fixed" : ", free") << (ms.filter ? ", semi-implicit force" : "")
+      << ", markers per grid spacing " << fl.lattice().dx / ms.m.ds();
+  }
+  if (!sim.membranes().empty()) {
+    const MarkerInterpolation i = sim.interpolation();
+    m << "\n  marker velocity: "
+      << (i == MarkerInterpolation::Sph       ? "normalised SPH interpolation (Eq. 63)"
+          : i == MarkerInterpolation::BSpline ? "curl of the stream function, tensor cubic B-splines (divergence-free)"
+                                              : "curl of the stream function, SPH kernel (divergence-free)");
   }
   m << "\n  " << plan.steps << " steps to t = " << std::to_string(plan.steps * fp.dt) << ", output in " << out_dir;
   return m.str();
@@ -109,6 +119,7 @@ struct Ending {
   bool write_error = false;
   long good_steps = 0;
   double good_time = 0;
+  int signal = 0;  // the signal that stopped it (0: none)
 };
 
 // What every summary holds, the faulty run's too: how the run ended, its timing and the fluid's
@@ -119,8 +130,10 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   nlohmann::json j;
   j["sphib_version"] = SPHIB_VERSION;
   j["scene"] = scene.path;
+  j["scene_hash"] = scene_hash(scene);
   j["run_id"] = run_id;
   j["stop_reason"] = end.reason;
+  if (end.signal) j["stop_signal"] = end.signal;
   if (!end.fault.empty()) j["fault"] = end.fault;
   j["steps"] = end.fault.empty() ? fl.steps() : end.good_steps;
   j["time"] = end.fault.empty() ? fl.time() : end.good_time;
@@ -157,6 +170,31 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   return j;
 }
 
+// The fields run_summary writes for every run: an observer of the user's may not take their names
+// (its last value would replace the run's own figure in summary.json).
+const std::set<std::string>& run_summary_fields() {
+  static const std::set<std::string> f{"sphib_version", "scene", "scene_hash", "run_id", "stop_reason", "stop_signal",
+                                       "fault", "steps", "time", "fault_step", "particles", "method", "wall_seconds",
+                                       "setup_seconds", "loop_seconds", "seconds_per_step", "profile_seconds", "log",
+                                       "floor_seconds_per_step", "fluid_step_over_floor", "step_over_floor",
+                                       "coupling_floor_seconds_per_step", "coupling_floor_share", "step_over_whole_floor",
+                                       "coupling_share"};
+  return f;
+}
+
+// The user's observers have names of their own: not a field of every run's summary, nor one of the
+// fluid's figures (a column of another analysis is refused by Observers::add).
+void check_observer_names(const Scene& scene, const Simulation& sim) {
+  std::set<std::string> taken = run_summary_fields();
+  for (const auto& [k, v] : sim.fluid().figures()) taken.insert(k);
+  for (const Observer& o : scene.observers) {
+    if (o.name.empty()) throw SceneError(scene.path + ": an observer has an empty name");
+    if (taken.count(o.name))
+      throw SceneError(scene.path + ": observer '" + o.name + "': the name of a field every run's summary.json has " +
+                       "(it would replace the run's own " + o.name + "): give it another name");
+  }
+}
+
 std::string new_run_id() {
   std::random_device rd;
   const auto t = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
@@ -179,6 +217,7 @@ Prepared prepare(const Scene& scene, const RunOptions& opt) {
   const auto t0 = Profile::Clock::now();
   Prepared p;
   p.sim = std::make_unique<Simulation>(scene.sim);
+  check_observer_names(scene, *p.sim);
   p.observers = observers_for(scene, *p.sim, opt.out_dir);
   if (!opt.restart.empty()) {
     const Checkpoint c = read_checkpoint(opt.restart);
@@ -186,6 +225,8 @@ Prepared prepare(const Scene& scene, const RunOptions& opt) {
     if (!c.run_id.empty()) {
       try {
         p.observers.restore(c.analyses, c.series);
+      } catch (const nlohmann::json::exception&) {  // a value of the wrong kind in an analysis's record
+        throw CheckpointError("checkpoint " + opt.restart + ": its run record (the analyses' state) is damaged");
       } catch (const std::exception& e) {
         throw CheckpointError("checkpoint " + opt.restart + ": " + e.what());
       }
@@ -204,15 +245,24 @@ Prepared prepare(const Scene& scene, const RunOptions& opt) {
 }
 
 // A restart into the checkpoint's own directory continues that run's output.h5 (the .part of a
-// killed run first, if it opens), if it carries the same run id.
+// killed run first, if it opens), if it carries the same run id. A complete output.h5 there that
+// cannot be read (open for writing elsewhere, truncated, damaged) is refused, not removed: its
+// snapshots may be the only copy of the run's history.
 std::string resumable_output(const OutputDirectory& dir, const RunOptions& opt, const std::string& run_id) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (opt.restart.empty() || !fs::equivalent(fs::path(opt.restart).parent_path().empty() ? "." : fs::path(opt.restart).parent_path(), dir.path(), ec))
     return "";
-  for (const std::string& f : {part_path(dir.file("output.h5")), dir.file("output.h5")})
-    if (fs::exists(f, ec) && root_text_attribute(f, "run_id") == run_id && snapshots_readable(f)) return f;
-  return "";
+  const std::string part = part_path(dir.file("output.h5")), final_name = dir.file("output.h5");
+  if (fs::exists(part, ec) && root_text_attribute(part, "run_id") == run_id && snapshots_readable(part)) return part;
+  if (!fs::exists(final_name, ec)) return "";
+  if (root_text_attribute(final_name, "run_id") == run_id && snapshots_readable(final_name)) return final_name;
+  if (!snapshots_readable(final_name))
+    throw CheckpointError(
+        final_name + " cannot be read (open for writing by another program, truncated or damaged): a restart into the "
+                     "checkpoint's own directory continues that file and will not remove what it cannot read; close or "
+                     "move it, or give this restart another --out (nothing was written)");
+  return "";  // another run's readable output: replaced, as a new run replaces an earlier run's files
 }
 
 // Where this run writes: a new run removes an earlier run's files first (a summary of another run
@@ -234,7 +284,8 @@ OutputTarget claim(OutputDirectory& dir, const RunOptions& opt, const std::strin
 std::string stop_reason(int signal) {
   if (signal == SIGINT) return "interrupted";
   if (signal == SIGTERM) return "terminated";
-  return "signal " + std::to_string(signal);
+  const char* name = sigabbrev_np(signal);
+  return "signal " + std::to_string(signal) + (name ? std::string(" (SIG") + name + ")" : "");
 }
 
 // The loop: step; guards; observers; output; progress. A fault of the method or a write error ends it.
@@ -244,9 +295,10 @@ Ending run_loop(Simulation& sim, Observers& observers, RunOutput& output, const 
   Progress progress(opt.log, opt.progress_bar, opt.log_every_seconds, plan.steps);
   const int k_checks = prof.phase("run-time checks and diagnostics"), k_output = prof.phase("output");
   Ending end;
+  if (plan.by_max_steps) end.reason = "time.max_steps";
   try {
     while (sim.steps() < plan.steps) {
-      if (const int sig = opt.stop ? opt.stop->load() : 0) { end.reason = stop_reason(sig); break; }
+      if (const int sig = opt.stop ? opt.stop->load() : 0) { end.reason = stop_reason(sig); end.signal = sig; break; }
       end.good_steps = sim.steps();
       end.good_time = sim.time();
       observers.before_step(sim);
@@ -282,6 +334,15 @@ Ending run_loop(Simulation& sim, Observers& observers, RunOutput& output, const 
   else
     m << "no checkpoint of this run was completed";
   throw RunError(m.str());
+}
+
+// Every file of the run under its final name together, the summary last; a failure leaves them .part.
+void publish(RunOutput& output, const nlohmann::json& summary, const Simulation& sim, const std::string& dir) {
+  try {
+    output.publish(json_text(summary));
+  } catch (const WriteError& e) {
+    stop_writing(output, e.what(), sim, dir);
+  }
 }
 
 }  // namespace
@@ -325,13 +386,13 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   const Timing timing{p.seconds, seconds_since(t_loop), sim.steps() - first_step, &prof};
   nlohmann::json j = run_summary(scene, sim, timing, end, p.run_id);
   if (!end.fault.empty()) {  // the state is not trustworthy: no figures from it
-    write_json_atomic(opt.out_dir + "/summary.json", j);
+    publish(output, j, sim, opt.out_dir);
     say("  stopped by a fault in step " + std::to_string(end.good_steps + 1) + ": " + end.fault);
     throw RunError(end.fault + "; the output written before it is complete in " + opt.out_dir + " (the last good step " +
                    std::to_string(end.good_steps) + ", t = " + std::to_string(end.good_time) + ")");
   }
   observers.summarize(sim, j);
-  write_json_atomic(opt.out_dir + "/summary.json", j);
+  publish(output, j, sim, opt.out_dir);
   say("  " + end.reason + " after " + std::to_string(sim.steps()) + " steps, t = " + std::to_string(sim.time()) +
       ", loop " + std::to_string(timing.loop) + " s (" + std::to_string(1e6 * j["seconds_per_step"].get<double>()) +
       " us/step); output in " + opt.out_dir);

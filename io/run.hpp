@@ -17,8 +17,9 @@ struct RunOptions {
   std::ostream* log = nullptr;               // run log (nullptr: silent)
   bool progress_bar = false;                 // a terminal: one updating line; else periodic log lines
   double log_every_seconds = 5.0;            // plain progress lines this often
-  // Set to a signal's number (SIGINT, SIGTERM) to end cleanly after the current step; the summary's
-  // stop_reason says which: "interrupted" (SIGINT), "terminated" (SIGTERM), "signal N" (another).
+  // Set to a signal's number (SIGINT, SIGTERM, ...) to end cleanly after the current step; the
+  // summary's stop_reason says which: "interrupted" (SIGINT), "terminated" (SIGTERM), "signal N
+  // (SIGNAME)" (another), and stop_signal holds N.
   const std::atomic<int>* stop = nullptr;
   // A checkpoint to continue from (same scene and version). Into the checkpoint's own directory the
   // run continues that run's files (its snapshots kept, its series extended); into another directory
@@ -48,7 +49,9 @@ struct StoppedBeforeStart : std::runtime_error {
 // summary. The run owns DIR: it takes DIR's lock before anything (DirectoryBusy if another run holds
 // it), and removes the files of an earlier run there before it writes (a restart into its own
 // directory continues them instead). Nothing is written if the scene is refused, the directory is
-// busy, the simulation cannot be set up or the restart file does not fit (CheckpointError).
+// busy, the simulation cannot be set up or the restart file does not fit (CheckpointError). The
+// run's files are published together at its end, summary.json last (a run that fails leaves its
+// files .part); the summary's stop_signal names a signal that stopped it.
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
 
 }  // namespace sphib

@@ -1,6 +1,7 @@
 #include "io/scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -11,8 +12,10 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
 
@@ -99,6 +102,8 @@ class Reader {
     const toml::node* n = use(key);
     if (!n) return record(key, def);
     if (!n->is_string()) fail(key, "must be a string (got " + type_name(*n) + ")");
+    if (n->as_string()->get().find('\0') != std::string::npos)
+      fail(key, "holds a NUL character (\\u0000), which would cut the text short in the output files");
     return record(key, n->as_string()->get());
   }
   std::string choice(const std::string& key, const std::string& def, const std::vector<std::string>& options,
@@ -271,7 +276,7 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
       table |= kk.size() > g.size() && kk.compare(0, g.size(), g) == 0 && kk[g.size()] == '.';
     }
     const toml::array* arr = v.as_array();
-    if (const toml::table* sub = v.as_table(); sub && !leaf) {
+    if (const toml::table* sub = v.as_table(); sub && !leaf && (table || !sub->empty())) {  // an empty [x] of no key: refused
       reject_unknown_keys(*sub, key, known, name, overridden);
       continue;
     }
@@ -292,6 +297,52 @@ void reject_unknown_keys(const toml::table& t, const std::string& prefix, const 
   }
 }
 
+// Dotted keys of at most kMaxKeyParts parts: the TOML library and the key walks below recurse once per
+// part (15 000 parts overflowed the stack).
+constexpr int kMaxKeyParts = 64;
+
+// The line of the first dotted key in `text` with more than kMaxKeyParts parts (0 if none), and its
+// count. A key may stand at the start of a line, in a table header or inside an inline table, and
+// mix bare and quoted parts ("a"."b".c): every run of names joined by dots outside strings counts
+// (a run of more than 64 that is not a key is no valid TOML either). Multi-line strings are skipped.
+std::pair<int, int> deepest_key(const std::string& text) {
+  int line = 1;
+  std::string closer;  // inside a multi-line string: its closing quotes
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string l = text.substr(at, end - at);
+    size_t i = 0;
+    if (!closer.empty()) {
+      const size_t c = l.find(closer);
+      if (c == std::string::npos) i = l.size();
+      else i = c + 3, closer.clear();
+    }
+    int dots = 0, most = 0;
+    for (; i < l.size(); ++i) {
+      const char c = l[i];
+      if (c == '"' || c == '\'') {  // a string: a quoted part of a key, or a value
+        if (l.compare(i, 3, std::string(3, c)) == 0) {
+          const size_t close = l.find(std::string(3, c), i + 3);
+          if (close == std::string::npos) { closer = std::string(3, c); break; }
+          i = close + 2;
+          continue;
+        }
+        for (++i; i < l.size() && l[i] != c; ++i)
+          if (c == '"' && l[i] == '\\') ++i;
+        continue;
+      }
+      if (c == '.') { most = std::max(most, ++dots); continue; }
+      if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+' || c == ' ' || c == '\t') continue;
+      if (c == '#') break;
+      dots = 0;  // '=', '{', ',', '[', ...: a run of names ends
+    }
+    if (most + 1 > kMaxKeyParts) return {line, most + 1};
+    at = end + 1;
+    ++line;
+  }
+  return {0, 0};
+}
+
 // Applies key=value to the table, creating intermediate tables. `membrane.X` also reaches the
 // only element of a [[membranes]] array.
 std::string apply_override(toml::table& root, const std::string& kv, const std::string& name) {
@@ -300,6 +351,9 @@ std::string apply_override(toml::table& root, const std::string& kv, const std::
     throw SceneError(name + ": --set " + kv + ": expected key=value (for example grid.nx=32)");
   std::string key = kv.substr(0, eq);
   const std::string val = kv.substr(eq + 1);
+  if (const long parts = std::count(key.begin(), key.end(), '.') + 1; parts > kMaxKeyParts)
+    throw SceneError(name + ": --set " + key.substr(0, 40) + "...: a key of " + std::to_string(parts) +
+                     " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
   if (val.find_first_of("\n\r") != std::string::npos)  // would add keys of its own: one value, one line
     throw SceneError(name + ": (--set " + key + "): the value holds a line break (one value per --set)");
   toml::table parsed;
@@ -355,21 +409,78 @@ SolverKind solver_kind(const std::string& s) {
   return SolverKind::Auto;
 }
 
+// The membrane's material and reference state (membrane/law.hpp): law and moduli, bending, the
+// stress-free shape, the stiff-force filter.
+void read_material(Reader& r, const std::string& p, MembraneScene& m) {
+  std::vector<std::string> laws;
+  std::string law_help = "tension law: ";
+  for (const LawInfo& l : tension_laws()) {
+    laws.push_back(l.name);
+    law_help += l.name + " (" + l.help + "); ";
+  }
+  m.law = r.choice(p + "law", "hookean", laws, law_help.substr(0, law_help.size() - 2));
+  const bool hookean = m.law == "hookean";
+  // The modulus: the paper's T0 for the Hookean law (Eq. 47), or Es (any law): one of them.
+  const bool has_T0 = r.has(p + "T0"), has_Es = r.has(p + "Es");
+  if (has_T0 && !hookean) r.fail(p + "T0", "is the Hookean law's modulus (Eq. 47); law \"" + m.law + "\" takes Es");
+  if (has_T0 && has_Es) r.fail(p + "Es", "give T0 or Es, not both (T0 is the Hookean law's Es)");
+  if (r.documenting || has_T0 || (hookean && !has_Es))
+    m.Es = r.number(p + "T0", 1.0, ">= 0", "Young's modulus T0 of Eq. (47): law = \"hookean\"'s Es (give T0 or Es)",
+                    !r.documenting, 0.0);
+  if (r.documenting || has_Es || !hookean)
+    m.Es = r.number(p + "Es", 1.0, ">= 0",
+                    "the law's modulus (hookean: T0; neo_hookean, skalak: the shear modulus; inextensible: the penalty "
+                    "modulus, large against the flow's stresses)",
+                    !r.documenting, 0.0);
+  for (const LawInfo& l : tension_laws())
+    for (const LawParam& q : l.params) {
+      const bool own = l.name == m.law;
+      if (!own && !r.documenting) {
+        if (r.has(p + q.name)) r.fail(p + q.name, "applies to law = \"" + l.name + "\" only (this membrane's law is \"" + m.law + "\")");
+        continue;
+      }
+      const double v = r.number(p + q.name, q.value, "[" + fmt_num(q.min) + ", " + fmt_num(q.max) + "]", q.help, false,
+                                q.min, false, q.max);
+      if (own) m.law_params.push_back(v);
+    }
+  m.Eb = r.number(p + "Eb", 0.0, ">= 0", "bending modulus Eb: energy Eb/2 int (kappa - kappa0)^2 dl (0: no bending)", false, 0.0);
+  m.reference = r.choice(p + "reference", "circle", {"circle", "initial"},
+                         "the stress-free shape: circle (of radius r0, markers uniform in its arclength: the paper's) or "
+                         "initial (the initial shape shrunk by 1/prestretch)");
+  const bool circle_ref = m.reference == "circle";
+  if (r.documenting || circle_ref) m.r0 = r.positive(p + "r0", 0.5, "rest radius r0 of reference = \"circle\": rest length L0 = 2 pi r0", !r.documenting);
+  else if (r.has(p + "r0")) r.fail(p + "r0", "is the radius of reference = \"circle\"; with reference = \"initial\" the initial shape is the reference");
+  if (r.documenting || !circle_ref)
+    m.prestretch = r.positive(p + "prestretch", 1.0, "reference = \"initial\": the initial shape is the reference stretched by this factor (1: stress-free)");
+  else if (r.has(p + "prestretch")) r.fail(p + "prestretch", "applies to reference = \"initial\" only");
+  if (r.documenting || r.has(p + "kappa0")) {
+    m.spontaneous = !r.documenting;
+    m.kappa0 = r.number(p + "kappa0", 0.0, "finite", "uniform spontaneous curvature of the bending energy (default: the reference shape's curvature)");
+    if (!r.documenting && m.Eb == 0.0) r.fail(p + "kappa0", "is the bending energy's spontaneous curvature: set Eb > 0 too");
+  }
+  m.semi_implicit = r.boolean(p + "semi_implicit", m.Eb > 0.0 || !hookean,
+                              "take the membrane's stiff modes semi-implicitly (coupling/stiff_force.hpp), so stiff "
+                              "membranes run at the step the flow needs (default: with bending or a law other than hookean)");
+}
+
 void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   m.shape = r.choice(p + "shape", "circle", {"circle", "ellipse", "points"},
                      "initial shape: circle (radius), ellipse (rx, ry) or points (a closed point list)");
-  m.r0 = r.positive(p + "r0", 0.5, "rest radius r0: rest length L0 = 2 pi r0", true);
-  m.T0 = r.number(p + "T0", 1.0, ">= 0", "Young's modulus T0 of Eq. (47)", true, 0.0);
+  read_material(r, p, m);
   m.nb = r.int32(p + "nb", 128, 4, "number of markers Nb", false, kMaxMarkers);
   const Eigen::Vector2d c = r.pair(p + "centre", Eigen::Vector2d::Zero(), "centre of the initial circle/ellipse");
   m.cx = c[0];
   m.cy = c[1];
-  m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)");
+  m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)", !r.documenting && m.reference != "circle" && m.shape == "circle");
   m.rx = r.positive(p + "rx", 0.75, "ellipse half-axis along x");
   m.ry = r.positive(p + "ry", 0.5, "ellipse half-axis along y");
   m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
   m.h_star_over_h = r.positive(p + "h_star_over_h", 1.4, "h* / h when h_star is 0");
   m.fixed = r.boolean(p + "fixed", false, "hold the markers in place (fixed membrane)");
+  m.viscosity_ratio = r.number(p + "viscosity_ratio", 1.0, "[0.01, 100]",
+                               "viscosity contrast lambda = mu_in / mu_out: the fluid the membrane encloses has viscosity "
+                               "lambda fluid.mu (method eulerian; docs/viscosity_contrast.md)",
+                               false, 0.01, false, 100.0);
   const toml::node* pts = r.raw(p + "points", "array of [x, y]", "closed point list for shape = \"points\"");
   if (m.shape == "points") {
     const toml::array* a = pts ? pts->as_array() : nullptr;
@@ -583,12 +694,15 @@ void read_time_and_solvers(Reader& r, Scene& s) {
                "O(dt^3) from the root) or euler (the paper's Eq. 58, X^n + dt U^{n+1}(X^n)); the same root within "
                "solver.marker_eps") == "extrapolated";
   const std::string interp = r.choice(
-      "coupling.interpolation", "auto", {"auto", "divergence_free", "sph"},
-      "marker velocity: divergence_free (curl of the interpolated stream function: membranes keep their area), "
-      "sph (the paper's normalised SPH interpolation, Eq. 63); auto: divergence_free for eulerian, sph otherwise");
-  if (interp == "divergence_free" && s.method != "eulerian")
-    r.fail("coupling.interpolation", "\"divergence_free\" needs method \"eulerian\" (the fixed lattice's stream function)");
+      "coupling.interpolation", "auto", {"auto", "divergence_free", "bspline", "sph"},
+      "marker velocity: divergence_free (curl of the stream function interpolated with the SPH kernel: membranes "
+      "keep their area), bspline (the same curl, the stream function interpolated by tensor cubic B-splines on the "
+      "lattice: no lattice-scale ripple), sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
+      "bspline when a membrane has bending, else divergence_free; sph for the other methods");
+  if ((interp == "divergence_free" || interp == "bspline") && s.method != "eulerian")
+    r.fail("coupling.interpolation", "\"" + interp + "\" needs method \"eulerian\" (the fixed lattice's stream function)");
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
+                        : interp == "bspline"       ? MarkerInterpolation::BSpline
                         : interp == "sph"           ? MarkerInterpolation::Sph
                                                     : MarkerInterpolation::Auto;
 }
@@ -725,8 +839,34 @@ void read_membranes(Reader& r, Scene& s, bool documenting) {
   }
 }
 
-// The membranes, built in the domain's coordinates.
-void build_membranes(Reader& r, Scene& s) {
+// A program's membrane's values, by the rules of a file's keys ("" when they pass): the key and why.
+std::pair<std::string, std::string> program_membrane_problem(const ProgramMembrane& m, const std::string& p) {
+  const Membrane& mb = m.membrane;
+  if (mb.nb() < 4 || mb.nb() > kMaxMarkers)
+    return {p + "nb", "value " + std::to_string(mb.nb()) + " is out of range (allowed: [4, " + std::to_string(kMaxMarkers) + "])"};
+  if (!std::isfinite(mb.L0()) || !(mb.L0() > 0)) return {p + "r0", "value " + fmt_num(mb.L0() / (2 * M_PI)) + " is out of range (allowed: > 0)"};
+  const std::string modulus = p + (mb.mat.law == "hookean" ? "T0" : "Es");
+  if (!std::isfinite(mb.mat.Es)) return {modulus, "must be finite (got " + fmt_num(mb.mat.Es) + ")"};
+  if (!(mb.mat.Es >= 0)) return {modulus, "value " + fmt_num(mb.mat.Es) + " is out of range (allowed: >= 0)"};
+  if (!std::isfinite(mb.mat.Eb) || !(mb.mat.Eb >= 0)) return {p + "Eb", "value " + fmt_num(mb.mat.Eb) + " is out of range (allowed: >= 0)"};
+  if (!(m.viscosity_ratio >= 0.01 && m.viscosity_ratio <= 100))
+    return {p + "viscosity_ratio", "value " + fmt_num(m.viscosity_ratio) + " is out of range (allowed: [0.01, 100])"};
+  try {  // the law, its parameters, the reference: make_membrane's checks, named by key
+    make_membrane(mb.X, mb.ref, mb.mat);
+  } catch (const std::invalid_argument& e) {
+    const std::string why = e.what();
+    const std::string key = why.find("law") != std::string::npos ? "law" : why.find(" C ") != std::string::npos ? "C" : "reference";
+    return {p + key, why};
+  }
+  if (!mb.X.allFinite()) return {p + "points", "each point must be two finite numbers"};
+  if (!std::isfinite(m.h_star) || !(m.h_star >= 0)) return {p + "h_star", "value " + fmt_num(m.h_star) + " is out of range (allowed: >= 0)"};
+  if (!std::isfinite(m.h_star_over_h) || !(m.h_star_over_h > 0))
+    return {p + "h_star_over_h", "value " + fmt_num(m.h_star_over_h) + " is out of range (allowed: > 0)"};
+  return {};
+}
+
+// The membranes, built in the domain's coordinates, then a program's (checked as a file's).
+void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& program) {
   const FluidParams& f = s.sim.fluid;
   const double dx = (f.domain.x1 - f.domain.x0) / f.nx, dy = (f.domain.y1 - f.domain.y0) / f.ny;
   const double h = f.h_over_dx * 0.5 * (dx + dy);
@@ -738,21 +878,45 @@ void build_membranes(Reader& r, Scene& s) {
       const Mat2 X = m.shape == "circle"    ? circle(m.nb, m.cx, m.cy, m.radius)
                      : m.shape == "ellipse" ? ellipse(m.nb, m.cx, m.cy, m.rx, m.ry)
                                             : from_points(m.points, m.nb);
-      setup.membrane = make_membrane(X, m.r0, m.T0);
+      Material mat;
+      mat.law = m.law;
+      mat.Es = m.Es;
+      mat.params = m.law_params;
+      mat.Eb = m.Eb;
+      mat.spontaneous = m.spontaneous;
+      mat.spontaneous_curvature = m.kappa0;
+      setup.membrane = make_membrane(X, m.reference == "circle" ? circle_reference(m.r0) : initial_reference(X, m.prestretch),
+                                     mat);
     } catch (const std::invalid_argument& e) {
       r.fail(p + "shape", e.what());
     }
     setup.h_star = m.h_star > 0 ? m.h_star : m.h_star_over_h * h;
     setup.fixed = m.fixed;
+    setup.semi_implicit = m.semi_implicit;
+    setup.viscosity_ratio = m.viscosity_ratio;
+    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+                                        "\" has one viscosity everywhere)");
     s.sim.membranes.push_back(setup);
   }
+  for (const ProgramMembrane& m : program) {
+    const std::string p = "membranes[" + std::to_string(s.sim.membranes.size()) + "].";
+    if (const auto [key, why] = program_membrane_problem(m, p); !key.empty()) r.fail(key, why);
+    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+                                        "\" has one viscosity everywhere)");
+    const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
+    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit, m.viscosity_ratio});
+  }
   size_t second = 0;
-  if (const std::string why = membranes_cross(s.sim.membranes, nullptr, &second); !why.empty())
-    r.fail("membranes[" + std::to_string(second) + "]", why);
+  if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())
+    r.fail(second < s.membranes.size() && s.membranes.size() == 1 && r.has("membrane") ? "membrane"  // the file's one
+                                                                                         : "membranes[" + std::to_string(second) + "]",
+           why);
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
-            std::vector<Reader::Doc>* docs_out) {
+            std::vector<Reader::Doc>* docs_out, const std::vector<ProgramMembrane>& program = {}) {
   if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
   Reader r(root, name, overridden);
   r.documenting = docs_out != nullptr;
@@ -777,11 +941,12 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   r.reject_unknown();
   s.resolved = r.resolved;
   if (const auto e = free_surface_problem(s.sim.fluid)) r.fail(e->key, e->what);
-  if (!s.membranes.empty() && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
+  if (const std::string why = fill_leaves_no_surface(s.sim.fluid); !why.empty()) r.fail("fill.shape", why);
+  if ((!s.membranes.empty() || !program.empty()) && has_free_surface(s.sim.fluid.domain, s.sim.fluid.free_surface))
     r.fail(r.has("membrane") ? "membrane" : "membranes", "membranes in a free-surface scene are not supported");
 
   if (const std::string why = steps_problem(s); !why.empty()) r.fail("time.end", why);
-  build_membranes(r, s);
+  build_membranes(r, s, program);
   if (const std::string why = exact_cannot_apply(s); !why.empty()) r.fail("observe.exact", why);
   return s;
 }
@@ -799,15 +964,66 @@ const std::vector<std::string>& known_keys() {
   return keys;
 }
 
-Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides) {
+Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides,
+                 const std::vector<ProgramMembrane>& program = {}) {
   std::set<std::string> overridden;
   for (const auto& kv : overrides) overridden.insert(apply_override(root, kv, name));
-  return build(root, name, overridden, nullptr);
+  return build(root, name, overridden, nullptr, program);
 }
 
-}  // namespace
+// The cavity's Ghia tables are in observe.reference_dir (resolved against the scene file's folder).
+void require_reference_tables(const Scene& s, const std::string& name) {
+  std::error_code ec;
+  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
+  if (s.exact == "cavity" && !std::filesystem::is_regular_file(table, ec))
+    throw SceneError(name + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
+}
 
-Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+// The type of a key as `sphib keys` lists it ("" if no scene has it).
+std::string key_type(const std::string& key) {
+  static const std::map<std::string, std::string> types = [] {
+    toml::table empty;
+    std::vector<Reader::Doc> docs;
+    build(empty, "keys", {}, &docs);
+    std::map<std::string, std::string> t;
+    for (const auto& d : docs) t[d.key] = d.type;
+    return t;
+  }();
+  const auto it = types.find(generic_key(key));
+  return it == types.end() ? "" : it->second;
+}
+
+// Puts `value` at the dotted `key` of root (membranes[k] as the k-th table of the array).
+void put(toml::table& root, const std::string& key, toml::node&& value, const std::string& name) {
+  toml::table* t = &root;
+  size_t start = 0;
+  for (size_t dot = key.find('.'); dot != std::string::npos; start = dot + 1, dot = key.find('.', start)) {
+    const std::string part = key.substr(start, dot - start);
+    const size_t br = part.find('[');
+    if (br == std::string::npos) {
+      if (!t->contains(part)) t->insert(part, toml::table{});
+      t = (*t)[part].as_table();
+    } else {
+      const std::string arr_name = part.substr(0, br);
+      const long idx = std::strtol(part.c_str() + br + 1, nullptr, 10);
+      if (!t->contains(arr_name)) t->insert(arr_name, toml::array{});
+      toml::array* a = (*t)[arr_name].as_array();
+      if (!a || idx < 0 || idx > 100000) t = nullptr;
+      else {
+        while (static_cast<long>(a->size()) <= idx) a->push_back(toml::table{});
+        t = a->get(static_cast<size_t>(idx))->as_table();
+      }
+    }
+    if (!t) throw SceneError(name + ": " + key + ": its place in the scene is not a table");
+  }
+  t->insert_or_assign(key.substr(start), std::move(value));
+}
+
+Scene parse_text(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
+                 const std::vector<ProgramMembrane>& program) {
+  if (const auto [line, parts] = deepest_key(text); line > 0)
+    throw SceneError(name + ":" + std::to_string(line) + ": a key of " + std::to_string(parts) +
+                     " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
   toml::table root;
   try {
     root = toml::parse(text, name);
@@ -816,10 +1032,11 @@ Scene parse_scene(const std::string& text, const std::string& name, const std::v
     m << name << ":" << e.source().begin.line << ": TOML syntax error: " << e.description();
     throw SceneError(m.str());
   }
-  return from_table(std::move(root), name, overrides);
+  return from_table(std::move(root), name, overrides, program);
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+Scene load_file(const std::string& path, const std::vector<std::string>& overrides,
+                const std::vector<ProgramMembrane>& program) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw SceneError(path + ": is a directory, not a scene file");
@@ -832,12 +1049,64 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   if (in.bad()) throw SceneError(path + ": cannot read the scene file");
   if (in.gcount() > kMaxSceneBytes) throw SceneError(path + ": larger than 16 MB: not a scene file");
   text.resize(static_cast<size_t>(in.gcount()));
-  Scene s = parse_scene(text, path, overrides);
+  Scene s = parse_text(text, path, overrides, program);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
-  const std::string table = s.reference_dir + "/ghia1982_u_vertical_centreline.csv";
-  if (s.exact == "cavity" && !fs::is_regular_file(table, ec))
-    throw SceneError(path + ": observe.reference_dir: " + s.reference_dir + " has no Ghia tables (" + table + ")");
+  require_reference_tables(s, path);
   return s;
+}
+
+}  // namespace
+
+Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& values, const std::string& name,
+                        const std::vector<std::string>& overrides, const std::string& base_dir) {
+  toml::table root;
+  for (const auto& [k, v] : values) {
+    if (restates_other_keys(k)) continue;
+    // A wall velocity is recorded for every side; at rest it is what its absence means (and on a
+    // periodic or open side, only its absence is allowed).
+    if (k.rfind("walls.", 0) == 0 && v == "[0, 0]") continue;
+    const std::string type = key_type(k);
+    if (type.empty()) throw SceneError(name + ": " + k + ": not a scene key of this sphib");
+    if (type == "string") {
+      put(root, k, toml::value<std::string>(v), name);
+      continue;
+    }
+    toml::table parsed;
+    try {
+      parsed = toml::parse("v = " + v);
+    } catch (const toml::parse_error&) {
+      throw SceneError(name + ": " + k + ": the value " + v + " does not read back as TOML");
+    }
+    if (parsed.size() != 1 || !parsed.get("v")) throw SceneError(name + ": " + k + ": the value " + v + " is not one value");
+    put(root, k, std::move(*parsed.get("v")), name);
+  }
+  Scene s = from_table(std::move(root), name, overrides);
+  s.reference_dir = (std::filesystem::path(base_dir) / s.reference_dir).string();
+  require_reference_tables(s, name);
+  return s;
+}
+
+bool restates_other_keys(const std::string& key) { return key == "membranes"; }
+
+std::string scene_hash(const Scene& s) {
+  std::string text;
+  for (const auto& [k, v] : s.resolved)
+    if (!restates_other_keys(k)) text += std::to_string(k.size()) + ":" + k + "=" + std::to_string(v.size()) + ":" + v + "\n";
+  return sha256_hex(text);
+}
+
+
+Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+  return parse_text(text, name, overrides, {});
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  return load_file(path, overrides, {});
+}
+
+Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
+                  const std::vector<ProgramMembrane>& membranes) {
+  return path.empty() ? parse_text("", name, overrides, membranes) : load_file(path, overrides, membranes);
 }
 
 std::string describe_scene_keys() {
@@ -854,6 +1123,40 @@ std::string describe_scene_keys() {
       << esc(d.what) << " |\n";
   }
   return o.str();
+}
+
+std::string scene_keys_json() {
+  toml::table empty;
+  std::vector<Reader::Doc> docs;
+  build(empty, "keys", {}, &docs);
+  // A default as its TOML text ("1.2", "true", "\"auto\"", "[0, 1]") -> the JSON value of that type.
+  auto value = [](const std::string& def) -> nlohmann::json {
+    if (def.empty() || def == "(required)") return nullptr;
+    toml::table t;
+    try {
+      t = toml::parse("v = " + def);
+    } catch (const toml::parse_error&) {
+      return def;
+    }
+    std::function<nlohmann::json(const toml::node&)> to_json = [&](const toml::node& n) -> nlohmann::json {
+      if (const auto* a = n.as_array()) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& e : *a) j.push_back(to_json(e));
+        return j;
+      }
+      if (n.is_boolean()) return n.as_boolean()->get();
+      if (n.is_integer()) return n.as_integer()->get();
+      if (n.is_floating_point()) return n.as_floating_point()->get();
+      if (n.is_string()) return n.as_string()->get();
+      return nullptr;
+    };
+    return to_json(*t.get("v"));
+  };
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& d : docs)
+    out.push_back({{"name", d.key}, {"type", d.type}, {"default", value(d.def)}, {"required", d.def == "(required)"},
+                   {"range", d.range}, {"help", d.what}});
+  return out.dump(1) + "\n";
 }
 
 }  // namespace sphib

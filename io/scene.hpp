@@ -21,11 +21,21 @@ struct SceneError : std::runtime_error {
 struct MembraneScene {
   std::string shape = "circle";  // circle | ellipse | points
   double radius = 0.5, rx = 0.5, ry = 0.5, cx = 0.0, cy = 0.0;
-  double r0 = 0.5, T0 = 1.0;
+  double r0 = 0.5;
+  std::string law = "hookean";     // membrane/law.hpp's registry
+  double Es = 1.0;                 // the law's modulus (hookean: T0)
+  std::vector<double> law_params;  // the law's own (skalak: C)
+  double Eb = 0.0;                 // bending modulus
+  std::string reference = "circle";  // circle (radius r0) | initial (the initial shape / prestretch)
+  double prestretch = 1.0;
+  bool spontaneous = false;        // kappa0 given: uniform spontaneous curvature
+  double kappa0 = 0.0;
+  bool semi_implicit = false;      // the stiff-force filter (coupling/stiff_force.hpp)
   int nb = 128;
   double h_star = 0.0;  // absolute h*; 0: use h_star_over_h * h
   double h_star_over_h = 1.4;
   bool fixed = false;
+  double viscosity_ratio = 1.0;  // lambda = mu_in / mu_out
   Mat2 points;  // shape = "points"
 };
 
@@ -58,7 +68,41 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 // Same, from TOML text (for tests and the fuzzer); `name` is used in messages.
 Scene parse_scene(const std::string& text, const std::string& name, const std::vector<std::string>& overrides = {});
 
+// A membrane built by a program (markers from membrane/shapes.hpp; the Python module's
+// Scene.add_membrane), added after the scene's own membranes and checked with them.
+struct ProgramMembrane {
+  Membrane membrane;
+  double h_star = 0.0;  // absolute h*; 0: h_star_over_h * h
+  double h_star_over_h = 1.4;
+  bool fixed = false;
+  double viscosity_ratio = 1.0;  // as membrane.viscosity_ratio
+};
+
+// load_scene (path not empty) or parse_scene of an empty text named `name`, plus membranes built by
+// a program: the reader checks them as it checks a file's ([4, 1e6] markers, T0 >= 0, h* > 0, no
+// crossings, none in a free-surface scene, what observe.exact needs), naming membranes[k].
+Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
+                  const std::vector<ProgramMembrane>& membranes);
+
+// The scene whose resolved values (Scene::resolved: key = value as used) are `values`, e.g. those a
+// checkpoint keeps, with `overrides` applied; observe.reference_dir is taken relative to base_dir.
+// `name` is used in messages. Throws SceneError.
+Scene scene_from_values(const std::vector<std::pair<std::string, std::string>>& values, const std::string& name,
+                        const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
+
+// Resolved values that only restate others: "membranes", the [[membranes]] array as the file wrote it
+// (each entry's keys, membranes[k].*, carry every value). Comparisons and hashes of scenes skip them.
+bool restates_other_keys(const std::string& key);
+
+// The SHA-256 (hex) of every resolved value of the scene (Scene::resolved), each key and value
+// length-prefixed: the same text for the same run, whatever the file's layout or a value's spelling.
+std::string scene_hash(const Scene& s);
+
 // Every scene key with its type, default and meaning, one per line (the `sphib keys` listing).
 std::string describe_scene_keys();
+
+// The same as JSON (`sphib keys --json`): an array of {name, type, default, required, range, help},
+// the default as a JSON value of the key's type (null when the key is required or has none).
+std::string scene_keys_json();
 
 }  // namespace sphib

@@ -150,6 +150,8 @@ std::string exact_cannot_apply(const Scene& s) {
     if (!membranes) return "\"membrane_equilibrium\" needs a membrane";
     if (!s.membranes.empty() && s.membranes[0].shape != "circle")
       return "\"membrane_equilibrium\" needs a circular membrane (membrane.shape = \"circle\")";
+    if (!s.membranes.empty() && s.membranes[0].reference != "circle")
+      return "\"membrane_equilibrium\" needs the circle reference (membrane.reference = \"circle\")";
     return "";
   }
   if (s.exact == "membrane_oscillation") {
@@ -160,17 +162,59 @@ std::string exact_cannot_apply(const Scene& s) {
   return "";
 }
 
-std::string membranes_cross(const std::vector<MembraneSetup>& m, size_t* first, size_t* second) {
-  for (size_t k = 0; k < m.size(); ++k)
-    for (size_t l = k + 1; l < m.size(); ++l) {
-      long i = 0, j = 0;
-      if (!polygons_meet(m[k].membrane.X, m[l].membrane.X, i, j)) continue;
+std::string membranes_cross(const std::vector<MembraneSetup>& m, const Domain& d, size_t* first, size_t* second) {
+  const double L[2] = {d.Lx(), d.Ly()};
+  const bool periodic[2] = {d.periodic_x, d.periodic_y};
+  // A membrane as wide as a period meets its own periodic image.
+  for (size_t k = 0; k < m.size(); ++k) {
+    const Mat2& X = m[k].membrane.X;
+    for (int a = 0; a < 2; ++a) {
+      const double extent = X.col(a).maxCoeff() - X.col(a).minCoeff();
+      if (!periodic[a] || extent < L[a]) continue;
       if (first) *first = k;
-      if (second) *second = l;
-      return "membrane " + std::to_string(l) + " crosses or touches membrane " + std::to_string(k) + " (its segment " +
-             std::to_string(j) + " meets segment " + std::to_string(i) + ")";
+      if (second) *second = k;
+      return "membrane " + std::to_string(k) + " is " + number_text(extent) + " wide along the periodic " +
+             (a == 0 ? "x" : "y") + " axis, not less than its period " + number_text(L[a]) +
+             ": it would meet its own periodic image";
     }
+  }
+  // Two membranes meet here, or one meets the other's image across a periodic side.
+  for (size_t k = 0; k < m.size(); ++k)
+    for (size_t l = k + 1; l < m.size(); ++l)
+      for (int sx = periodic[0] ? -1 : 0; sx <= (periodic[0] ? 1 : 0); ++sx)
+        for (int sy = periodic[1] ? -1 : 0; sy <= (periodic[1] ? 1 : 0); ++sy) {
+          Mat2 B = m[l].membrane.X;
+          B.col(0).array() += sx * L[0];
+          B.col(1).array() += sy * L[1];
+          long i = 0, j = 0;
+          if (!polygons_meet(m[k].membrane.X, B, i, j)) continue;
+          if (first) *first = k;
+          if (second) *second = l;
+          return "membrane " + std::to_string(l) + (sx || sy ? "'s periodic image" : "") + " crosses or touches membrane " +
+                 std::to_string(k) + " (its segment " + std::to_string(j) + " meets segment " + std::to_string(i) + ")" +
+                 (sx || sy ? std::string(" across the periodic ") + (sx && sy ? "corner" : sx ? "x sides" : "y sides") : "");
+        }
   return "";
+}
+
+std::string fill_leaves_no_surface(const FluidParams& f) {
+  const FluidRegion& r = f.free_surface.fill;
+  const Domain& d = f.domain;
+  if (r.shape == FluidRegion::Shape::Domain || d.any_open() || f.method != "isph") return "";
+  // The lattice of Eq. (68): sites at x0 + (i + o) dx, o = 1/2 between walls, 0 along a periodic axis.
+  const double dx = spacing_x(f), dy = spacing_y(f), ox = d.periodic_x ? 0.0 : 0.5, oy = d.periodic_y ? 0.0 : 0.5;
+  const double xa = d.x0 + ox * dx, xb = d.x0 + (f.nx - 1 + ox) * dx, ya = d.y0 + oy * dy, yb = d.y0 + (f.ny - 1 + oy) * dy;
+  bool all = false;
+  if (r.shape == FluidRegion::Shape::Block) all = r.x0 <= xa && r.x1 >= xb && r.y0 <= ya && r.y1 >= yb;
+  else {  // a circle holds the box of the sites when it holds its four corners
+    all = true;
+    for (double x : {xa, xb})
+      for (double y : {ya, yb}) all = all && std::hypot(x - r.centre.x(), y - r.centre.y()) <= r.radius;
+  }
+  if (!all) return "";
+  return std::string("the ") + (r.shape == FluidRegion::Shape::Block ? "block" : "circle") +
+         " holds every particle of a tank with no open side: no free surface is left, and ISPH's pressure has no "
+         "surface to take p = 0 from; a tank full of fluid is fill.shape = \"domain\"";
 }
 
 long planned_steps(const Scene& s) {

@@ -40,10 +40,17 @@ std::string wall_moves_normally(const Domain& d, int side);
 // membrane_equilibrium: a circular membrane; membrane_oscillation: a free membrane).
 std::string exact_cannot_apply(const Scene& s);
 
-// Two membranes whose polygons cross or share a segment (identical membranes): "k and l" (k < l)
-// with the segments that meet, "" if none do. Nested membranes that do not cross are allowed.
-std::string membranes_cross(const std::vector<MembraneSetup>& membranes, size_t* first = nullptr,
+// Two membranes whose polygons cross or share a segment (identical membranes), here or across a
+// periodic side (one meets the other's periodic image), or a membrane as wide as a period along a
+// periodic axis (it meets its own image): why, naming k and l (k < l; k = l for one membrane) and the
+// segments that meet; "" if none do. Nested membranes that do not cross are allowed.
+std::string membranes_cross(const std::vector<MembraneSetup>& membranes, const Domain& d, size_t* first = nullptr,
                             size_t* second = nullptr);
+
+// fill.shape: a block or circle that holds every lattice site of a tank with no open side leaves
+// no free surface, so ISPH's pressure Poisson problem has no Dirichlet row (singular: CHOLMOD "not
+// positive definite", or particles thrown out at once). fill.shape = "domain" is the full tank.
+std::string fill_leaves_no_surface(const FluidParams& f);
 
 // The steps a run of the scene takes from t = 0: round(time.end / time.dt), capped by
 // time.max_steps. steps_problem says why it cannot run ("" if it can): no step at all

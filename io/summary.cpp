@@ -4,9 +4,11 @@
 
 namespace sphib {
 
-void write_json_atomic(const std::string& path, const nlohmann::json& j) {
+std::string json_text(const nlohmann::json& j) {
   // nlohmann::json serialises non-finite numbers as null.
-  write_file_atomic(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
+
+void write_json_atomic(const std::string& path, const nlohmann::json& j) { write_file_atomic(path, json_text(j)); }
 
 }  // namespace sphib

@@ -11,4 +11,7 @@ namespace sphib {
 // Throws std::runtime_error naming the file on failure.
 void write_json_atomic(const std::string& path, const nlohmann::json& j);
 
+// The text write_json_atomic writes.
+std::string json_text(const nlohmann::json& j);
+
 }  // namespace sphib

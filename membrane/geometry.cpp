@@ -121,7 +121,25 @@ double elastic_energy(const PeriodicSpline& sx, const PeriodicSpline& sy, double
   return 0.5 * T0 * (0.5 * h * sum);
 }
 
-double MembraneDiagnostics::energy(double T0) const { return elastic_energy(sx_, sy_, T0); }
+ShapeMoments MembraneDiagnostics::moments() const {
+  // Green: int (x-cx)^2 dA = closed int (x-cx)^3/3 dy, int (y-cy)^2 dA = -closed int (y-cy)^3/3 dx,
+  // int (x-cx)(y-cy) dA = closed int (x-cx)^2 (y-cy)/2 dy.
+  const double A = area();
+  const Eigen::Vector2d c = centroid();
+  const double Jxx = integrate(sx_, sy_, [&](double x, double, double, double ys) {
+    const double X = x - c.x();
+    return X * X * X * ys / 3.0;
+  });
+  const double Jyy = integrate(sx_, sy_, [&](double, double y, double xs, double) {
+    const double Y = y - c.y();
+    return -Y * Y * Y * xs / 3.0;
+  });
+  const double Jxy = integrate(sx_, sy_, [&](double x, double y, double, double ys) {
+    const double X = x - c.x();
+    return 0.5 * X * X * (y - c.y()) * ys;
+  });
+  return moment_ellipse(A, c, Jxx, Jxy, Jyy);
+}
 
 double MembraneDiagnostics::half_chord(int d, double level) const {
   // Crossings of the spline with {coordinate d == level}; returns half the spread of the
@@ -188,7 +206,7 @@ Eigen::Vector2d MembraneDiagnostics::half_axes(const Eigen::Vector2d& c) const {
   return {half_chord(1, c.y()), half_chord(0, c.x())};  // rx along y = cy, ry along x = cx
 }
 
-MembraneShape MembraneDiagnostics::measure(const Mat2& X, double T0) {
+MembraneShape MembraneDiagnostics::measure(const Mat2& X) {
   fit(X);
   MembraneShape m;
   m.area = area();
@@ -200,7 +218,7 @@ MembraneShape MembraneDiagnostics::measure(const Mat2& X, double T0) {
   m.rx = r.x();
   m.ry = r.y();
   m.length = length();
-  m.energy = energy(T0);
+  m.moments = moments();
   return m;
 }
 

@@ -9,7 +9,8 @@ namespace sphib {
 
 double signed_area(const Mat2& X);           // shoelace rule, > 0 anticlockwise
 Eigen::Vector2d polygon_centroid(const Mat2& X);
-bool is_simple(const Mat2& X);               // no two edges meet except neighbours at a vertex
+bool is_simple(const Mat2& X);               // no two edges meet except neighbours at a vertex: O(n log n)
+bool is_simple_plain(const Mat2& X);         // the same by testing every pair of edges: O(n^2)
 
 /// Area moments of the region enclosed by the polygon X (exact for the polygon) and the ellipse
 /// with the same moments: for an ellipse (or the affine image of a regular polygon) L, B and
@@ -23,6 +24,8 @@ struct ShapeMoments {
   double deformation() const { return (L - B) / (L + B); }  // Taylor deformation D = (L - B)/(L + B)
 };
 ShapeMoments ellipse_fit(const Mat2& X);
+/// The ellipse of area A, centroid c and central second moments Jxx, Jxy, Jyy (any closed curve's).
+ShapeMoments moment_ellipse(double A, const Eigen::Vector2d& c, double Jxx, double Jxy, double Jyy);
 
 /// Mean angular velocity of the markers about c: (1/nb) sum_k (X_k - c) x U_k / |X_k - c|^2.
 /// For markers uniform in rest arclength on a steadily tank-treading membrane this is its

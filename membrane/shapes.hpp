@@ -1,6 +1,6 @@
 #pragma once
 // Membrane shapes: nb marker positions (nb x 2, anticlockwise), geometry only. The material (rest
-// length, T0) is the caller's: make_membrane (hookean.hpp) turns markers into a Membrane.
+// reference, law) is the caller's: make_membrane (membrane.hpp) turns markers into a Membrane.
 #include <Eigen/Core>
 #include <functional>
 

@@ -12,7 +12,12 @@ int Series::column(const std::string& name) const {
 }
 
 void Observers::add(std::unique_ptr<Analysis> a) {
-  for (auto& c : a->columns()) series_.columns.push_back(std::move(c));
+  for (auto& c : a->columns()) {
+    if (series_.column(c) >= 0)
+      throw std::invalid_argument("diagnostics column '" + c + "' twice (an observer named like another column): give it "
+                                  "another name");
+    series_.columns.push_back(std::move(c));
+  }
   analyses_.push_back(std::move(a));
 }
 
@@ -72,7 +77,8 @@ class UserObservers final : public Analysis {
     for (const auto& o : obs_) row.push_back(o.value(sim));
   }
   void summarize(const Simulation& sim, const Series&, nlohmann::json& j) const override {
-    for (const auto& o : obs_) j[o.name] = o.value(sim);
+    for (const auto& o : obs_)
+      if (!j.contains(o.name)) j[o.name] = o.value(sim);  // never in place of a figure of the run's
   }
 
  private:

@@ -15,7 +15,8 @@
 namespace sphib {
 
 // A diagnostics column of the user's choice: evaluated with the other diagnostics, written to
-// diagnostics.csv and the HDF5 series, its last value into summary.json under `name`.
+// diagnostics.csv and the HDF5 series, its last value into summary.json under `name`. The name is
+// its own: a run refuses one that another column or a field of every run's summary has.
 struct Observer {
   std::string name;
   std::function<double(const Simulation&)> value;
@@ -48,7 +49,7 @@ class Analysis {
 // The analyses of one run, in the order of their columns, and the series they sampled.
 class Observers {
  public:
-  void add(std::unique_ptr<Analysis> a);
+  void add(std::unique_ptr<Analysis> a);  // std::invalid_argument if a column of it is already there
   const std::vector<std::string>& columns() const { return series_.columns; }
   const Series& series() const { return series_; }
   double last(const std::string& column) const;  // the latest sample of a column (NaN: none)
@@ -132,7 +133,7 @@ std::unique_ptr<Analysis> steady_state(double eps);
 // equilibrium.cpp: the stretched membrane 0 in equilibrium (Section 5.2.1), radius re, rest
 // radius r0: pressure_jump against (T0/re)(re/r0 - 1), pressure_mad_error (Eq. 80),
 // velocity_mad_error (Eq. 83).
-std::unique_ptr<Analysis> membrane_equilibrium(const Simulation& sim, double re, double r0, double T0);
+std::unique_ptr<Analysis> membrane_equilibrium(const Simulation& sim, double re, double r0);
 
 // analysis.cpp: the user's own columns.
 std::unique_ptr<Analysis> user_observers(std::vector<Observer> observers);

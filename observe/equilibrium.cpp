@@ -1,9 +1,12 @@
 // The stretched membrane in equilibrium (Section 5.2.1): exact [p] = p_in - p_out =
-// (T0/re)(re/r0 - 1) (Eq. 66 with the physical sign: the inside pressure is higher), u = 0.
+// (T0/re)(re/r0 - 1) (Eq. 66 with the physical sign: the inside pressure is higher), u = 0. Any law on
+// the circle reference: Laplace's [p] = (T(re/r0) + T_b)/re, T_b = -Eb/2 (1/re^2 - kappa0^2) the
+// bending's tension (membrane/laws/bending.hpp; kappa0 = 1/r0 or the spontaneous curvature).
 #include <algorithm>
 #include <cmath>
 
 #include "membrane/geometry.hpp"
+#include "membrane/laws/bending.hpp"
 #include "observe/analysis.hpp"
 
 namespace sphib {
@@ -12,8 +15,9 @@ namespace {
 
 class MembraneEquilibrium final : public Analysis {
  public:
-  MembraneEquilibrium(const Simulation& sim, double re, double r0, double T0)
-      : re_(re), jump_exact_(T0 / re * (re / r0 - 1.0)), D_(sim.membranes()[0].m.nb(), sim.membranes()[0].m.L0) {}
+  MembraneEquilibrium(const Simulation& sim, double re, double r0)
+      : re_(re), jump_exact_(exact_jump(sim.membranes()[0].m.mat, re, r0)),
+        D_(sim.membranes()[0].m.nb(), sim.membranes()[0].m.L0()) {}
 
   std::vector<std::string> columns() const override {
     return {"pressure_jump", "pressure_mad_error", "velocity_mad_error"};
@@ -37,6 +41,12 @@ class MembraneEquilibrium final : public Analysis {
   struct Errors {
     double jump = 0, p_mad = 0, u_mad = 0;
   };
+  static double exact_jump(const Material& mat, double re, double r0) {
+    if (mat.law == "hookean" && mat.Eb == 0.0) return mat.Es / re * (re / r0 - 1.0);  // Eq. (66)
+    const double T = tension_law_info(mat.law).make(mat.Es, mat.params)->tension(re / r0);
+    const double kappa0 = mat.spontaneous ? mat.spontaneous_curvature : 1.0 / r0, kappa = 1.0 / re;
+    return (T + bending_tension(bending_moment(mat.Eb, kappa, kappa0), kappa, kappa0)) / re;
+  }
 
   // Regions for the measured jump: inside r < re - 2h* - 2h, outside r > re + 2h* + 2h and more
   // than 2h from a wall, r from the membrane's centroid: both clear of the smoothed jump
@@ -81,8 +91,8 @@ class MembraneEquilibrium final : public Analysis {
 
 }  // namespace
 
-std::unique_ptr<Analysis> membrane_equilibrium(const Simulation& sim, double re, double r0, double T0) {
-  return std::make_unique<MembraneEquilibrium>(sim, re, r0, T0);
+std::unique_ptr<Analysis> membrane_equilibrium(const Simulation& sim, double re, double r0) {
+  return std::make_unique<MembraneEquilibrium>(sim, re, r0);
 }
 
 }  // namespace sphib

@@ -32,7 +32,7 @@ bool unforced(const SimulationParams& p) {
 
 Guards::Guards(const SimulationParams& params, const Simulation& sim)
     : h_min_(std::min(sim.fluid().lattice().dx, sim.fluid().lattice().dy)), v_min_(sim.fluid().volumes().minCoeff()) {
-  for (const auto& ms : sim.membranes()) D_.emplace_back(ms.m.nb(), ms.m.L0);
+  for (const auto& ms : sim.membranes()) E_.push_back(ms.force);
   if (unforced(params)) {
     const double E0 = sim.fluid().kinetic_energy() + elastic_energy(sim);
     energy_bound_ = E0 > 0 ? 10.0 * E0 : 0.0;
@@ -41,14 +41,14 @@ Guards::Guards(const SimulationParams& params, const Simulation& sim)
 
 double Guards::elastic_energy(const Simulation& sim) {
   double E = 0;
-  for (size_t k = 0; k < D_.size(); ++k) {
+  for (size_t k = 0; k < E_.size(); ++k) {
     const MembraneState& s = sim.membranes()[k];
-    if (s.hooke.fitted_to(s.m.X)) {  // the force's splines of these markers (every step: its end fits them)
-      E += sphib::elastic_energy(s.hooke.spline(0), s.hooke.spline(1), s.m.T0);
+    if (s.force.fitted_to(s.m.X)) {  // the force's splines of these markers (every step: its end fits them)
+      E += s.force.energy().total();
       continue;
     }
-    D_[k].fit(s.m.X);
-    E += D_[k].energy(s.m.T0);
+    E_[k].fit_energy(s.m.X);
+    E += E_[k].energy().total();
   }
   return E;
 }

@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "coupling/simulation.hpp"
-#include "membrane/geometry.hpp"
 
 namespace sphib {
 
@@ -22,7 +21,7 @@ class Guards {
   double elastic_energy(const Simulation& sim);  // of the splines through the markers (a blow-up of the
                                                  // elastic force is marker-scale: the knots alone miss it)
 
-  std::vector<MembraneDiagnostics> D_;
+  std::vector<MembraneForce> E_;  // workspace: the energy of markers the force's splines were not fitted to
   double h_min_;
   double v_min_;             // the smallest particle volume (fixed particles: once)
   double energy_bound_ = 0;  // 0: not armed

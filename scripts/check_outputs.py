@@ -4,13 +4,15 @@
   /usr/bin/python3 scripts/check_outputs.py DIR [--complete]
 
 HDF5 files (output.h5, checkpoint.h5) open with h5py and every dataset in them reads; the
-checkpoint has its fluid state and run record; summary.json parses; every CSV row has the header's
+checkpoint has its fluid state and run record, and its seal holds (the SHA-256 of its bytes after
+the first 512); summary.json parses; every CSV row has the header's
 number of fields, each a number; the XDMF files parse as XML and name datasets output.h5 holds.
 .part files (incomplete by name) and the lock file of a killed run are skipped. With --complete the
 directory must hold a finished run: summary.json, output.h5, diagnostics.csv and no .part file.
 Prints one line per file; exits 1 if any file is broken (or, with --complete, missing).
 """
 import csv
+import hashlib
 import json
 import math
 import os
@@ -30,9 +32,15 @@ def check_h5(path):
             for need in ("fluid", "scene", "run/series"):
                 if need not in f:
                     raise ValueError(f"no {need}")
-            if f.attrs["checkpoint_format"] != "2":
-                raise ValueError("checkpoint_format is not 2")
-        return f"{len(datasets)} datasets"
+            if f.attrs["checkpoint_format"] != "3":
+                raise ValueError("checkpoint_format is not 3")
+    if os.path.basename(path) == "checkpoint.h5":  # the seal: the SHA-256 of every byte after the first 512
+        with open(path, "rb") as fh:
+            data = fh.read()
+        head = data[:512].split(b"\n")
+        if head[0] != b"sphib checkpoint 3" or head[1] != b"sha256 " + hashlib.sha256(data[512:]).hexdigest().encode():
+            raise ValueError("its seal does not hold")
+    return f"{len(datasets)} datasets"
 
 
 def check_csv(path):

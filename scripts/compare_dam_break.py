@@ -1,4 +1,4 @@
-# Compares dam-break runs with a reference run (README, "Time per step of the ISPH dam break"):
+# Compares dam-break runs with a reference run (docs/validation/isph.md):
 #   /usr/bin/python3 scripts/compare_dam_break.py REF_RUN RUN...
 # per run its summary figures, and against REF_RUN on REF_RUN's diagnostics times the rms
 # difference of front_x and of each load (also after a 5-sample running mean: without the

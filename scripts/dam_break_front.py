@@ -1,4 +1,4 @@
-# The dam-break surge front against the experiments (README, "Dam break by ISPH"):
+# The dam-break surge front against the experiments (docs/validation/isph.md, "Dam break by ISPH"):
 #   /usr/bin/python3 scripts/dam_break_front.py RUN...
 # First the experiments against each other (rms of Z_B - Z_A at A's points up to Z = 3.5, B
 # interpolated in T, where B has points: their own scatter). Then per run: the rms of Z - Z_exp for each experiment as

@@ -108,6 +108,43 @@ def attr(h5, key, default=None):
         return v
 
 
+def si_units(h5):
+    """Axis units for a run in SI units (water's density of 1000 or gravity of 9.81: the cases of
+    Afanasiev et al. and Vukcevic et al.), else none: the other cases are dimensionless."""
+    try:
+        si = abs(float(np.hypot(*attr(h5, "fluid.gravity", [0.0, 0.0]))) - 9.81) < 0.01 or \
+            abs(float(attr(h5, "fluid.rho", 1.0)) - 1000.0) < 1e-9
+    except (TypeError, ValueError):
+        si = False
+    if not si:
+        return {k: "" for k in ("t", "x", "p", "u", "load", "energy")}
+    return {"t": " (s)", "x": " (m)", "p": " (Pa)", "u": " (m/s)", "load": " (N/m)", "energy": " (J/m)"}
+
+
+def readable(column):
+    """A diagnostics column's name as a legend says it: m0_rx -> 'rx, membrane 0'."""
+    names = {"rx": "half-chord rx", "ry": "half-chord ry", "area_rel_error": "relative area error",
+             "elastic_energy": "elastic energy", "kinetic_energy": "kinetic energy", "cx": "centroid x",
+             "cy": "centroid y", "rms_error": "rms error (Eq. 69)", "max_speed": "max |u|"}
+    if column.startswith("m") and "_" in column and column[1:column.index("_")].isdigit():
+        k, rest = column[1:column.index("_")], column[column.index("_") + 1:]
+        return "%s, membrane %s" % (names.get(rest, rest.replace("_", " ")), k)
+    if column.startswith("load_"):
+        return column[5:] + " wall"
+    return names.get(column, column.replace("_", " "))
+
+
+def reference_speed(speed):
+    """A round speed near `speed` (1, 2 or 5 times a power of ten) for the reference arrow."""
+    if not (speed > 0 and math.isfinite(speed)):
+        return 0.0
+    e = math.floor(math.log10(speed))
+    for m in (5, 2, 1):
+        if m * 10 ** e <= speed:
+            return m * 10 ** e
+    return 10 ** e
+
+
 def free_surface_run(h5):
     return attr(h5, "fill.shape", "domain") != "domain" or bool(attr(h5, "domain.open", []))
 
@@ -165,18 +202,18 @@ def closed(X):
 # ---------------------------------------------------------------------------------------------
 # Plots
 
-def save_plane(fig, ax, out, title):
+def save_plane(fig, ax, out, title, unit=""):
     """An x-y picture at equal scales, written to out."""
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel("x" + unit)
+    ax.set_ylabel("y" + unit)
     ax.set_title(title)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
 
 
-def plot_particles(s, out, box, walls):
+def plot_particles(s, out, box, walls, units=None):
     """Free surface: every particle a dot coloured by pressure (colours clipped to the 1st-99th
     percentiles: a weakly compressible pressure is noisy). The view: the tank's side where it has a
     wall (walls: left, right, bottom, top booleans), else the particles with a margin."""
@@ -187,22 +224,28 @@ def plot_particles(s, out, box, walls):
     if not walls[3]:
         lim[3] = min(box[3], y.max() + max(3 * d, 0.15 * (y.max() - lim[2])))
     w, hgt = lim[1] - lim[0], lim[3] - lim[2]
+    units = units or {}
     fig, ax = plt.subplots(figsize=(7.0, min(9.0, max(2.5, 6.0 * hgt / w + 1.0))))
     p = s.scalars.get("p")
     size = (72.0 * 6.0 * d / w) ** 2 * 0.7  # dots about one particle spacing across
     if p is not None:
         lo, hi = np.percentile(p, [1, 99])
         im = ax.scatter(x, y, c=p, s=size, cmap="viridis", vmin=lo, vmax=hi, linewidths=0)
-        fig.colorbar(im, ax=ax, label="p")
+        fig.colorbar(im, ax=ax, label="pressure p" + units.get("p", ""))
     else:
         ax.scatter(x, y, s=size, linewidths=0)
     ax.set_xlim(lim[0], lim[1])
     ax.set_ylim(lim[2], lim[3])
-    save_plane(fig, ax, out, "t = %.4g (step %d): particles coloured by pressure" % (s.t, s.step))
+    save_plane(fig, ax, out, "t = %.4g%s (step %d): particles coloured by pressure" % (s.t, units.get("t", "").strip(" ()").join("  ").rstrip(), s.step),
+               units.get("x", ""))
 
 
-def plot_snapshot(s, out):
-    fig, ax = plt.subplots(figsize=(6.4, 5.6))
+def plot_snapshot(s, out, u_max=None, units=None):
+    """Pressure as a coloured field, velocity as arrows on one scale for the whole run: an arrow of
+    the run's largest speed u_max is 1.5 arrow spacings long, and a reference arrow in the corner gives
+    the scale (a slow flow draws short arrows, not arrows as long as the fast one's)."""
+    units = units or {}
+    fig, ax = plt.subplots(figsize=(6.4, 5.8))
     x, y = s.x, s.y
     grid = lattice(x, y)
     p = s.scalars.get("p")
@@ -216,28 +259,36 @@ def plot_snapshot(s, out):
             im = ax.tricontourf(x, y, p, levels=40, cmap="viridis")
         else:
             im = ax.scatter(x, y, c=p, cmap="viridis")
-        fig.colorbar(im, ax=ax, label="p")
+        fig.colorbar(im, ax=ax, label="pressure p" + units.get("p", ""))
     else:
         ax.plot(x, y, ".", ms=2, color="0.6")
     u, v = s.scalars.get("u"), s.scalars.get("v")
+    speed_now = float(np.hypot(u, v).max()) if u is not None and v is not None and len(x) else 0.0
     if u is not None and v is not None and len(x) > 0:
         if grid is not None:
             ix, iy, xs, ys = grid
             stride = max(1, int(math.ceil(math.sqrt(len(x) / MAX_ARROWS))))
             sel = (ix % stride == 0) & (iy % stride == 0)
+            arrow_gap = stride * spacing(x, y)
         else:
             sel = np.zeros(len(x), bool)
             sel[::max(1, int(math.ceil(len(x) / MAX_ARROWS)))] = True
-        if np.any(np.hypot(u[sel], v[sel]) > 0):
-            ax.quiver(x[sel], y[sel], u[sel], v[sel], color="white", edgecolor="black",
-                      linewidth=0.3, width=0.004)
+            arrow_gap = math.sqrt(np.ptp(x) * np.ptp(y) / max(sel.sum(), 1))
+        top = u_max if u_max and u_max > 0 else speed_now
+        if top > 0 and np.any(np.hypot(u[sel], v[sel]) > 0):
+            q = ax.quiver(x[sel], y[sel], u[sel], v[sel], color="white", edgecolor="black", linewidth=0.3,
+                          width=0.004, angles="xy", scale_units="xy", scale=top / (1.5 * arrow_gap))
+            ref = reference_speed(top)
+            ax.quiverkey(q, 0.74, -0.105, ref, "|u| = %g%s" % (ref, units.get("u", "")), labelpos="E",
+                         coordinates="axes", color="black", fontproperties={"size": "small"})
     for k, X in enumerate(s.membranes):
         C = closed(X)
         ax.plot(C[:, 0], C[:, 1], "-", color="red", lw=1.5,
                 label="membrane %d" % k if len(s.membranes) > 1 else None)
     if len(s.membranes) > 1:
         ax.legend(loc="upper right", fontsize="small")
-    save_plane(fig, ax, out, "t = %.6g (step %d): pressure and velocity" % (s.t, s.step))
+    save_plane(fig, ax, out, "t = %.6g%s: pressure, velocity (max |u| = %.3g%s)" % (s.t, units.get("t", "").strip(" ()").join("  ").rstrip(), speed_now, units.get("u", "").strip(" ()").join("  ").rstrip()),
+               units.get("x", ""))
 
 
 def plot_sections(s, radius, jump, out):
@@ -295,7 +346,7 @@ def finish(fig, ax, out, xlabel, ylabel, title):
 
 
 def plot_series(cols, names, ylabel, title, out, logy=False):
-    """Columns `names` (those present) against t; False if nothing to draw."""
+    """Columns `names` (those present) against t, with readable legend names; False if nothing to draw."""
     t = cols.get("t")
     present = [n for n in names if n in cols]
     if t is None or not present or len(t) == 0:
@@ -304,10 +355,40 @@ def plot_series(cols, names, ylabel, title, out, logy=False):
     for n in present:
         y = cols[n]
         if logy and np.any(y > 0):
-            ax.semilogy(t[y > 0], y[y > 0], label=n)
+            ax.semilogy(t[y > 0], y[y > 0], label=readable(n))
         else:
-            ax.plot(t, y, label=n)
+            ax.plot(t, y, label=readable(n))
     finish(fig, ax, out, "t", ylabel, title)
+    return True
+
+
+def plot_energies(cols, out, units):
+    """Kinetic energy on a log axis in its own panel (it falls by decades while the elastic energy
+    sits at a finite rest value), the membranes' elastic energy below it."""
+    t = cols.get("t")
+    elastic = [c for c in cols if c.startswith("m") and c.endswith("_elastic_energy")]
+    if t is None or "kinetic_energy" not in cols or len(t) == 0:
+        return False
+    fig, axes = plt.subplots(2 if elastic else 1, 1, figsize=(6.4, 6 if elastic else 3.6), sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    ke = cols["kinetic_energy"]
+    pos = ke > 0
+    ax.semilogy(t[pos], ke[pos], label="kinetic energy of the fluid")
+    ax.set_ylabel("kinetic energy" + units.get("energy", ""))
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    ax.set_title("energies")
+    if elastic:
+        ax2 = axes[1, 0]
+        for c in elastic:
+            ax2.plot(t, cols[c], label=readable(c))
+        ax2.set_ylabel("elastic energy" + units.get("energy", ""))
+        ax2.grid(alpha=0.3)
+        ax2.legend(fontsize="small")
+    axes[-1, 0].set_xlabel("t" + units.get("t", ""))
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
     return True
 
 
@@ -324,6 +405,11 @@ def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS, compare=None):
         if not names:
             print("plot.py: %s has no snapshots" % h5_path, file=sys.stderr)
         free = free_surface_run(h5)
+        units = si_units(h5)
+        u_max = None  # the run's largest speed: one arrow scale for every snapshot
+        diag = read_csv(csv_path)
+        if "max_speed" in diag and np.isfinite(diag["max_speed"]).any():
+            u_max = float(np.nanmax(diag["max_speed"]))
         box = [float(v) for v in attr(h5, "domain.x", [0, 1]) + attr(h5, "domain.y", [0, 1])]
         opened = attr(h5, "domain.open", [])
         px, py = attr(h5, "domain.periodic_x", True), attr(h5, "domain.periodic_y", False)
@@ -338,11 +424,11 @@ def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS, compare=None):
             s = Snapshot(h5["snapshots"][names[i]])
             out = os.path.join(run_dir, "snapshot_%s.png" % s.name)
             if free:
-                plot_particles(s, out, box, walls)
+                plot_particles(s, out, box, walls, units)
             else:
-                plot_snapshot(s, out)
+                plot_snapshot(s, out, u_max, units)
             written.append(out)
-        written += plot_free_surface_series(h5, names, run_dir, read_csv(csv_path), compare)
+        written += plot_free_surface_series(h5, names, run_dir, diag, compare, units)
         if names and not free:
             last = Snapshot(h5["snapshots"][names[-1]])
             jump = summary.get("pressure_jump_exact")
@@ -352,16 +438,20 @@ def plot_run(run_dir, n_snapshots=N_SNAPSHOT_PLOTS, compare=None):
                 written.append(out)
 
     cols = read_csv(csv_path)
+    membranes = sorted({c.split("_")[0] for c in cols if c.startswith("m") and c.endswith("_rx")})
     for names, ylabel, title, fname, logy in (
-            (["m0_rx", "m0_ry"], "half-axis", "membrane 0 half-axes", "rx_ry.png", False),
-            (["m0_area_rel_error"], "relative error", "membrane 0 area error",
+            ([m + s for m in membranes for s in ("_rx", "_ry")], "half-chord", "membrane half-chords (extent along x, y)",
+             "rx_ry.png", False),
+            ([m + "_area_rel_error" for m in membranes], "(A - A0) / A0", "enclosed area: relative error",
              "area_error.png", False),
-            (["kinetic_energy", "m0_elastic_energy"], "energy", "energies", "energy.png", False),
             (["rms_error"], "rms error", "rms error against the exact solution",
              "rms_error.png", True)):
         out = os.path.join(run_dir, fname)
         if plot_series(cols, names, ylabel, title, out, logy):
             written.append(out)
+    out = os.path.join(run_dir, "energy.png")
+    if plot_energies(cols, out, units):
+        written.append(out)
     return written
 
 
@@ -384,9 +474,10 @@ def read_front_reference(path):
     return np.array([[float(c) for c in r.split(",")] for r in rows], ndmin=2)
 
 
-def plot_free_surface_series(h5, names, run_dir, cols, compare=None):
+def plot_free_surface_series(h5, names, run_dir, cols, compare=None, units=None):
     """Loads, droplet axis, dam-break front, inclined-plane profile: those the run has. `compare`: a
     second run directory whose loads are drawn dashed beside this run's (Fig. 10: ISPH and SPH)."""
+    units = units or si_units(h5)
     written = []
     t = cols.get("t")
     loads = [c for c in cols if c.startswith("load_")]
@@ -400,14 +491,16 @@ def plot_free_surface_series(h5, names, run_dir, cols, compare=None):
             if c in other:
                 ax.plot(other["t"], other[c], "--", color=line.get_color(), lw=1,
                         label=c.replace("load_", "") + " wall (%s)" % them)
-        written.append(finish(fig, ax, out, "t", "load per unit depth (Eq. 31)", "hydrodynamic loads: int (p(t) - p(0)) over each wall"))
+        written.append(finish(fig, ax, out, "t" + units["t"], "load per unit depth" + units["load"] + ", Eq. (31)",
+                              "hydrodynamic loads: int (p(t) - p(0)) over each wall"))
     if t is not None and "droplet_a" in cols:
         out = os.path.join(run_dir, "droplet_axis.png")
         fig, ax = plt.subplots(figsize=(6.4, 4))
         ax.plot(t, cols["droplet_a_exact"], "k-", lw=1, label="RK4 of Eq. (42)")
         ax.plot(t[::max(1, len(t) // 40)], cols["droplet_a"][::max(1, len(t) // 40)], "o", ms=4,
                 label="SPH: (I_xx / I_yy)^(1/4)")
-        written.append(finish(fig, ax, out, "t", "semi-axis a", "elliptic droplet (Afanasiev et al. Section 6.3)"))
+        written.append(finish(fig, ax, out, "t" + units["t"], "semi-axis a" + units["x"],
+                              "elliptic droplet (Afanasiev et al. Section 6.3)"))
     if t is not None and "front_x" in cols:
         fx = attr(h5, "fill.x", attr(h5, "domain.x", [0, 1]))
         a = float(fx[1]) - float(fx[0])
@@ -439,7 +532,7 @@ def plot_free_surface_series(h5, names, run_dir, cols, compare=None):
         fig, ax = plt.subplots(figsize=(5, 4.5))
         ax.plot(F * (H - yy / 2) * yy / nu, yy, "k-", lw=1, label="Eq. (39), steady")
         ax.plot(s.scalars["u"], s.y - y0, ".", ms=2, label="SPH, t = %.3g" % s.t)
-        written.append(finish(fig, ax, out, "u", "y", "flow down an inclined plane"))
+        written.append(finish(fig, ax, out, "u" + units["u"], "y" + units["x"], "flow down an inclined plane"))
     return written
 
 

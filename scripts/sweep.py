@@ -12,10 +12,13 @@ all runs. The first --vary key is the resolution: observed orders are computed b
 successive values of it, with the other keys fixed, as log(e_a/e_b)/log(n_b/n_a).
 Writes OUT/sweep.csv (one row per run: the varied and derived values, then the reported
 summary fields) and OUT/sweep.md (the same with orders), and prints the table.
-Runs that already have a summary.json are not run again (delete OUT to start over).
+A run is reused only when its directory holds a summary.json of the same run: the same scene file
+(its SHA-256), the same --set values (OUT/run_k/sweep_run.json keeps them) and not stopped by a
+signal; any other is run again (its files replaced). A key both varied and set is refused.
 """
 import argparse
 import csv
+import hashlib
 import itertools
 import json
 import math
@@ -24,6 +27,19 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def same_run(summary_path, record_path, record):
+    """The directory holds a complete run of this scene file and these settings."""
+    try:
+        with open(record_path) as f:
+            if json.load(f) != record:
+                return False
+        with open(summary_path) as f:
+            s = json.load(f)
+        return "stop_signal" not in s and s.get("stop_reason") not in ("interrupted", "terminated")
+    except (OSError, ValueError):
+        return False
 
 
 def main():
@@ -44,7 +60,12 @@ def main():
         values.append(vals.split(","))
     if not keys:
         sys.exit("sweep: give at least one --vary key=v1,v2,...")
+    for s in a.set + a.derive:
+        if s.split("=", 1)[0] in keys:
+            sys.exit(f"sweep: {s.split('=', 1)[0]} is varied (--vary) and set or derived as well: give it once")
     report = [r for r in a.report.split(",") if r]
+    with open(a.scene, "rb") as f:
+        scene_sha256 = hashlib.sha256(f.read()).hexdigest()
     os.makedirs(a.out, exist_ok=True)
     rows = []
     for k, combo in enumerate(itertools.product(*values)):
@@ -62,7 +83,9 @@ def main():
         sets += a.set
         run_dir = os.path.join(a.out, "run_%03d" % k)
         summary_path = os.path.join(run_dir, "summary.json")
-        if not os.path.exists(summary_path):
+        record_path = os.path.join(run_dir, "sweep_run.json")
+        record = {"scene": os.path.abspath(a.scene), "scene_sha256": scene_sha256, "sets": sets}
+        if not same_run(summary_path, record_path, record):
             cmd = [a.sphib, "run", a.scene, "--out", run_dir, "--quiet"]
             for s in sets:
                 cmd += ["--set", s]
@@ -71,6 +94,9 @@ def main():
             if r.returncode != 0 and not os.path.exists(summary_path):
                 print(f"sweep: run {k} failed (exit {r.returncode})", file=sys.stderr)
                 continue
+            with open(record_path + ".part", "w") as f:
+                json.dump(record, f)
+            os.replace(record_path + ".part", record_path)
         with open(summary_path) as f:
             s = json.load(f)
         row = dict(env)

@@ -420,11 +420,11 @@ SimulationParams periodic_ib(int n, double dt) {
 // membrane relaxes by ~1e-7. Rescaling L0 by that |X_s| makes T vanish to round-off.
 Membrane discrete_rest_circle(int nb, double r0, double cx, double cy, double T0) {
   Membrane m = make_membrane(circle(nb, cx, cy, r0), r0, T0);
-  HookeanForce H(nb, m.L0);
+  MembraneForce H(m);
   Mat2 f;
   Vec T;
-  H.compute(m, f, T);
-  m.L0 *= 1.0 + T.mean() / T0;  // |X_s| scales as 1/L0
+  H.compute(m.X, f, T);
+  m.ref.L0 *= 1.0 + T.mean() / T0;  // |X_s| scales as 1/L0
   return m;
 }
 
@@ -456,12 +456,12 @@ TEST(Coupling, MembraneTranslatesWithUniformFlow) {
     u0.col(0).setConstant(U0.x());
     u0.col(1).setConstant(U0.y());
     sim.fluid().set_velocity(u0);
-    MembraneDiagnostics D(64, ms.membrane.L0);
-    const MembraneShape s0 = D.measure(ms.membrane.X, 10.0);
+    MembraneDiagnostics D(64, ms.membrane.L0());
+    const MembraneShape s0 = D.measure(ms.membrane.X);
     for (int s = 0; s < 20; ++s) sim.step();
     ASSERT_NEAR(sim.time(), 0.2, 1e-12);
     const Mat2& X = sim.membranes()[0].m.X;
-    const MembraneShape s1 = D.measure(X, 10.0);
+    const MembraneShape s1 = D.measure(X);
     const Eigen::Vector2d moved = Eigen::Vector2d(s1.cx, s1.cy) - Eigen::Vector2d(s0.cx, s0.cy);
     Mat2 X_expected = ms.membrane.X;
     X_expected.col(0).array() += U0.x() * sim.time();

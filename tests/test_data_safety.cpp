@@ -257,8 +257,8 @@ TEST(DataSafety, BadCommandLinesAreRefusedWithExitTwoAndWriteNothing) {
       {run + kScene + " --out " + out.string() + " --set 'fluid.mu=0.1\nfluid.rho=5'",
        "(--set fluid.mu): the value holds a line break"},
       {run + kScene + " --out " + out.string() + " --restart " + (tmp / "none.h5").string(),
-       "checkpoint " + (tmp / "none.h5").string() + ": cannot open it as HDF5"},
-      {run + kScene + " --out " + out.string() + " --restart " + kScene, "checkpoint " + kScene + ": cannot open it as HDF5"},
+       "checkpoint " + (tmp / "none.h5").string() + ": cannot be read: No such file or directory"},
+      {run + kScene + " --out " + out.string() + " --restart " + kScene, "checkpoint " + kScene + ": not a sphib checkpoint"},
   };
   for (const auto& c : cases) {
     const Exit e = shell(c.cmd, tmp);

@@ -1,7 +1,8 @@
 # ctest install_and_use_package: installs the build tree into a temporary prefix, then configures,
 # builds and runs examples/outside against the installed package (find_package(sphib)).
 # Arguments: -DBUILD_DIR -DSOURCE_DIR -DWORK_DIR -DGENERATOR, and the build's -DCXX_FLAGS and
-# -DBUILD_TYPE (a sanitizer build's library needs the same flags in the program that links it).
+# -DBUILD_TYPE (a sanitizer build's library needs the same flags in the program that links it);
+# with -DPYTHON and -DPYTHON_DIR (the module's place under the prefix) the installed module is imported.
 foreach(v BUILD_DIR SOURCE_DIR WORK_DIR GENERATOR)
   if(NOT DEFINED ${v})
     message(FATAL_ERROR "test_install.cmake: -D${v}=... is required")
@@ -36,4 +37,12 @@ step("run examples/outside" ${WORK_DIR}/build/outside)
 message(STATUS "${step_output}")
 step("installed sphib --version" ${prefix}/bin/sphib --version)
 message(STATUS "${step_output}")
+if(DEFINED PYTHON)
+  step("import the installed module" ${CMAKE_COMMAND} -E env PYTHONPATH=${prefix}/${PYTHON_DIR}
+       ${PYTHON} -c "import sphib\nprint(sphib.__file__, sphib.__version__)")  # no ';': CMake splits lists at it
+  if(NOT step_output MATCHES "^${prefix}/${PYTHON_DIR}/sphib")
+    message(FATAL_ERROR "import sphib found ${step_output}, not the installed module under ${prefix}/${PYTHON_DIR}")
+  endif()
+  message(STATUS "${step_output}")
+endif()
 file(REMOVE_RECURSE ${WORK_DIR})

@@ -136,10 +136,17 @@ TEST(Reliability, DamagedCheckpointsAreRefused) {
     H5Fclose(f);
     return bad.string();
   };
+  // Sealed anew after the change (as a deliberate edit would be), so that the checks behind the seal
+  // are reached; unsealed, every change is refused by the seal (issue 26).
+  auto sealed = [](const std::string& file) {
+    seal_checkpoint(file);
+    return file;
+  };
   struct Case { std::string file, expect; };
-  const std::vector<Case> cases{{damage("/fluid/u", NAN, 7), "non-finite values in fluid/u"},
-                                {damage("/fluid/clock", -1.0, 0), "its clock is not valid (t = -1"},
-                                {damage("/membranes/0", INFINITY, 3), "non-finite values in membranes/0"}};
+  const std::vector<Case> cases{{sealed(damage("/fluid/u", NAN, 7)), "non-finite values in fluid/u"},
+                                {sealed(damage("/fluid/clock", -1.0, 0)), "its clock is not valid (t = -1"},
+                                {sealed(damage("/membranes/0", INFINITY, 3)), "non-finite values in membranes/0"},
+                                {damage("/membranes/0", 0.25, 4), "damaged: its SHA-256"}};
   for (const auto& c : cases) {
     try {
       run((d / "b").string(), {"time.end=0.04"}, c.file);

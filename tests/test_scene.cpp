@@ -7,6 +7,7 @@
 #include <map>
 
 #include "io/run.hpp"
+#include "helpers.hpp"
 #include "io/scene.hpp"
 #include "scene_refusal.hpp"
 
@@ -14,17 +15,7 @@ using namespace sphib;
 
 namespace {
 
-const char* kMinimal = R"(
-[grid]
-nx = 16
-ny = 16
-[fluid]
-rho = 1.0
-mu = 1.0
-[time]
-dt = 0.001
-end = 0.01
-)";
+const char* const kMinimal = sphib_test::kMinimalScene;
 
 using test::refusal;
 
@@ -126,8 +117,8 @@ TEST(Scene, OverridesReachEveryContractKey) {
   EXPECT_DOUBLE_EQ(s.sim.fluid.mu, 0.3);
   ASSERT_EQ(s.sim.membranes.size(), 1u);
   const MembraneSetup& m = s.sim.membranes[0];
-  EXPECT_DOUBLE_EQ(m.membrane.T0, 10.0);
-  EXPECT_DOUBLE_EQ(m.membrane.L0, 2 * M_PI * 0.4);
+  EXPECT_DOUBLE_EQ(m.membrane.mat.Es, 10.0);
+  EXPECT_DOUBLE_EQ(m.membrane.L0(), 2 * M_PI * 0.4);
   EXPECT_EQ(m.membrane.nb(), 64);
   EXPECT_TRUE(m.fixed);
   const double h = 1.5 * 0.5 * (3.0 / 32 + 3.0 / 24);

@@ -1,7 +1,7 @@
 """Two membranes in a flow of your own: walls sliding in opposite directions, a body force
 F(x, y, t) written with NumPy, a three-lobed membrane r(theta) and one through a point list.
 
-    PYTHONPATH=build/python /usr/bin/python3 examples/python/custom_flow.py [--steps N]
+    /usr/bin/python3 examples/python/custom_flow.py [--steps N]     (after scripts/run_main.sh; or PYTHONPATH=build/python)
 """
 import argparse
 

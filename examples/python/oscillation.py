@@ -1,7 +1,7 @@
 """The oscillating membrane (Section 5.2.2, cases/membrane_oscillation.toml) from Python: the
 library's own run and output, with one observer of our own; prints the final enclosed-area error.
 
-    PYTHONPATH=build/python /usr/bin/python3 examples/python/oscillation.py --steps 1000
+    /usr/bin/python3 examples/python/oscillation.py --steps 1000     (after scripts/run_main.sh; or PYTHONPATH=build/python)
 """
 import argparse
 import os

@@ -4,9 +4,14 @@ PYTHONPATH=build/python, SPHIB_BINARY (the command, to compare messages) and SPH
 import csv
 import gc
 import json
+import math
 import os
+import pathlib
+import re
 import subprocess
+import sys
 import tempfile
+import textwrap
 import unittest
 
 import numpy as np
@@ -63,6 +68,19 @@ class Scenes(unittest.TestCase):
         self.assertEqual(s.dt, 1e-3)  # a refused change leaves the scene as it was
         with self.assertRaisesRegex(TypeError, "grid.nx"):
             channel(grid={"nx": object(), "ny": 16})
+
+    def test_deep_or_self_containing_keys_are_refused_not_a_stack_overflow(self):
+        # issue 26, item 5: every recursive parser has a depth limit
+        loop = {"grid": {"nx": 16}}
+        loop["a"] = loop
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.load_scene(OSCILLATION, set=loop)
+        row = [0.0, 1.0]
+        row.append(row)
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.load_scene(OSCILLATION, set={"membrane.centre": row})
+        with self.assertRaisesRegex(sphib.SceneError, "a key of 15001 dotted parts"):
+            sphib.load_scene(OSCILLATION, set={".".join(["a"] * 15001): 1})
 
     def test_a_membrane_outside_the_domain_is_refused_as_by_the_command(self):
         s = sphib.load_scene(OSCILLATION, set={"membrane.centre": [0.0, 1.2]})
@@ -224,6 +242,209 @@ class Runs(unittest.TestCase):
         s.set({"fluid.mu": 0.2})
         with self.assertRaisesRegex(ValueError, "its scene does not match: fluid.mu"):  # refused: nothing run
             sphib.run(s, out=again, restart=os.path.join(self.out, "checkpoint.h5"))
+
+
+def in_child(code):
+    """Runs code in a fresh interpreter (a crash there fails the test instead of ending the suite);
+    returns its stdout. The child sees the module, NumPy and the names below."""
+    prelude = ("import math, os, pathlib, sys\nimport numpy as np\nimport sphib\n"
+               f"OSCILLATION = {OSCILLATION!r}\nSMALL = {SMALL!r}\n")
+    p = subprocess.run([sys.executable, "-c", prelude + textwrap.dedent(code)], capture_output=True, text=True,
+                       timeout=120)
+    if p.returncode != 0:
+        raise AssertionError(f"the child exited with status {p.returncode} (a negative status is a signal)\n"
+                             f"stdout:\n{p.stdout}\nstderr:\n{p.stderr}")
+    return p.stdout
+
+
+class Misuse(unittest.TestCase):
+    """Each case once crashed the interpreter or was accepted silently; now each is a value or a clear error."""
+
+    def test_numpy_scalars_and_arrays_are_scene_values(self):
+        # Once: exit 139 (a temporary freed before it was read). Run in a child so a crash is a failure.
+        out = in_child("""
+            keys = {"domain": {"x": np.array([-1.0, 1.0]), "y": np.linspace(-1, 1, 2)},
+                    "grid": {"nx": np.int64(16), "ny": np.int32(16)},
+                    "fluid": {"rho": np.array(1.0), "mu": np.float64(0.5), "convection": np.bool_(False)},
+                    "time": {"dt": np.float32(0.001), "end": 0.01}}
+            s = sphib.Scene(keys)
+            print(s.mu, s.nx, s.ny, s.dt, s.domain, s.keys["fluid.convection"])
+            s.set({"fluid.mu": np.float32(0.25)})
+            s.set(fluid={"rho": np.array(2.0)})
+            print(s.mu, s.rho)
+            t = sphib.load_scene(OSCILLATION, set={"fluid.mu": np.float64(0.05), "grid.nx": np.int16(32),
+                                                   "membrane.centre": np.zeros(2)})
+            print(t.mu, t.nx)
+        """).split("\n")
+        self.assertEqual(out[0], f"0.5 16 16 {float(np.float32(0.001))} ((-1.0, 1.0), (-1.0, 1.0)) false")
+        self.assertEqual(out[1], "0.25 2.0")
+        self.assertEqual(out[2], "0.05 32")
+
+    def test_a_float_for_an_integer_key_is_refused_as_in_a_file(self):
+        for value in (40.0, np.float64(40.0), np.array(40.0)):
+            with self.assertRaises(sphib.SceneError) as e:
+                sphib.load_scene(OSCILLATION, set={"grid.nx": value})
+            expected, status = command_error("check", OSCILLATION, "--set", "grid.nx=40.0")
+            self.assertEqual(status, 2)
+            self.assertEqual(str(e.exception), expected)
+            self.assertIn("grid.nx: must be an integer (got a number)", expected)
+        with self.assertRaisesRegex(sphib.SceneError, r"fluid.mu: must be a number \(got a boolean\)"):
+            sphib.load_scene(OSCILLATION, set={"fluid.mu": True})
+        with self.assertRaisesRegex(sphib.SceneError, r"fluid.mu: must be finite"):
+            sphib.load_scene(OSCILLATION, set={"fluid.mu": np.float64("nan")})
+        with self.assertRaisesRegex(sphib.SceneError, "64-bit"):
+            sphib.load_scene(OSCILLATION, set={"grid.nx": 10 ** 30})
+        with self.assertRaisesRegex(TypeError, "scene keys are strings"):
+            sphib.Scene({1: 2})
+        looped = []
+        looped.append(looped)  # a list that contains itself: refused, not a stack overflow
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.load_scene(OSCILLATION, set={"output.times": looped})
+        table = {}
+        table["grid"] = table
+        with self.assertRaisesRegex(ValueError, "nested more than 8 deep"):
+            sphib.Scene(table)
+
+    def test_paths_are_accepted_where_files_are_named(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            s = sphib.load_scene(pathlib.Path(OSCILLATION), set={**SMALL, "time.end": 0.002})
+            summary = sphib.run(s, out=pathlib.Path(tmp) / "a")
+            self.assertEqual(summary["steps"], 20)
+            s.set({"time.end": 0.003})
+            again = sphib.run(s, out=pathlib.Path(tmp) / "a", restart=pathlib.Path(tmp) / "a" / "checkpoint.h5")
+            self.assertEqual(again["steps"], 30)
+        cavity = os.path.join(SOURCE, "cases", "cavity_re100.toml")
+        self.assertEqual(sphib.load_scene(cavity, set={"observe.reference_dir": pathlib.Path("reference")}).nx, 64)
+
+    def test_an_observers_simulation_cannot_be_used_after_its_call(self):
+        # Once: reading .time or .u after sphib.run returned read freed memory (segfault).
+        out = in_child("""
+            import tempfile
+            kept = []
+            s = sphib.load_scene(OSCILLATION, set={**SMALL, "time.end": 0.001})
+            s.observe("t_seen", lambda sim: (kept.append(sim), sim.time)[1])
+            with tempfile.TemporaryDirectory() as tmp:
+                sphib.run(s, out=tmp)
+            for what in ("time", "u", "steps"):
+                try:
+                    getattr(kept[-1], what)
+                    print("read", what)
+                except RuntimeError as e:
+                    print("refused", what, "observer 't_seen'" in str(e))
+            try:
+                kept[-1].markers(0)
+            except RuntimeError:
+                print("refused markers")
+        """)
+        self.assertEqual(out.split("\n")[:4], ["refused time True", "refused u True", "refused steps True",
+                                               "refused markers"])
+
+    def test_membranes_from_python_go_through_the_scene_readers_checks(self):
+        s = channel()
+        s.add_membrane(sphib.circle(nb=64, r0=0.2, centre=(0.4, 0.5)))
+        with self.assertRaisesRegex(sphib.SceneError, r"membranes\[1\]: membrane 1 crosses or touches membrane 0"):
+            s.add_membrane(sphib.circle(nb=64, r0=0.2, centre=(0.6, 0.5)))
+        self.assertEqual(s.membrane_count, 1)  # refused: the scene stays as it was
+        with self.assertRaisesRegex(sphib.SceneError, r"membranes\[1\].T0: value -1 is out of range \(allowed: >= 0\)"):
+            s.add_membrane(sphib.circle(nb=64, r0=0.1, centre=(0.8, 0.2), T0=-1.0))
+        with self.assertRaisesRegex(sphib.SceneError, r"h_star: value -0.1 is out of range"):
+            s.add_membrane(sphib.circle(nb=64, r0=0.1, centre=(0.8, 0.2)), h_star=-0.1)
+        # The same rule as a file's membrane.nb, before any marker is made (nb = 1e8 once allocated 1.6 GB).
+        expected, _ = command_error("check", OSCILLATION, "--set", "membrane.nb=100000000")
+        with self.assertRaises(sphib.SceneError) as e:
+            sphib.circle(nb=10 ** 8, r0=0.2)
+        self.assertTrue(expected.endswith(str(e.exception)), (expected, str(e.exception)))
+        with self.assertRaises(TypeError):
+            sphib.circle(nb=1e8, r0=0.2)  # not an integer
+        with self.assertRaisesRegex(sphib.SceneError, "free-surface"):
+            t = sphib.load_scene(os.path.join(SOURCE, "cases", "still_tank_isph.toml"))
+            t.add_membrane(sphib.circle(nb=64, r0=0.02, centre=(0.1, 0.05)))
+
+    def test_steps_and_times_that_cannot_be_reached_are_errors(self):
+        sim = sphib.Simulation(channel())
+        for bad in (lambda: sim.step(-1), lambda: sim.advance_to(math.nan), lambda: sim.advance_to(math.inf)):
+            with self.assertRaises(ValueError):
+                bad()
+        sim.step(3)
+        with self.assertRaisesRegex(ValueError, "before the simulation's time"):
+            sim.advance_to(0.001)
+        sim.advance_to(0.003)  # now: nothing to do
+        sim.step(0)
+        self.assertEqual(sim.steps, 3)
+        sim.advance_to(0.005)
+        self.assertEqual(sim.steps, 5)
+
+    def test_signatures_read_as_python(self):
+        # Once: (anonymous namespace)::PyScene and -> object in the docstrings.
+        docs = []
+        for name in dir(sphib):
+            obj = getattr(sphib, name)
+            docs.append(getattr(obj, "__doc__", "") or "")
+            if isinstance(obj, type):
+                for member in vars(obj).values():
+                    doc = getattr(member, "__doc__", "") or ""
+                    fget = getattr(member, "fget", None)
+                    docs.append(doc + (getattr(fget, "__doc__", "") or ""))
+        text = "\n".join(docs)
+        self.assertIn("load_scene(path: os.PathLike", text)
+        self.assertIn("Simulation, scene: sphib.Scene", text)
+        for bad in ("::", "anonymous", "-> object", ": object"):
+            self.assertNotIn(bad, text)
+
+
+class Analysis(unittest.TestCase):
+    def tilted(self, a, b, angle, nb=256):
+        X = sphib.ellipse(nb=nb, r0=0.3, rx=a, ry=b).X
+        c, s = math.cos(angle), math.sin(angle)
+        return X @ np.array([[c, s], [-s, c]]) + np.array([0.3, -0.1])
+
+    def test_deformation_and_inclination_of_a_tilted_ellipse(self):
+        X = self.tilted(0.6, 0.4, math.radians(30))
+        fit = sphib.ellipse_fit(X)
+        # Measured at nb = 256: D = 0.2 and theta = 30 deg to round-off (4e-17, 7e-15 deg; the polygon's
+        # isotropic factor cancels in D); the half-chords give 0.097 for this shape.
+        self.assertAlmostEqual(fit.deformation, 0.2, delta=1e-12)
+        self.assertAlmostEqual(sphib.taylor_deformation(X), fit.deformation, places=15)
+        self.assertAlmostEqual(math.degrees(sphib.inclination(X)), 30.0, delta=1e-9)
+        self.assertAlmostEqual(fit.centroid[0], 0.3, delta=1e-12)
+        self.assertAlmostEqual(fit.area, math.pi * 0.6 * 0.4, delta=2e-4)
+        chords = sphib.measure(X, 2 * math.pi * 0.3)
+        self.assertLess((chords["rx"] - chords["ry"]) / (chords["rx"] + chords["ry"]), 0.1)  # what half-chords say
+        with self.assertRaises(ValueError):
+            sphib.ellipse_fit(np.zeros((2, 2)))
+
+    def test_angular_velocity_of_a_rigid_rotation(self):
+        X = self.tilted(0.6, 0.4, 0.2, nb=64)
+        c = sphib.ellipse_fit(X).centroid
+        U = 0.7 * np.column_stack([-(X[:, 1] - c[1]), X[:, 0] - c[0]])
+        self.assertAlmostEqual(sphib.angular_velocity(X, U), 0.7, places=12)
+        self.assertAlmostEqual(sphib.angular_velocity(X, -U, centre=c), -0.7, places=12)
+
+    def test_a_simulations_membrane_shape(self):
+        sim = sphib.Simulation(sphib.load_scene(OSCILLATION, set=SMALL))
+        shape = sim.shape(0)
+        self.assertAlmostEqual(shape.theta, 0.0, places=12)
+        self.assertGreater(shape.L, shape.B)
+        self.assertEqual(shape.deformation, sphib.taylor_deformation(sim.markers(0)))
+        sim.step(5)
+        self.assertAlmostEqual(sim.angular_velocity(0), sphib.angular_velocity(sim.markers(0), sim.marker_velocity(0)),
+                               places=15)
+
+
+class Keys(unittest.TestCase):
+    def test_scene_keys_are_the_commands_json(self):
+        keys = sphib.scene_keys()
+        p = subprocess.run([BINARY, "keys", "--json"], capture_output=True, text=True, check=True)
+        self.assertEqual(keys, json.loads(p.stdout))
+        by_name = {k["name"]: k for k in keys}
+        self.assertEqual(by_name["grid.nx"]["type"], "integer")
+        self.assertTrue(by_name["grid.nx"]["required"])
+        self.assertIsNone(by_name["grid.nx"]["default"])
+        self.assertEqual(by_name["kernel.h_over_dx"]["default"], 1.2)
+        self.assertEqual(by_name["domain.x"]["default"], [0, 1])
+        self.assertIs(by_name["fluid.convection"]["default"], True)
+        self.assertEqual(by_name["method"]["default"], "eulerian")
+        self.assertIn("isph", by_name["method"]["range"])
 
 
 def s_markers(scene, k):

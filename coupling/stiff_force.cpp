@@ -1,0 +1,112 @@
+#include "coupling/stiff_force.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+namespace sphib {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+// dt K B below which a mode leans towards the explicit force: theta = min(1, dt K B / kStiff).
+constexpr double kStiff = 0.1;
+using C = std::complex<double>;
+
+// An upper bound of the cubic-spline kernel's 2-D Fourier transform at q = k h: within 1.25x of
+// sinc^4(q/2) over its first lobe (q < 6), then side lobes below 1e-3 (numerical Hankel transform,
+// docs/membranes.md), so that B is overestimated, never under.
+double smoothing(double q) {
+  const double x = 0.5 * q, sinc = x == 0.0 ? 1.0 : std::sin(x) / x;
+  return std::min(1.0, 1.5 * sinc * sinc * sinc * sinc + 1e-3);
+}
+}  // namespace
+
+StiffForceFilter::StiffForceFilter(int nb) : nb_(nb), nm_(nb / 2 + 1) {
+  in_ = fftw_alloc_real(4 * static_cast<size_t>(nb_));
+  hat_ = fftw_alloc_complex(4 * static_cast<size_t>(nm_));
+  if (!in_ || !hat_) throw std::bad_alloc();
+  int n[1] = {nb_};
+  fwd_ = fftw_plan_many_dft_r2c(1, n, 4, in_, nullptr, 1, nb_, hat_, nullptr, 1, nm_, FFTW_ESTIMATE);
+  inv_ = fftw_plan_many_dft_c2r(1, n, 2, hat_, nullptr, 1, nm_, in_, nullptr, 1, nb_, FFTW_ESTIMATE);
+  if (!fwd_ || !inv_) throw std::runtime_error("StiffForceFilter: no FFTW plan for " + std::to_string(nb) + " markers");
+}
+
+StiffForceFilter::~StiffForceFilter() {
+  if (fwd_) fftw_destroy_plan(fwd_);
+  if (inv_) fftw_destroy_plan(inv_);
+  fftw_free(in_);
+  fftw_free(hat_);
+}
+
+void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Mat2& U, const StiffFluid& fl,
+                             Mat2& f_tilde) {
+  const KnotGeometry& g = force.geometry();
+  const MembraneStiffness st = force.stiffness();
+  const int n = nb_;
+  // Inward normal and tangential components; the force per unit current length (f is per unit label).
+  double* fn = in_;
+  double* ft = in_ + n;
+  double* un = in_ + 2 * n;
+  double* ut = in_ + 3 * n;
+  for (int k = 0; k < n; ++k) {
+    const double tx = g.X_s(k, 0) / g.norm[k], ty = g.X_s(k, 1) / g.norm[k];  // tau; n = (-ty, tx)
+    fn[k] = (-ty * f(k, 0) + tx * f(k, 1)) / g.norm[k];
+    ft[k] = (tx * f(k, 0) + ty * f(k, 1)) / g.norm[k];
+    un[k] = -ty * U(k, 0) + tx * U(k, 1);
+    ut[k] = tx * U(k, 0) + ty * U(k, 1);
+  }
+  fftw_execute(fwd_);
+  C* Fn = reinterpret_cast<C*>(hat_);
+  C* Ft = Fn + nm_;
+  const C* Un = Fn + 2 * nm_;
+  const C* Ut = Fn + 3 * nm_;
+
+  const double R = st.length / (2.0 * kPi), dt = fl.dt, nu = fl.mu / fl.rho;
+  const double Et = st.Et / (R * R), Tp = std::max(st.T_mean, 0.0) / (R * R), Eb = st.Eb / (R * R * R * R);
+  const double layer = std::sqrt(kPi * nu * dt);
+  const C i(0.0, 1.0);
+  for (int m = 0; m < nm_; ++m) {
+    const double mm = static_cast<double>(m), k = mm / R, m2 = mm * mm;
+    // K (per unit length, on (a, b) = inward normal, tangential); no coupling at the Nyquist mode
+    const bool nyquist = 2 * m == n;
+    const double Kaa = Et + Eb * (m2 - 1.0) * (m2 - 1.0) + Tp * std::max(m2 - 1.0, 0.0), Kbb = m2 * Et;
+    const C Kab = nyquist ? C(0.0) : -i * mm * Et, Kba = std::conj(Kab);
+    // the fluid's one-step response B and the velocity a mode keeps, A
+    const double stokes = m == 0 ? INFINITY : 1.0 / (4.0 * fl.mu * k);
+    const double s = smoothing(k * fl.h_star) * smoothing(k * fl.h);  // spreading and interpolation
+    const double Bn = s * std::min(dt * k / (2.0 * fl.rho), stokes);
+    const double Bt = s * std::min(dt / (2.0 * fl.rho * (m == 0 ? layer : std::min(1.0 / k, layer))), stokes);
+    const double A = 1.0 / (1.0 + 2.0 * nu * k * k * dt);
+    // theta: implicit where the mode is stiff, fading to the explicit f^n where dt K B << kStiff
+    const double th = dt * std::min(1.0, dt * std::max(Kaa, Kbb) * std::max(Bn, Bt) / kStiff);
+    // r = f - theta dt K A U;  M = I + theta dt K B;  f~ = M^{-1} r
+    const C ra = Fn[m] - th * A * (Kaa * Un[m] + Kab * Ut[m]);
+    const C rb = Ft[m] - th * A * (Kba * Un[m] + Kbb * Ut[m]);
+    const C Maa = 1.0 + th * Kaa * Bn, Mab = th * Kab * Bt, Mba = th * Kba * Bn, Mbb = 1.0 + th * Kbb * Bt;
+    const C det = Maa * Mbb - Mab * Mba;
+    Fn[m] = (Mbb * ra - Mab * rb) / det;
+    Ft[m] = (Maa * rb - Mba * ra) / det;
+  }
+  fftw_execute(inv_);  // f~_n, f~_t into in_[0, 2n), times n (FFTW's unnormalised transforms)
+  f_tilde.resize(n, 2);
+  const double inv_n = 1.0 / n;
+  double mx = 0.0, my = 0.0;  // the change's net force, removed: the filter must not push the membrane
+  for (int k = 0; k < n; ++k) {
+    const double tx = g.X_s(k, 0) / g.norm[k], ty = g.X_s(k, 1) / g.norm[k];
+    const double a = fn[k] * inv_n * g.norm[k], b = ft[k] * inv_n * g.norm[k];  // per unit label again
+    f_tilde(k, 0) = -ty * a + tx * b;
+    f_tilde(k, 1) = tx * a + ty * b;
+    mx += f_tilde(k, 0) - f(k, 0);
+    my += f_tilde(k, 1) - f(k, 1);
+  }
+  mx *= inv_n;
+  my *= inv_n;
+  for (int k = 0; k < n; ++k) {
+    f_tilde(k, 0) -= mx;
+    f_tilde(k, 1) -= my;
+  }
+}
+
+
+}  // namespace sphib

@@ -1,0 +1,401 @@
+// Membrane laws (membrane/law.hpp, membrane/laws/), bending, reference states, the stiff-force filter
+// (coupling/stiff_force.hpp), the B-spline marker interpolation and the scene keys of the material.
+// Every registered law is tested through the registry, so a new law is tested here by registering
+// it; its own small-strain modulus goes in kModulus below. Tolerances are measured values with a
+// margin, stated beside each.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "coupling/interpolate.hpp"
+#include "coupling/simulation.hpp"
+#include "coupling/stiff_force.hpp"
+#include "helpers.hpp"
+#include "io/run.hpp"
+#include "io/scene.hpp"
+#include "membrane/force.hpp"
+#include "membrane/geometry.hpp"
+#include "membrane/shapes.hpp"
+#include "scene_refusal.hpp"
+
+using namespace sphib;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+using test::refusal;
+
+const char* const kMinimal = sphib_test::kMinimalScene;
+
+using sphib_test::blob;
+
+Material material(const std::string& law, double Es, double Eb) {
+  Material m;
+  m.law = law;
+  m.Es = Es;
+  m.Eb = Eb;
+  return m;
+}
+
+// Relative mismatch between the energy's directional derivative along a smooth dX and -sum f.dX ds.
+double gradient_mismatch(const std::string& law, double Eb, int nb) {
+  const Mat2 X = blob(nb);
+  MembraneForce F(make_membrane(X, circle_reference(0.5), material(law, 3.0, Eb)));
+  Mat2 dX(nb, 2);
+  for (int k = 0; k < nb; ++k) {
+    const double th = 2 * kPi * k / nb;
+    dX(k, 0) = std::cos(2 * th) + 0.3 * std::sin(th);
+    dX(k, 1) = std::sin(3 * th);
+  }
+  const double eps = 1e-6;
+  F.fit_energy(X + eps * dX);
+  const double Ep = F.energy().total();
+  F.fit_energy(X - eps * dX);
+  const double Em = F.energy().total();
+  Mat2 f;
+  Vec T;
+  F.compute(X, f, T);
+  const double dE = (Ep - Em) / (2 * eps), fdX = (f.array() * dX.array()).sum() * F.ds();
+  return std::abs(dE + fdX) / std::abs(fdX);
+}
+
+// The small-strain plane-strain modulus dT/dlambda at lambda = 1 of each law with Es = 1 and its
+// default parameters (neo-Hookean: K + Es = 4 Es; Skalak, C = 1: 2 Es (1 + C) = 4 Es).
+const std::map<std::string, double> kModulus{{"hookean", 1.0}, {"neo_hookean", 4.0}, {"skalak", 4.0}, {"inextensible", 1.0}};
+
+}  // namespace
+
+// ------------------------------------------------------------------ the laws
+
+TEST(MembraneLaws, EveryLawIsStressFreeAtRestAndItsTensionIsItsEnergysDerivative) {
+  for (const LawInfo& info : tension_laws()) {
+    SCOPED_TRACE(info.name);
+    std::vector<double> p;
+    for (const LawParam& q : info.params) p.push_back(q.value);
+    const auto law = info.make(1.0, p);
+    EXPECT_EQ(law->energy(1.0), 0.0);
+    EXPECT_EQ(law->tension(1.0), 0.0);
+    ASSERT_TRUE(kModulus.count(info.name)) << "a registered law without its expected small-strain modulus here";
+    EXPECT_NEAR(law->stiffness(1.0), kModulus.at(info.name), 1e-14);
+    for (double l : {0.7, 0.95, 1.2, 1.6}) {  // T = dW/dl, dT/dl, central differences (error ~1e-10)
+      const double e = 1e-5;
+      EXPECT_NEAR(law->tension(l), (law->energy(l + e) - law->energy(l - e)) / (2 * e), 1e-8 * (1 + std::abs(law->tension(l))));
+      EXPECT_NEAR(law->stiffness(l), (law->tension(l + e) - law->tension(l - e)) / (2 * e), 1e-8 * (1 + law->stiffness(l)));
+      EXPECT_GT(law->stiffness(l), 0.0);  // all four are monotone in the stretch
+    }
+  }
+}
+
+TEST(MembraneLaws, SkalakHardensAndNeoHookeanSoftens) {
+  // At lambda = 1.5, against their common small-strain modulus 4 Es (T ~ 4 Es 0.5 = 2): Skalak
+  // (1 + C) 1.5 (1.25) = 3.75 (hardening), neo-Hookean 1.5 - 1/3.375 = 1.2037 (softening).
+  const auto sk = tension_law_info("skalak").make(1.0, {1.0});
+  const auto nh = tension_law_info("neo_hookean").make(1.0, {});
+  EXPECT_NEAR(sk->tension(1.5), 3.75, 1e-14);
+  EXPECT_NEAR(nh->tension(1.5), 1.5 - 1.0 / 3.375, 1e-14);
+  EXPECT_GT(sk->tension(1.5), 4.0 * 0.5);
+  EXPECT_LT(nh->tension(1.5), 4.0 * 0.5);
+}
+
+TEST(MembraneLaws, UnknownLawAndBadParametersAreRefusedByName) {
+  const Mat2 X = circle(32, 0, 0, 0.5);
+  try {
+    make_membrane(X, circle_reference(0.5), material("mooney", 1.0, 0.0));
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("skalak"), std::string::npos) << e.what();  // the known names are listed
+  }
+  Material sk = material("skalak", 1.0, 0.0);
+  sk.params = {-1.0};
+  EXPECT_THROW(make_membrane(X, circle_reference(0.5), sk), std::invalid_argument);
+  EXPECT_THROW(make_membrane(X, circle_reference(0.5), material("hookean", 1.0, -1.0)), std::invalid_argument);
+  EXPECT_THROW(make_membrane(X, circle_reference(0.5), material("hookean", NAN, 0.0)), std::invalid_argument);
+}
+
+// ------------------------------------------------------------------ force = -dE/dX, every law, bending
+
+TEST(MembraneLaws, ForceIsMinusEnergyGradientAtOrderFourWithAndWithoutBending) {
+  // Measured at nb = 64, 128, 256 (Es = 3, Eb = 0.7 on the blob): hookean 1.6e-4, 9.7e-6, 6.1e-7;
+  // skalak 8.5e-5, 5.3e-6, 3.3e-7; neo_hookean 1.3e-4, 8.2e-6, 5.1e-7: order 4.0 for all.
+  for (const LawInfo& info : tension_laws())
+    for (double Eb : {0.0, 0.7}) {
+      SCOPED_TRACE(info.name + " Eb " + std::to_string(Eb));
+      const double e64 = gradient_mismatch(info.name, Eb, 64), e128 = gradient_mismatch(info.name, Eb, 128),
+                   e256 = gradient_mismatch(info.name, Eb, 256);
+      EXPECT_LT(e128, 2e-5);
+      EXPECT_GT(std::log2(e64 / e128), 3.7);
+      EXPECT_GT(std::log2(e128 / e256), 3.7);
+    }
+}
+
+TEST(MembraneLaws, TotalForceVanishesWithBending) {
+  // Knot derivatives telescope: sum_k f_k = 0 to round-off for any law with bending (measured
+  // 2.4e-13 against max |f| nb ds ~ 1e3).
+  const int nb = 128;
+  for (const LawInfo& info : tension_laws()) {
+    MembraneForce F(make_membrane(blob(nb), circle_reference(0.5), material(info.name, 3.0, 0.7)));
+    Mat2 f;
+    Vec T;
+    F.compute(blob(nb), f, T);
+    EXPECT_LT(f.colwise().sum().norm() * F.ds(), 1e-14 * f.cwiseAbs().maxCoeff() * nb * F.ds()) << info.name;
+  }
+}
+
+TEST(Bending, CircleWithoutSpontaneousCurvaturePushesOutwardByEbOver2R3) {
+  // E_b = pi Eb/R: f = -(dE_b/dR)/(2 pi R) = Eb/(2 R^3) outward per unit length, uniform. Hookean
+  // T0 = 0, kappa0 = 0. Measured max error 1.1e-7 relative at nb = 128; the energy 2.0e-9.
+  const int nb = 128;
+  const double R = 0.7, Eb = 0.3;
+  Material m = material("hookean", 0.0, Eb);
+  m.spontaneous = true;
+  MembraneForce F(make_membrane(circle(nb, 0.1, 0.2, R), circle_reference(R), m));
+  Mat2 f;
+  Vec T;
+  F.compute(circle(nb, 0.1, 0.2, R), f, T);
+  const double expect = Eb / (2 * R * R * R);
+  for (int k = 0; k < nb; ++k) {
+    const double th = 2 * kPi * k / nb;
+    const double fn = f(k, 0) * std::cos(th) + f(k, 1) * std::sin(th), ft = -f(k, 0) * std::sin(th) + f(k, 1) * std::cos(th);
+    EXPECT_NEAR(fn, expect, 2e-7 * expect);  // |X_s| = 1: per unit label = per unit length
+    EXPECT_NEAR(ft, 0.0, 1e-10 * expect);
+  }
+  EXPECT_NEAR(F.energy().bending, kPi * Eb / R, 1e-7 * kPi * Eb / R);  // measured 5.6e-8: the knot derivative's symbol
+}
+
+TEST(Bending, CircleAtItsReferenceCurvatureFeelsNoBending) {
+  // kappa0 = 1/r0 on the circle reference: the rest circle has no bending force beyond the spline's
+  // curvature error (measured max |f| 6.5e-9 with Eb = 1 at nb = 128, against Eb/R^3 = 8).
+  const int nb = 128;
+  MembraneForce F(make_membrane(circle(nb, 0, 0, 0.5), circle_reference(0.5), material("hookean", 0.0, 1.0)));
+  Mat2 f;
+  Vec T;
+  F.compute(circle(nb, 0, 0, 0.5), f, T);
+  EXPECT_LT(f.cwiseAbs().maxCoeff(), 1e-8);
+}
+
+// ------------------------------------------------------------------ reference states
+
+TEST(Reference, TheInitialShapeIsStressFreeToTheLastBit) {
+  // reference = "initial", prestretch 1: lambda = 1 and kappa = kappa0 at every marker exactly, so
+  // T, the bending moment and f are exactly zero, for every law, on shapes far from a circle. The energy,
+// integrated between the knots, is zero to the splines' error (measured 7e-9 on the blob, 1.8e-7 on
+// the 3:1 ellipse of 80 markers).
+  for (const Mat2& X : {blob(96), ellipse(80, 0.3, 0.1, 0.9, 0.3)})
+    for (const LawInfo& info : tension_laws()) {
+      MembraneForce F(make_membrane(X, initial_reference(X), material(info.name, 2.0, 0.5)));
+      Mat2 f;
+      Vec T;
+      F.compute(X, f, T);
+      EXPECT_EQ(T.cwiseAbs().maxCoeff(), 0.0) << info.name;
+      EXPECT_EQ(f.cwiseAbs().maxCoeff(), 0.0) << info.name;
+      EXPECT_LT(F.energy().total(), 4e-7) << info.name;
+    }
+}
+
+TEST(Reference, APrestretchedInitialShapeCarriesItsUniformTension) {
+  // The initial circle of radius 0.6 with prestretch 1.2 (reference radius 0.5): lambda = 1.2 at
+  // every marker, T = T(1.2) for every law (Skalak: 2 (1.2)(0.44) = 1.056 Es).
+  const Mat2 X = circle(128, 0, 0, 0.6);
+  const Reference ref = initial_reference(X, 1.2);
+  EXPECT_NEAR(ref.L0, 2 * kPi * 0.5, 5e-8);  // the spline through 128 points of a circle: 2 pi R (1 - 8.1e-9)
+  for (const LawInfo& info : tension_laws()) {
+    MembraneForce F(make_membrane(X, ref, material(info.name, 1.0, 0.0)));
+    Mat2 f;
+    Vec T;
+    F.compute(X, f, T);
+    std::vector<double> p;
+    for (const LawParam& q : info.params) p.push_back(q.value);
+    const double T_exact = info.make(1.0, p)->tension(1.2);
+    EXPECT_NEAR(T.maxCoeff(), T_exact, 1e-12) << info.name;
+    EXPECT_NEAR(T.minCoeff(), T_exact, 1e-12) << info.name;
+  }
+}
+
+// ------------------------------------------------------------------ shape measures
+
+TEST(ShapeMeasures, SplineMomentsRecoverAnInclinedEllipse) {
+  // An ellipse of half-axes 0.8, 0.5 turned by 0.4 rad: the spline's second moments give L, B and
+  // theta to 1e-7 at nb = 128 (measured 3e-9, 2e-9, 4e-10), D = 0.3/1.3; the polygon's moments are
+  // biased by the isotropic factor of polygon.hpp (1e-4 here).
+  const int nb = 128;
+  Mat2 X = ellipse(nb, 0, 0, 0.8, 0.5);
+  const double a = 0.4;
+  for (int k = 0; k < nb; ++k) {
+    const double x = X(k, 0), y = X(k, 1);
+    X(k, 0) = 0.3 + std::cos(a) * x - std::sin(a) * y;
+    X(k, 1) = -0.2 + std::sin(a) * x + std::cos(a) * y;
+  }
+  MembraneDiagnostics D(nb, 2 * kPi * 0.6);
+  const MembraneShape s = D.measure(X);
+  EXPECT_NEAR(s.moments.L, 0.8, 1e-7);
+  EXPECT_NEAR(s.moments.B, 0.5, 1e-7);
+  EXPECT_NEAR(s.moments.theta, a, 1e-7);
+  EXPECT_NEAR(s.moments.deformation(), 0.3 / 1.3, 1e-7);
+  EXPECT_NEAR(s.moments.centroid.x(), 0.3, 1e-9);
+}
+
+// ------------------------------------------------------------------ the stiff-force filter
+
+TEST(StiffForce, KeepsTheTotalForceAndLeavesASoftMembraneAlone) {
+  // Sum f~ = sum f (the change's net force is removed); a soft membrane at a small step (every
+  // mode far from stiff, theta -> 0) gets f~ = f to 1e-6 relative (measured 2.4e-8).
+  const int nb = 128;
+  const Mat2 X = blob(nb);
+  Mat2 U(nb, 2);
+  for (int k = 0; k < nb; ++k) U.row(k) << 0.3 - 0.5 * X(k, 1), 0.1 + 0.5 * X(k, 0);  // translation + rotation
+  StiffForceFilter filt(nb);
+  for (double dt : {1e-5, 1e-2}) {
+    MembraneForce F(make_membrane(X, circle_reference(0.5), material("hookean", 1.0, dt < 1e-3 ? 1e-4 : 10.0)));
+    Mat2 f, ft;
+    Vec T;
+    F.compute(X, f, T);
+    filt.apply(F, f, U, {1.0, 0.1, dt, 0.08, 0.056}, ft);
+    EXPECT_LT((ft.colwise().sum() - f.colwise().sum()).norm(), 1e-12 * f.cwiseAbs().maxCoeff() * nb);
+    if (dt < 1e-3) EXPECT_LT((ft - f).cwiseAbs().maxCoeff(), 1e-6 * f.cwiseAbs().maxCoeff());
+  }
+}
+
+TEST(StiffForce, RigidMotionsDoNotChangeTheForce) {
+  // A rigid translation and rotation of a circle are null modes of the filter's stiffness: f~ with U
+  // rigid is f~ with U = 0 up to round-off (measured 6.7e-13, the cancellation of terms dt K U ~ 3e2;
+  // a uniform strain rate of 0.5 changes f~ by 0.34).
+  const int nb = 64;
+  const Mat2 X = circle(nb, 0.2, 0.1, 0.5);
+  MembraneForce F(make_membrane(X, circle_reference(0.5), material("hookean", 5.0, 2.0)));
+  Mat2 f, f0, ft, U(nb, 2);
+  Vec T;
+  F.compute(X, f, T);
+  for (int k = 0; k < nb; ++k) U.row(k) << 1.0 - 3.0 * (X(k, 1) - 0.1), -0.5 + 3.0 * (X(k, 0) - 0.2);
+  StiffForceFilter filt(nb);
+  filt.apply(F, f, Mat2::Zero(nb, 2), {1.0, 0.1, 1e-2, 0.08, 0.056}, f0);
+  filt.apply(F, f, U, {1.0, 0.1, 1e-2, 0.08, 0.056}, ft);
+  EXPECT_LT((ft - f0).cwiseAbs().maxCoeff(), 1e-11);
+  Mat2 V = U;
+  V.col(0) += 0.5 * X.col(0);  // plus a strain: the filter sees it
+  filt.apply(F, f, V, {1.0, 0.1, 1e-2, 0.08, 0.056}, ft);
+  EXPECT_GT((ft - f0).cwiseAbs().maxCoeff(), 0.1);  // measured 0.34
+}
+
+// ------------------------------------------------------------------ B-spline interpolation
+
+TEST(BSplineInterpolation, ReproducesQuadraticStreamFunctionsExactly) {
+  // sum_i B(x - x_i) = 1, sum_i x_i B = x and sum_i x_i^2 B = x^2 + dx^2/3 on the lattice, so the
+  // derivatives of psi = a x^2 + b x y + c y^2 + d x + e y are exact: U = (b x + 2c y + e, -(2a x + b y + d)),
+  // dU its gradient (measured errors 4e-15 and 2e-13).
+  Domain d;
+  d.x0 = -1, d.x1 = 1, d.y0 = -1, d.y1 = 1;
+  d.periodic_x = d.periodic_y = true;
+  const Lattice L = make_lattice(d, 40, 40);
+  CellGrid grid(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1), true, true, L.dx);
+  grid.use_lattice(L);
+  const double a = 0.3, b = -0.7, c = 0.2, dd = 1.1, e = -0.4;
+  Vec psi(L.size());
+  for (int i = 0; i < L.size(); ++i) {
+    const double x = L.x(i, 0), y = L.x(i, 1);
+    psi[i] = a * x * x + b * x * y + c * y * y + dd * x + e * y;
+  }
+  Mat2 X(50, 2), U(50, 2);
+  for (int k = 0; k < 50; ++k) X.row(k) << -0.5 + 0.02 * k + 0.001 * k * k / 7, 0.3 * std::sin(0.37 * k);
+  Jacobians J;
+  interpolate_curl_bspline(grid, L.dx, L.dy, psi, Eigen::Vector2d::Zero(), X, U, &J);
+  for (int k = 0; k < 50; ++k) {
+    const double x = X(k, 0), y = X(k, 1);
+    EXPECT_NEAR(U(k, 0), b * x + 2 * c * y + e, 1e-12);
+    EXPECT_NEAR(U(k, 1), -(2 * a * x + b * y + dd), 1e-12);
+    EXPECT_NEAR(J(k, 0), b, 1e-10);
+    EXPECT_NEAR(J(k, 1), 2 * c, 1e-10);
+    EXPECT_NEAR(J(k, 2), -2 * a, 1e-10);
+    EXPECT_NEAR(J(k, 0) + J(k, 3), 0.0, 1e-12);  // divergence-free
+  }
+}
+
+// ------------------------------------------------------------------ in a run
+
+namespace {
+nlohmann::json run_stiff(const std::string& dir, std::vector<std::string> sets) {
+  std::vector<std::string> all{"grid.nx=32", "grid.ny=32", "membrane.nb=48", "time.dt=1e-3", "time.end=0.5",
+                               "membrane.Eb=10", "output.interval=0"};
+  all.insert(all.end(), sets.begin(), sets.end());
+  Scene s = load_scene(sphib_test::kOscillation, all);
+  RunOptions o;
+  o.out_dir = dir;
+  return run_scene(s, o);
+}
+}  // namespace
+
+TEST(StiffForce, StiffBendingBlowsUpExplicitlyAndRunsSemiImplicitly) {
+  // The oscillating membrane with Eb = 10 at 32 x 32, 48 markers, dt = 1e-3: the explicit force
+  // blows up (measured: the energy guard at step 99), the semi-implicit one runs to t = 0.5 with the
+  // area error of a ringing membrane (measured 1.7e-5; explicit at dt = 2e-4: 3.0e-5).
+  const std::filesystem::path d = std::filesystem::temp_directory_path() / "sphib_stiff";
+  std::filesystem::remove_all(d);
+  EXPECT_THROW(run_stiff((d / "explicit").string(), {"membrane.semi_implicit=false"}), std::exception);
+  const nlohmann::json j = run_stiff((d / "semi").string(), {"membrane.semi_implicit=true"});
+  EXPECT_EQ(j["stop_reason"], "end time");
+  EXPECT_LT(std::abs(j["area_relative_error"].get<double>()), 5e-5);
+  std::filesystem::remove_all(d);
+}
+
+TEST(StiffForce, ARestartWithBendingContinuesBitForBit) {
+  // The filter's state is f^n, U^n and the markers: a checkpoint holds them, so a restart with
+  // bending and the semi-implicit force continues the straight run to the last bit.
+  const std::filesystem::path d = std::filesystem::temp_directory_path() / "sphib_stiff_restart";
+  std::filesystem::remove_all(d);
+  const std::vector<std::string> m{"membrane.Eb=0.5", "membrane.semi_implicit=true"};
+  auto with = [&](std::vector<std::string> v) {
+    v.insert(v.end(), m.begin(), m.end());
+    return v;
+  };
+  const nlohmann::json straight = run_stiff((d / "a").string(), with({"time.max_steps=40"}));
+  run_stiff((d / "b").string(), with({"time.max_steps=15"}));
+  std::vector<std::string> all{"grid.nx=32", "grid.ny=32", "membrane.nb=48", "time.dt=1e-3", "time.end=0.5",
+                               "membrane.Eb=10", "output.interval=0", "time.max_steps=40"};
+  all.insert(all.end(), m.begin(), m.end());
+  Scene s = load_scene(sphib_test::kOscillation, all);
+  RunOptions o;
+  o.out_dir = (d / "c").string();
+  o.restart = (d / "b" / "checkpoint.h5").string();
+  const nlohmann::json restarted = run_scene(s, o);
+  EXPECT_EQ(restarted["steps"], 40);
+  for (const char* k : {"time", "rx", "ry", "area", "kinetic_energy", "elastic_energy", "bending_energy", "deformation"})
+    EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k;
+  std::filesystem::remove_all(d);
+}
+
+// ------------------------------------------------------------------ scene keys
+
+TEST(MembraneKeys, TheMaterialKeysAreReadAndCheckedByName) {
+  const std::string mem = std::string(kMinimal) + "[membrane]\nr0 = 0.2\n";
+  const Scene s = parse_scene(mem + "law = \"skalak\"\nEs = 2.0\nC = 3.0\nEb = 0.05\n", "scene.toml");
+  const Material& m = s.sim.membranes[0].membrane.mat;
+  EXPECT_EQ(m.law, "skalak");
+  EXPECT_EQ(m.Es, 2.0);
+  ASSERT_EQ(m.params.size(), 1u);
+  EXPECT_EQ(m.params[0], 3.0);
+  EXPECT_EQ(m.Eb, 0.05);
+  EXPECT_TRUE(s.sim.membranes[0].semi_implicit);  // with bending, by default
+  const Scene h = parse_scene(mem + "T0 = 4.0\n", "scene.toml");
+  EXPECT_EQ(h.sim.membranes[0].membrane.mat.Es, 4.0);
+  EXPECT_FALSE(h.sim.membranes[0].semi_implicit);
+  for (const auto& [extra, key] : std::vector<std::pair<std::string, std::string>>{
+           {"T0 = 1.0\nEs = 1.0\n", "membrane.Es"},
+           {"law = \"skalak\"\nT0 = 1.0\n", "membrane.T0"},
+           {"T0 = 1.0\nC = 2.0\n", "membrane.C"},
+           {"T0 = 1.0\nkappa0 = 2.0\n", "membrane.kappa0"},
+           {"T0 = 1.0\nprestretch = 1.1\n", "membrane.prestretch"},
+           {"law = \"mooney\"\nEs = 1.0\n", "membrane.law"},
+           {"law = \"skalak\"\nEs = 1.0\nC = -1\n", "membrane.C"},
+           {"T0 = 1.0\nEb = -1.0\n", "membrane.Eb"},
+           {"law = \"neo_hookean\"\n", "membrane.Es"}}) {
+    const std::string msg = refusal(mem + extra);
+    EXPECT_NE(msg.find(key), std::string::npos) << extra << " -> " << msg;
+  }
+  // reference = "initial": no r0 (the initial shape is the reference), radius required for a circle
+  const std::string init = std::string(kMinimal) + "[membrane]\nreference = \"initial\"\nT0 = 1.0\n";
+  EXPECT_NE(refusal(init + "r0 = 0.2\nradius = 0.2\n").find("membrane.r0"), std::string::npos);
+  const Scene i = parse_scene(init + "radius = 0.25\nprestretch = 1.25\n", "scene.toml");
+  EXPECT_NEAR(i.sim.membranes[0].membrane.L0(), 2 * kPi * 0.2, 5e-8);  // (1 - 8.1e-9) as above
+}
