@@ -262,22 +262,56 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   // Eq. 63 markers) leaks area and with it elastic energy, which lets it run with dt about 3 times
   // larger (bench/stability_map, fitted in h* form: 0.32 conservative, about 1 paper's).
   const double c_i = p.paper_pair ? 1.0 : 0.3;
+  // Bending: the same two scalings for a bending mode k ~ 1/h* (the stiffness Eb k^4 in place of T0 k^2):
+  // inertial, Eb k^5 dt^2 / rho below a constant (added mass 2 rho/k), viscous, dt below a constant times
+  // mu/(Eb k^3). Constants fitted to the measured limits (bench/stability_map --parts B: the released
+  // ellipse with T0 = 1, explicit force, Nx = 24-64; docs/membrane_validation.md, "Stability"): a guide
+  // within a factor 1.5, not a bound. The step scales like h*^3 (measured exponent 2.9).
+  constexpr double kBendCi = 0.07, kBendCv = 4.0;
   for (size_t k = 0; k < p.membranes.size(); ++k) {
     const auto& m = p.membranes[k];
     MembraneForce force(m.m);
     Mat2 fk;
     Vec T;
     force.compute(m.m.X, fk, T);
-    const double Et = force.stiffness().Et;
-    if (m.fixed || Et <= 0) continue;
+    const MembraneStiffness st = force.stiffness();
+    if (m.fixed) continue;
     const double hs = m.h_star;
-    const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / Et), viscous = 10.0 * fp.mu * hs / Et;
-    const double limit = std::max(inertial, viscous);
-    const bool over = dt > limit;
-    warnings += over;
-    out << "    " << (over ? "WARNING: " : "") << "membrane " << k
-        << " elastic limit (measured estimate, explicit membrane force): dt < max(" << c_i
-        << " sqrt(rho h*^3/T0), 10 mu h*/T0) = " << num(limit) << (over ? ": dt exceeds it" : ": ok") << "\n";
+    // The stiff-force filter (membrane.semi_implicit) takes the stiff modes implicitly: it lifts both
+    // explicit limits (bench/stability_map part B: semi-implicit runs reach the flow's own limit).
+    const bool lifted = m.filter != nullptr;
+    if (st.Et > 0) {
+      const double inertial = c_i * std::sqrt(fp.rho * hs * hs * hs / st.Et), viscous = 10.0 * fp.mu * hs / st.Et;
+      const double limit = std::max(inertial, viscous);
+      const bool over = dt > limit && !lifted;
+      warnings += over;
+      out << "    " << (over ? "WARNING: " : "") << "membrane " << k
+          << " elastic limit (measured estimate, explicit membrane force): dt < max(" << c_i
+          << " sqrt(rho h*^3/T0), 10 mu h*/T0) = " << num(limit)
+          << (lifted ? (dt > limit ? ": dt exceeds it, lifted by semi_implicit" : ": ok (semi_implicit lifts it)")
+                     : over ? ": dt exceeds it" : ": ok")
+          << "\n";
+    }
+    if (st.Eb > 0) {
+      const double inertial = kBendCi * std::sqrt(fp.rho * std::pow(hs, 5) / st.Eb),
+                   viscous = kBendCv * fp.mu * hs * hs * hs / st.Eb;
+      const double limit = std::max(inertial, viscous);
+      // The filter's lift needs markers no denser than ~2 per lattice spacing: at 3 and 4 it rose the
+      // limit only 4-6x (bench/stability_map part B, Eb = 1 and 10).
+      const double per_dx = p.dx / m.m.ds();
+      const bool dense = lifted && per_dx > 2.2 && dt > limit;
+      const bool over = (dt > limit && !lifted) || dense;
+      warnings += over;
+      out << "    " << (over ? "WARNING: " : "") << "membrane " << k
+          << " bending limit (measured estimate, explicit membrane force): dt < max(" << kBendCi
+          << " sqrt(rho h*^5/Eb), " << kBendCv << " mu h*^3/Eb) = " << num(limit)
+          << (dense    ? ": dt exceeds it, and semi_implicit lifts it only with markers no denser than 2 per lattice "
+                         "spacing (here " + num(per_dx) + "): lower membrane.nb"
+              : lifted ? (dt > limit ? ": dt exceeds it, lifted by semi_implicit" : ": ok (semi_implicit lifts it)")
+              : over   ? ": dt exceeds it (set membrane.semi_implicit = true)"
+                       : ": ok")
+          << "\n";
+    }
   }
   return warnings;
 }

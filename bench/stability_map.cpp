@@ -86,6 +86,9 @@ constexpr double kDtFloor = 1e-7;
 // Our step takes the force explicitly at X^n but moves the markers by the trapezoidal fixed point
 // (Eqs. 56-60), and spreads with h* > dx: the measured limits are expected to exceed these.
 constexpr double kClassicalCi = 0.3989422804014327;  // 1/sqrt(2 pi)
+// `sphib check`'s explicit bending limit, dt < max(kBendCi sqrt(rho h*^5/Eb), kBendCv mu h*^3/Eb): the
+// constants part B measures (app/check.cpp quotes them).
+constexpr double kBendCi = 0.07, kBendCv = 4.0;
 constexpr double kClassicalCv = 2.5464790894703255;  // 8/pi
 
 // The parameters of one run (the coarse membrane, changed from its defaults).
@@ -98,6 +101,9 @@ struct Params {
   double h_star_abs = 0;   // > 0: h* fixed
   double dt = 1e-4;
   bool convection = true;  // false: Stokes (no AB2 convection: no convective CFL instability)
+  std::string law = "hookean";  // membrane.law; T0 is its modulus (Es) for the other laws
+  double Eb = 0;           // bending modulus (part B)
+  int semi = -1;           // membrane.semi_implicit: -1 the scene's default (off for Hookean without bending), 0, 1
   bool guard = true;       // true: run_scene and its checks; false: the bench's own loop without the
                            // dx-per-step guards (non-finite values, energy growth, fixed point, markers leaving)
   double dx() const { return kL / nx; }
@@ -109,6 +115,13 @@ struct Params {
     const double hs = h_star();
     return std::max(0.3 * std::sqrt(rho * hs * hs * hs / T0), 10.0 * mu * hs / T0);
   }
+  // `sphib check`'s explicit bending limit (app/check.cpp), h* form; min with the tension's
+  double bending_estimate() const {
+    const double hs = h_star();
+    return std::max(kBendCi * std::sqrt(rho * std::pow(hs, 5) / Eb), kBendCv * mu * hs * hs * hs / Eb);
+  }
+  double start_estimate() const { return Eb > 0 ? std::min(check_estimate(), bending_estimate()) : check_estimate(); }
+  bool semi_implicit() const { return semi < 0 ? (Eb > 0 || law != "hookean") : semi == 1; }
   // the classical explicit estimate (see kClassicalCi, kClassicalCv)
   double classical() const {
     const double d = dx();
@@ -124,6 +137,12 @@ struct Params {
                                "output.diagnostics_every=" + std::to_string(std::max(1L, steps() / 100)),
                                "output.fields=[\"u\"]"};
     if (!convection) s.push_back("fluid.convection=false");
+    if (law != "hookean") {  // Es for the other laws: T0 is the Hookean law's key
+      s[3] = "membrane.Es=" + num(T0);
+      s.push_back("membrane.law=" + law);
+    }
+    if (Eb > 0) s.push_back("membrane.Eb=" + num(Eb));
+    if (Eb > 0 || law != "hookean" || semi >= 0) s.push_back(std::string("membrane.semi_implicit=") + (semi_implicit() ? "true" : "false"));
     if (h_star_abs > 0) s.push_back("membrane.h_star=" + num(h_star_abs, 12));
     else s.push_back("membrane.h_star_over_h=" + num(hsh));
     return s;
@@ -195,7 +214,9 @@ class Bench {
     const double c0 = cpu_seconds();
     sphib::Scene s;
     try {
-      s = sphib::load_scene((o_.cases / "membrane_oscillation.toml").string(), p.sets());
+      // the other laws take Es, not the Hookean T0 of the paper's scene: its copy with the law's keys
+      const char* scene = p.law == "hookean" ? "membrane_oscillation.toml" : "membrane_laws.toml";
+      s = sphib::load_scene((o_.cases / scene).string(), p.sets());
     } catch (const std::exception& e) {
       v.verdict = "refused";
       v.message = e.what();
@@ -310,8 +331,9 @@ class Bench {
 
   void record(const Verdict& v) {
     all_.push_back(v);
-    std::printf("  %s %-9s T0 %-6s mu %-6s Nx %-3d nb %-4d h/dx %-5s h*/h %-6s dt %-9s %-8s %-17s steps %5ld E/E0 %-9s cpu %.1f s\n",
-                v.part.c_str(), v.axis.c_str(), num(v.p.T0, 4).c_str(), num(v.p.mu, 4).c_str(), v.p.nx, v.p.nb,
+    std::printf("  %s %-9s %s T0 %-6s Eb %-6s semi %2d mu %-6s Nx %-3d nb %-4d h/dx %-5s h*/h %-6s dt %-9s %-8s %-17s steps %5ld E/E0 %-9s cpu %.1f s\n",
+                v.part.c_str(), v.axis.c_str(), v.p.law.c_str(), num(v.p.T0, 4).c_str(), num(v.p.Eb, 4).c_str(), v.p.semi,
+                num(v.p.mu, 4).c_str(), v.p.nx, v.p.nb,
                 num(v.p.hdx, 4).c_str(), num(v.p.h_star() / v.p.h(), 3).c_str(), num(v.p.dt, 4).c_str(),
                 v.verdict.c_str(), v.reason.c_str(), v.steps_done, sci(v.energy_ratio).c_str(), v.cpu);
     std::fflush(stdout);
@@ -336,7 +358,7 @@ class Bench {
       return v.stable();
     };
     try {
-      double g = std::clamp(p.check_estimate(), kDtFloor, kDtCap);
+      double g = std::clamp(p.start_estimate(), kDtFloor, kDtCap);
       if (probe(g)) {
         d.lo = g;
         for (double t = g * 4; ; t *= 4) {
@@ -475,6 +497,149 @@ class Bench {
     double Ci = NAN, Cv = NAN, rms_log = NAN;  // dt = max(Ci sqrt(rho L^3/T0), Cv mu L / T0)
     int n = 0;
   };
+  // ---- B ----
+  // Bending and the other laws, explicit against the stiff-force filter (semi_implicit), with the
+  // runner's checks (convection on): the largest stable dt against Eb (Hookean T0 = 1, mu = 0.1 and
+  // 10), against Es (Skalak, C = 1, no bending, mu = 0.1) and against markers per dx with bending
+  // (Eb = 1, T0 = 1, mu = 0.1).
+  void part_b() {
+    std::printf("B: largest stable dt against Eb, Es (skalak) and markers/dx with bending, explicit and semi-implicit\n");
+    const std::vector<int> semis{0, 1};
+    // Eb = 0: the same membrane without bending, the tension's own limit (explicit only)
+    const std::vector<double> Ebs = o_.quick ? std::vector<double>{0, 1} : std::vector<double>{0, 0.01, 0.1, 1, 10, 100};
+    for (double mu : o_.quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 10})
+      for (int semi : semis)
+        for (double Eb : Ebs) {
+          if (semi && Eb == 0) continue;
+          Params p;
+          p.T0 = 1, p.mu = mu, p.Eb = Eb, p.semi = semi;
+          bisect("B", std::string(semi ? "semi" : "explicit") + ":Eb", p);
+        }
+    if (o_.quick) return;
+    for (int semi : semis)
+      for (double Es : {1.0, 10.0, 100.0, 1e3, 1e4}) {
+        Params p;
+        p.law = "skalak", p.T0 = Es, p.semi = semi;
+        bisect("B", std::string(semi ? "semi" : "explicit") + ":Es", p);
+      }
+    for (double Eb : {1.0, 10.0})
+      for (int semi : semis)
+        for (double m : {1.0, 1.5, 1.91, 3.0, 4.0}) {
+          Params p;
+          p.T0 = 1, p.Eb = Eb, p.semi = semi;
+          p.nb = std::max(4, static_cast<int>(std::lround(m * 2 * M_PI * kR0 / p.dx())));
+          bisect("B", std::string(semi ? "semi" : "explicit") + ":markers/dx", p);
+        }
+    // the explicit bending limit against the resolution (h* = 1.68 dx), inertial and viscous points
+    for (auto [Eb, mu] : std::vector<std::pair<double, double>>{{1, 0.1}, {10, 10}})
+      for (int n : {24, 48, 64}) {
+        Params p;
+        p.T0 = 1, p.Eb = Eb, p.mu = mu, p.semi = 0, p.nx = n, p.nb = 2 * n;
+        bisect("B", "explicit:Nx", p);
+      }
+  }
+
+  // The explicit bending limit dt = max(C_i sqrt(rho L^5/Eb), C_v mu L^3/Eb), least squares in log dt
+  // over part B's explicit Eb bisections whose limit lies below half the tension's (T0 = 1) estimate
+  // of the same run (bending-limited), L = h* (check's form) or dx.
+  Fit fit_bending(bool use_hstar) const {
+    std::vector<std::array<double, 3>> d;
+    for (const DtMax& m : dtmax_)
+      if (m.part == "B" && (m.axis == "explicit:Eb" || m.axis == "explicit:Nx") && std::isfinite(m.estimate()) &&
+          bending_limited(m)) {
+        const double L = use_hstar ? m.p.h_star() : m.p.dx();
+        d.push_back({std::sqrt(m.p.rho * std::pow(L, 5) / m.p.Eb), m.p.mu * L * L * L / m.p.Eb, m.estimate()});
+      }
+    return fit_two(d);
+  }
+  // bending sets the limit: the membrane without bending is stable at 2x this dt, and the failure is not
+  // the markers' own CFL (a faster flow, not an unstable force)
+  bool bending_limited(const DtMax& m) const {
+    for (const DtMax& t : dtmax_)  // part B's own Eb = 0 bisection of the same membrane
+      if (t.part == "B" && t.p.Eb == 0 && t.p.law == m.p.law && t.p.T0 == m.p.T0 && t.p.mu == m.p.mu &&
+          t.p.nb == m.p.nb && std::isfinite(t.lo))
+        return m.estimate() < 0.5 * t.lo && m.reason != "marker CFL";
+    for (const DtMax& t : dtmax_)
+      if ((t.part == "T" || t.part == "E") && t.p.T0 == m.p.T0 && t.p.mu == m.p.mu && std::isfinite(t.lo))
+        return m.estimate() < 0.5 * t.lo;
+    return m.estimate() < 0.5 * m.p.check_estimate() && m.reason != "marker CFL";  // check's tension estimate
+  }
+  // least squares in log dt of dt = max(Ci a, Cv b) over rows (a, b, dt)
+  static Fit fit_two(const std::vector<std::array<double, 3>>& d) {
+    Fit f;
+    f.n = static_cast<int>(d.size());
+    if (d.size() < 2) return f;
+    auto cost = [&](double li, double lv) {
+      const double Ci = std::pow(10.0, li), Cv = std::pow(10.0, lv);
+      double s = 0;
+      for (const auto& r : d) {
+        const double e = std::log(r[2] / std::max(Ci * r[0], Cv * r[1]));
+        s += e * e;
+      }
+      return s;
+    };
+    double best = INFINITY, bi = 0, bv = 0;
+    for (double li = -4; li <= 4; li += 0.05)
+      for (double lv = -4; lv <= 5; lv += 0.05)
+        if (const double c = cost(li, lv); c < best) { best = c; bi = li; bv = lv; }
+    const double ci = bi, cv = bv;
+    for (double li = ci - 0.1; li <= ci + 0.1; li += 0.002)
+      for (double lv = cv - 0.1; lv <= cv + 0.1; lv += 0.002)
+        if (const double c = cost(li, lv); c < best) { best = c; bi = li; bv = lv; }
+    f.Ci = std::pow(10.0, bi);
+    f.Cv = std::pow(10.0, bv);
+    f.rms_log = std::sqrt(best / d.size());
+    return f;
+  }
+
+  std::string bending_md() const {
+    std::ostringstream m;
+    std::vector<const DtMax*> b;
+    for (const DtMax& d : dtmax_)
+      if (d.part == "B") b.push_back(&d);
+    if (b.empty()) return "";
+    const Params def;
+    m << "## B: bending, the Skalak law and markers per dx, explicit against semi-implicit\n\n"
+         "run_scene's verdict (convection on), " << def.nx << " x " << def.nx << ", h* = " << num(def.h_star(), 4)
+      << ". Eb axis: Hookean T0 = 1 with bending Eb (reference: the circle r0 = 0.5, so the released ellipse is "
+         "bent too), mu = 0.1 and 10; Es axis: law skalak (C = 1) without bending, mu = 0.1; markers/dx axis: "
+         "T0 = 1, Eb = 1 and 10, mu = 0.1; Nx axis: Nx = 24, 48, 64 (Nb = 2 Nx, h* = 1.68 dx), Eb = 1 with mu = 0.1 "
+         "and Eb = 10 with mu = 10, explicit. `explicit`: membrane.semi_implicit = false; `semi`: the stiff-force filter. "
+         "`bending estimate` = max(" << kBendCi << " sqrt(rho h*^5/Eb), " << kBendCv << " mu h*^3/Eb), `sphib check`'s "
+         "explicit bending limit; `bending-limited`: the limit is below half that of the same membrane without bending (Eb = 0 row) "
+         "and the failure is not the markers' CFL (a faster flow, not an unstable force); the fit uses those rows.\n\n"
+         "| axis | law | T0 or Es | Eb | mu | Nx | markers/dx | stable dt | unstable dt | failure | bending estimate | "
+         "measured / estimate | bending-limited | semi / explicit | runs |\n"
+         "|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---|---:|---:|\n";
+    for (const DtMax* d : b) {
+      const bool semi = d->axis.rfind("semi", 0) == 0;
+      double ratio = NAN;  // the same point explicit
+      if (semi)
+        for (const DtMax* e : b)
+          if (e->axis == "explicit" + d->axis.substr(4) && e->p.T0 == d->p.T0 && e->p.Eb == d->p.Eb &&
+              e->p.mu == d->p.mu && e->p.nb == d->p.nb && e->p.nx == d->p.nx && e->p.law == d->p.law)
+            ratio = (std::isfinite(d->hi) ? d->estimate() : d->lo) / e->estimate();
+      m << "| " << d->axis << " | " << d->p.law << " | " << num(d->p.T0) << " | " << num(d->p.Eb) << " | "
+        << num(d->p.mu) << " | " << d->p.nx << " | " << fix(d->p.markers_per_dx(), 2) << " | " << sci(d->lo) << " | "
+        << (std::isfinite(d->hi) ? sci(d->hi) : "> " + num(kDtCap)) << " | " << d->reason << " | "
+        << (d->p.Eb > 0 ? sci(d->p.bending_estimate()) : "") << " | "
+        << (d->p.Eb > 0 ? fix(d->estimate() / d->p.bending_estimate(), 2) : "") << " | "
+        << (d->p.Eb > 0 && !semi ? (bending_limited(*d) ? "yes" : "no") : "") << " | "
+        << (semi ? (std::isfinite(d->hi) ? "" : ">= ") + fix(ratio, 1) : "") << " | " << d->runs << " |\n";
+    }
+    const Fit fh = fit_bending(true), fd = fit_bending(false);
+    m << "\n### Fitted explicit bending limit\n\n";
+    if (fh.n >= 2)
+      m << "Over " << fh.n << " bending-limited explicit pairs, least squares in log dt: with h* as the length "
+        << "(check's form) **C_i = " << fix(fh.Ci, 3) << "**, **C_v = " << fix(fh.Cv, 3) << "** (rms misfit a factor "
+        << fix(std::exp(fh.rms_log), 2) << "); with dx: C_i = " << fix(fd.Ci, 3) << ", C_v = " << fix(fd.Cv, 3)
+        << ". The classical explicit estimates for a bending mode k ~ pi/dx: inertial omega^2 = Eb k^5/(2 rho) "
+           "(added mass 2 rho/k), viscous rate Eb k^3/(4 mu).\n\n";
+    else
+      m << "Fewer than two bending-limited explicit pairs: no fit.\n\n";
+    return m.str();
+  }
+
   // least squares in log dt over the bracketed (T0, mu) pairs, with L = dx (use_hstar false) or h*
   // The (T0, mu) pair of `part` with the same parameters, if bisected.
   const DtMax* find_pair(const std::string& part, const Params& p) const {
@@ -559,7 +724,7 @@ class Bench {
          "Crank-Nicolson, and spreads the force with its own kernel of radius h* = " << fix(def.h_star() / def.dx(), 2)
       << " dx, which damps the shortest modes; limits above the classical ones are therefore expected, and the "
          "tables say by how much.\n\n";
-    m << grid_md() << dtmax_md("T") << dtmax_md("E") << dtmax_md("S") << resolution_md();
+    m << grid_md() << dtmax_md("T") << dtmax_md("E") << dtmax_md("S") << resolution_md() << bending_md();
     return m.str();
   }
 
@@ -772,7 +937,7 @@ class Bench {
   void write() const {
     std::ostringstream c;
     c << "part,axis,T0,mu,nx,dx,nb,markers_per_dx,h_over_dx,h,h_star,h_star_over_h,dt,steps,verdict,reason,"
-         "steps_done,t_done,energy_ratio,max_speed,cfl,area_error,cpu_s,check_estimate,message\n";
+         "steps_done,t_done,energy_ratio,max_speed,cfl,area_error,cpu_s,check_estimate,message,law,Eb,semi_implicit\n";
     for (const Verdict& v : all_)
       c << v.part << ',' << csv_text(v.axis) << ',' << num(v.p.T0) << ',' << num(v.p.mu) << ',' << v.p.nx << ','
         << csv_num(v.p.dx()) << ',' << v.p.nb << ',' << csv_num(v.p.markers_per_dx()) << ',' << num(v.p.hdx) << ','
@@ -780,14 +945,15 @@ class Bench {
         << csv_num(v.p.dt) << ',' << v.p.steps() << ',' << v.verdict << ',' << v.reason << ',' << v.steps_done << ','
         << csv_num(v.t_done) << ',' << csv_num(v.energy_ratio) << ',' << csv_num(v.max_speed) << ','
         << csv_num(v.cfl()) << ',' << csv_num(v.area_error) << ','
-        << csv_num(v.cpu) << ',' << csv_num(v.p.check_estimate()) << ',' << csv_text(v.message.substr(0, 200)) << '\n';
+        << csv_num(v.cpu) << ',' << csv_num(v.p.check_estimate()) << ',' << csv_text(v.message.substr(0, 200)) << ','
+        << v.p.law << ',' << num(v.p.Eb) << ',' << v.p.semi << '\n';
     sphib::write_file_atomic((o_.out / "stability_runs.csv").string(), c.str());
     std::ostringstream d;
     std::map<std::string, Fit> fits;
     for (const char* part : {"T", "E", "S"}) fits[part] = fit_tmu(part, false);
     d << "part,axis,T0,mu,nx,dx,nb,markers_per_dx,h_over_dx,h,h_star,h_star_over_h,dt_stable,dt_unstable,dt_max,"
          "reason,runs,cfl_at_stable,u_stable,u_fail,check_estimate,fit_inertial,fit_viscous,fit_Ci,fit_Cv,"
-         "classical_estimate\n";
+         "classical_estimate,law,Eb,semi_implicit\n";
     for (const DtMax& m : dtmax_) {
       const double dx = m.p.dx();
       const Fit f = fits.count(m.part) ? fits[m.part] : fits["T"];
@@ -797,7 +963,8 @@ class Bench {
         << csv_num(m.lo) << ',' << csv_num(m.hi) << ',' << csv_num(m.estimate()) << ',' << csv_text(m.reason) << ','
         << m.runs << ',' << csv_num(m.cfl_stable) << ',' << csv_num(m.u_stable) << ',' << csv_num(m.u_fail) << ',' << csv_num(m.p.check_estimate()) << ','
         << csv_num(f.Ci * std::sqrt(m.p.rho * dx * dx * dx / m.p.T0)) << ',' << csv_num(f.Cv * m.p.mu * dx / m.p.T0)
-        << ',' << csv_num(f.Ci) << ',' << csv_num(f.Cv) << ',' << csv_num(m.p.classical()) << '\n';
+        << ',' << csv_num(f.Ci) << ',' << csv_num(f.Cv) << ',' << csv_num(m.p.classical()) << ',' << m.p.law << ','
+        << num(m.p.Eb) << ',' << m.p.semi << '\n';
     }
     sphib::write_file_atomic((o_.out / "stability_dtmax.csv").string(), d.str());
     sphib::write_file_atomic((o_.out / "stability_map.md").string(), markdown());
@@ -822,6 +989,9 @@ class Bench {
       p.nb = static_cast<int>(d(r, "nb"));
       p.hdx = d(r, "h_over_dx");
       p.h_star_abs = d(r, "h_star");
+      if (r.count("law") && !r.at("law").empty()) p.law = r.at("law");  // (files before part B: Hookean, no bending)
+      if (const double Eb = d(r, "Eb"); std::isfinite(Eb)) p.Eb = Eb;
+      if (const double s = d(r, "semi_implicit"); std::isfinite(s)) p.semi = static_cast<int>(s);
       const std::string part = r.at("part"), axis = r.at("axis");
       p.convection = !(part == "S" || axis.rfind("elastic/", 0) == 0);
       p.guard = part == "G" || part == "T" || axis.rfind("runner/", 0) == 0;
@@ -879,6 +1049,7 @@ class Bench {
     if (o_.parts.find('E') != std::string::npos) part_t("E");
     if (o_.parts.find('S') != std::string::npos) part_t("S");
     if (o_.parts.find('X') != std::string::npos) part_x();
+    if (o_.parts.find('B') != std::string::npos) part_b();
     write();
     std::printf("\n%s\n%zu runs, total %.0f s wall\n", markdown().c_str(), memo_.size(), seconds_since(t0));
   }
@@ -895,10 +1066,11 @@ class Bench {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"Where the EPSPH immersed-boundary step is stable", "stability_map"};
-  add_scene_options(app, o, "GTESX",
+  add_scene_options(app, o, "GTESXB",
                     "G classification grid (dt x one parameter), T largest stable dt over (T0, mu), E as T without the "
                     "runner's dx-per-step guards (the bench's loop), S as E with convection off, X largest stable dt "
-                    "against Nx, markers/dx, h/dx, h*/h");
+                    "against Nx, markers/dx, h/dx, h*/h, B bending (Eb), the Skalak law (Es) and markers/dx with bending, "
+                    "explicit and semi-implicit");
   app.add_flag("--report-only", o.report_only, "run nothing: read DIR's two CSV files back, rewrite them and the Markdown");
   return run_main(app, argc, argv, [&] {
     Bench(o).run_all();

@@ -16,6 +16,18 @@
 #   oscillation_pair the main job with each projection x interpolation pair (area at t = 1, 2, 10)
 #   capsule        the capsule in shear (build/capsule_shear), Ca = 0.05, 0.1, 0.2
 #   kernel_width   Couette (64 x 64, dt = 1e-3, t = 1) and Poiseuille errors against kernel.h_over_dx 0.51-1.2
+# Membranes with laws and bending (docs/membrane_validation.md):
+#   capsule_bending  capsule with bending in shear: D/Ca at Ca 0.005-0.05 (H = 2, 4), walls (H = 2, 4, 8),
+#                    markers and lattice at Ca 0.05, three laws, against D = Ca_b/sqrt(9 + 4 Ca_b^2)
+#   relaxation       decay of modes 2 and 3 with bending against n((n^2-1)Eb/R^2)/(4 mu R): Nx = 32-512,
+#                    walls (L = 4, 8, 16), markers per dx and h*/h at 256^2
+#   oscillation_period  the oscillating membrane's period against h* (h* ~ dx, h* fixed), amplitude and
+#                    walls, against the linear mode-2 theory (scripts/membrane_theory.py oscillation)
+#   rbc              the red-cell-like capsule in a channel (cases/rbc_channel*.toml): shapes, velocity
+#   area_laws        area error at t = 10 for every law with and without bending (cases/membrane_laws.toml)
+#   stability_bending  bench/stability_map --parts B (explicit and semi-implicit limits with Eb, Es)
+#   stiff            a stiff capsule (explicit limit ~100x below the flow's step) at the flow's step to t = 10
+#   bending_cost     paired cpu time, a step with bending against a Hookean step (bench/paired.sh)
 #   viscosity_contrast  membrane.viscosity_ratio: the indicator, layered Couette and a circular interface
 #                  against exact two-fluid flows, the operator's and the step's orders (build/viscosity_contrast),
 #                  and the capsule in shear at lambda = 0.2, 1, 5 (Ca = 0.05, 0.1; 64 x 32 and, Ca = 0.1,
@@ -62,7 +74,7 @@ if [ "${PAIR:-}" = paper ]; then
 fi
 sections=("$@")
 [ ${#sections[@]} -gt 0 ] || sections=(poiseuille couette cavity equilibrium oscillation fig19 table3)
-cmake --build build --target sphib poiseuille_sweep capsule_shear viscosity_contrast > /dev/null
+cmake --build build --target sphib poiseuille_sweep capsule_shear membrane_relaxation stability_map viscosity_contrast > /dev/null
 
 for s in "${sections[@]}"; do
   case "$s" in
@@ -206,6 +218,95 @@ for s in "${sections[@]}"; do
         --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.067/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
         --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
       /usr/bin/python3 scripts/plot_probes.py $OUT/isph_lobovsky/probes.png $OUT/isph_lobovsky/run_000 $OUT/isph_lobovsky/run_001 ;;
+    capsule_bending)  # (one thread per run: the two cores are shared)
+      C="env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law skalak --eb-hat 0.1 --t-end 6"
+      $C --ca 0.005,0.01,0.02,0.05 --cfl 0.05 --out $OUT/capsule_bending/ca_H2
+      $C --ca 0.005,0.01,0.02,0.05 --cfl 0.025 --out $OUT/capsule_bending/ca_H2_dt2
+      $C --ca 0.005,0.01,0.02,0.05 --cfl 0.0125 --explicit --out $OUT/capsule_bending/ca_H2_explicit
+      $C --ca 0.005,0.01,0.02,0.05 --cfl 0.1 --height 4 --nx 128 --out $OUT/capsule_bending/ca_H4
+      $C --ca 0.01 --cfl 0.2 --height 8 --nx 256 --out $OUT/capsule_bending/ca_H8
+      for nb in 80 128 256; do $C --ca 0.05 --nx 64 --nb $nb --cfl 0.025 --out $OUT/capsule_bending/res_nx64_nb$nb; done
+      for nb in 128 160 256; do $C --ca 0.05 --nx 128 --nb $nb --cfl 0.05 --out $OUT/capsule_bending/res_nx128_nb$nb; done
+      $C --ca 0.05 --nx 256 --nb 320 --cfl 0.1 --out $OUT/capsule_bending/res_nx256_nb320
+      for law in hookean neo_hookean; do
+        env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law $law --eb-hat 0.1 --t-end 6 --ca 0.01 --cfl 0.05 \
+          --out $OUT/capsule_bending/law_$law
+      done ;;
+    relaxation)
+      R="env OMP_NUM_THREADS=1 build/membrane_relaxation"
+      $R --mode 2,3 --nx 32,64,128,256 --out $OUT/relaxation/L4
+      $R --mode 3 --nx 512 --out $OUT/relaxation/L4_512
+      $R --mode 2 --nx 128 --length 8 --out $OUT/relaxation/L8
+      $R --mode 2 --nx 256 --length 16 --out $OUT/relaxation/L16
+      for m in 1 1.5 3; do $R --mode 3 --nx 256 --markers-per-dx $m --out $OUT/relaxation/m$m; done
+      $R --mode 3 --nx 256 --h-star-over-h 2 --out $OUT/relaxation/hs2
+      $R --mode 3 --nx 128,256 --interpolation divergence_free --out $OUT/relaxation/df || true ;;  # 512: unstable
+    oscillation_period)
+      P="--set time.end=3.3 --set output.interval=0 --set output.diagnostics_every=10"
+      SMALL="--set membrane.rx=0.63 --set membrane.ry=0.5952380952"
+      REP=period,amplitude_decay,extrema,rx_first_minimum,t_first_minimum,area_relative_error,seconds_per_step
+      N1="env OMP_NUM_THREADS=1"
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/hs_dx --vary grid.nx=64,128,256 \
+        --derive grid.ny={grid.nx} --derive membrane.nb=2*{grid.nx} $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/hs_fixed --vary grid.nx=128,256 \
+        --derive grid.ny={grid.nx} --derive membrane.nb=2*{grid.nx} --set membrane.h_star=0.07875 $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/hs_half --vary grid.nx=256 \
+        --derive grid.ny={grid.nx} --derive membrane.nb=2*{grid.nx} --set membrane.h_star=0.039375 $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/small --vary grid.nx=64,128,256 \
+        --derive grid.ny={grid.nx} --derive membrane.nb=2*{grid.nx} $SMALL $P --report $REP
+      for a in "" "$SMALL"; do
+        tag=domain6; [ -n "$a" ] && tag=domain6_small
+        $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/$tag --vary grid.nx=128 \
+          --derive grid.ny={grid.nx} --set membrane.nb=128 --set membrane.h_star=0.07875 --set domain.x=[-3,3] \
+          --set domain.y=[-3,3] $a $P --report $REP
+      done
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/domain12_small --vary grid.nx=256 \
+        --derive grid.ny={grid.nx} --set membrane.nb=128 --set membrane.h_star=0.07875 --set domain.x=[-6,6] \
+        --set domain.y=[-6,6] $SMALL $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/domain6_small_conv \
+        --vary grid.nx=256,512 --derive grid.ny={grid.nx} --derive membrane.nb={grid.nx} --set domain.x=[-3,3] \
+        --set domain.y=[-3,3] $SMALL $P --report $REP
+      # the kernel widths at a fixed lattice (64^2), and the 64^2 widths on a 128^2 lattice
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/h_over_dx_64 \
+        --vary kernel.h_over_dx=1.2,1.5,2.0 $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/h_over_dx_64_hs_fixed \
+        --vary kernel.h_over_dx=1.2,1.5,2.0 --set membrane.h_star=0.07875 $P --report $REP
+      $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/widths_of_64_at_128 \
+        --vary kernel.h_over_dx=2.4 --set grid.nx=128 --set grid.ny=128 --set membrane.nb=256 \
+        --set membrane.h_star=0.07875 $P --report $REP
+      /usr/bin/python3 scripts/lattice_kernel_factor.py 1.2 1.5 2.0 2.4
+      /usr/bin/python3 scripts/membrane_theory.py oscillation
+      /usr/bin/python3 scripts/membrane_theory.py oscillation --rx 0.63 --ry 0.5952380952 ;;
+    rbc)
+      for c in rbc_channel rbc_channel_offset; do
+        [ -f $OUT/rbc/$c/summary.json ] || env OMP_NUM_THREADS=1 $SPHIB run cases/$c.toml --out $OUT/rbc/$c --quiet
+      done
+      /usr/bin/python3 scripts/plot_membrane_validation.py rbc $OUT/rbc/rbc_channel $OUT/rbc/rbc_channel_offset ;;
+    area_laws)
+      REP=area_relative_error_at.1,area_relative_error_at.10,period,stretch_error,bending_energy,seconds_per_step
+      L="env OMP_NUM_THREADS=1 $SWEEP --scene cases/membrane_laws.toml --set output.interval=0 --report $REP"
+      $L --out $OUT/area_laws/hookean --vary membrane.Eb=0,0.01
+      $L --out $OUT/area_laws/neo_hookean --vary membrane.Eb=0,0.01 --set membrane.law=neo_hookean --set membrane.Es=2.5
+      $L --out $OUT/area_laws/neo_hookean_bspline --vary membrane.Eb=0 --set membrane.law=neo_hookean \
+        --set membrane.Es=2.5 --set coupling.interpolation=bspline
+      $L --out $OUT/area_laws/skalak --vary membrane.Eb=0,0.01 --set membrane.law=skalak --set membrane.Es=2.5
+      # the inextensible vesicle: rest length = the ellipse's perimeter (2 pi r0 = 3.96636)
+      I="--set membrane.law=inextensible --set membrane.Es=1000 --set membrane.r0=0.6312658"
+      $L --out $OUT/area_laws/inextensible --vary membrane.Eb=0,0.01 $I
+      $L --out $OUT/area_laws/inextensible_bspline --vary membrane.nb=96,128 --set coupling.interpolation=bspline $I
+      $L --out $OUT/area_laws/inextensible_bending_nb96 --vary membrane.nb=96 --set membrane.Eb=0.01 $I ;;
+    stability_bending)
+      build/stability_map --parts B --out $OUT/stability_bending ;;
+    stiff)  # Eb = 24 Es r0^2 = 30.7: explicit stable at dt = 7.8e-5, not at 1.6e-4; the flow's step 0.0156 (CFL 0.25)
+      S="env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law skalak --eb-hat 24 --ca 0.05 --t-end 10"
+      for nb in 40 60 80; do $S --nb $nb --cfl 0.25 --out $OUT/stiff/semi_nb${nb}_cfl0.25; done
+      for nb in 40 60; do $S --nb $nb --cfl 0.1 --out $OUT/stiff/semi_nb${nb}_cfl0.1; done
+      $S --nb 60 --cfl 0.00125 --explicit --out $OUT/stiff/explicit_nb60_cfl0.00125
+      $S --nb 80 --cfl 0.00125 --explicit --out $OUT/stiff/explicit_nb80_cfl0.00125
+      for c in 0.0025 0.005; do $S --nb 60 --cfl $c --explicit --t-end 1 --out $OUT/stiff/explicit_nb60_cfl$c || true; done ;;
+    bending_cost)
+      A="env OMP_NUM_THREADS=1 build/sphib run cases/membrane_oscillation.toml --quiet --set time.end=2"
+      bash bench/paired.sh -n 6 -- "$A --out $OUT/bending_cost/a" "$A --out $OUT/bending_cost/b --set membrane.Eb=0.001" ;;
     viscosity_contrast)
       mkdir -p $OUT/viscosity_contrast
       build/viscosity_contrast | tee $OUT/viscosity_contrast/numerics.txt

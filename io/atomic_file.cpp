@@ -78,17 +78,8 @@ PartFile write_part(const std::string& path, const std::string& content) {
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {
-  const std::string part = part_path(path);
-  std::FILE* f = std::fopen(part.c_str(), "wb");
-  if (!f) throw WriteError("cannot open '" + part + "' for writing: " + std::strerror(errno));
-  const bool written = std::fwrite(content.data(), 1, content.size(), f) == content.size();
-  const int err = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!written || !closed) {
-    std::remove(part.c_str());
-    throw WriteError("cannot write '" + part + "': " + std::strerror(written ? errno : err));
-  }
-  commit_part(part, path);
+  const PartFile f = write_part(path, content);
+  commit_part(f.part, f.path);
 }
 
 void reserve_space(int fd, long long size, const std::string& path) {

@@ -6,7 +6,7 @@
 set -euo pipefail
 pkgs=(cmake g++ ninja-build libeigen3-dev libsuitesparse-dev libhdf5-dev libtomlplusplus-dev
       libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libfftw3-dev liblapack-dev
-      libopenblas0-serial libssl-dev ccache python3-matplotlib python3-h5py python3-numpy pybind11-dev python3-dev)
+      libopenblas0-serial libssl-dev ccache python3-matplotlib python3-h5py python3-numpy python3-mpmath pybind11-dev python3-dev)
 recommends=(--no-install-recommends)
 if [ "${1:-}" = --recommends ]; then recommends=(); shift; fi
 pkgs+=("$@")

@@ -23,9 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "helpers.hpp"
+#include "process.hpp"
 #include "io/checkpoint.hpp"
-
-extern char** environ;
 
 using namespace sphib;
 namespace fs = std::filesystem;
@@ -35,55 +34,14 @@ namespace {
 using sphib_test::kSmall;
 using sphib_test::slurp;
 using sphib_test::temp_dir;
+using sphib_test::command;
+using sphib_test::Exit;
+using sphib_test::reap;
+using sphib_test::shell;
+using sphib_test::spawn;
+using sphib_test::wait_for;
+using sphib_test::run_args;
 const std::string& kScene = sphib_test::kOscillation;
-
-// `sphib run SCENE --out OUT --quiet --set ...` with the small oscillating membrane and `more`.
-std::vector<std::string> run_args(const fs::path& out, const std::vector<std::string>& more) {
-  std::vector<std::string> a{SPHIB_BINARY, "run", kScene, "--out", out.string(), "--quiet"};
-  for (const auto& s : kSmall) a.insert(a.end(), {"--set", s});
-  for (const auto& s : more) a.insert(a.end(), {"--set", s});
-  return a;
-}
-
-std::string command(const std::vector<std::string>& args) {
-  std::string c;
-  for (const auto& a : args) c += "'" + a + "' ";
-  return c;
-}
-
-struct Exit {
-  int status = -1;  // the exit status, or 128 + the signal that ended it
-  std::string err;
-};
-
-// Runs a command line (its stderr captured).
-Exit shell(const std::string& cmd, const fs::path& tmp) {
-  const fs::path err = tmp / "stderr.txt";
-  const int s = std::system((cmd + " 2> '" + err.string() + "'").c_str());
-  return {WIFEXITED(s) ? WEXITSTATUS(s) : 128 + WTERMSIG(s), slurp(err)};
-}
-
-pid_t spawn(std::vector<std::string> args) {
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  posix_spawn(&pid, SPHIB_BINARY, nullptr, nullptr, argv.data(), environ);
-  return pid;
-}
-
-int reap(pid_t pid) {
-  int s = 0;
-  waitpid(pid, &s, 0);
-  return WIFEXITED(s) ? WEXITSTATUS(s) : 128 + WTERMSIG(s);
-}
-
-bool wait_for(const fs::path& p, double seconds) {
-  for (auto t0 = std::chrono::steady_clock::now(); std::chrono::steady_clock::now() - t0 < std::chrono::duration<double>(seconds);
-       std::this_thread::sleep_for(std::chrono::milliseconds(5)))
-    if (fs::exists(p)) return true;
-  return false;
-}
 
 bool h5_opens(const fs::path& p) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);

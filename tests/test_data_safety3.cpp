@@ -27,6 +27,7 @@
 #include "app/expression.hpp"
 #include "app/sweep.hpp"
 #include "helpers.hpp"
+#include "process.hpp"
 #include "io/checkpoint.hpp"
 #include "io/footprint.hpp"
 #include "io/run.hpp"
@@ -34,8 +35,6 @@
 #include "membrane/polygon.hpp"
 #include "membrane/shapes.hpp"
 #include "scene_refusal.hpp"
-
-extern char** environ;
 
 using namespace sphib;
 namespace fs = std::filesystem;
@@ -45,65 +44,17 @@ namespace {
 using sphib_test::kSmall;
 using sphib_test::slurp;
 using sphib_test::temp_dir;
+using sphib_test::command;
+using sphib_test::Exit;
+using sphib_test::reap;
+using sphib_test::shell;
+using sphib_test::spawn;
+using sphib_test::wait_for;
+using sphib_test::run_args;
+using sphib_test::run_small;
 const std::string& kScene = sphib_test::kOscillation;
 
-std::string quoted(const std::vector<std::string>& args) {
-  std::string c;
-  for (const auto& a : args) c += "'" + a + "' ";
-  return c;
-}
-
-// `sphib run SCENE --out OUT --quiet` with the small oscillating membrane and `more` as --set.
-std::vector<std::string> run_args(const fs::path& out, const std::vector<std::string>& more) {
-  std::vector<std::string> a{SPHIB_BINARY, "run", kScene, "--out", out.string(), "--quiet"};
-  for (const auto& s : kSmall) a.insert(a.end(), {"--set", s});
-  for (const auto& s : more) a.insert(a.end(), {"--set", s});
-  return a;
-}
-
-struct Exit {
-  int status = -1;  // the exit status, or 128 + the signal that ended it
-  std::string err;
-};
-
-Exit shell(const std::string& cmd, const fs::path& tmp) {
-  const fs::path err = tmp / "stderr.txt";
-  const int s = std::system((cmd + " 2> '" + err.string() + "'").c_str());
-  return {WIFEXITED(s) ? WEXITSTATUS(s) : 128 + WTERMSIG(s), slurp(err)};
-}
-
-pid_t spawn(std::vector<std::string> args) {
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  posix_spawn(&pid, SPHIB_BINARY, nullptr, nullptr, argv.data(), environ);
-  return pid;
-}
-
-int reap(pid_t pid) {
-  int s = 0;
-  waitpid(pid, &s, 0);
-  return WIFEXITED(s) ? WEXITSTATUS(s) : 128 + WTERMSIG(s);
-}
-
-bool wait_for(const fs::path& p, double seconds) {
-  for (auto t0 = std::chrono::steady_clock::now(); std::chrono::steady_clock::now() - t0 < std::chrono::duration<double>(seconds);
-       std::this_thread::sleep_for(std::chrono::milliseconds(5)))
-    if (fs::exists(p)) return true;
-  return false;
-}
-
 nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
-
-// A run of the small oscillating membrane in process.
-nlohmann::json run(const fs::path& dir, std::vector<std::string> sets, const std::string& restart = "") {
-  sets.insert(sets.begin(), kSmall.begin(), kSmall.end());
-  RunOptions o;
-  o.out_dir = dir.string();
-  o.restart = restart;
-  return run_scene(load_scene(kScene, sets), o);
-}
 
 std::string bytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -142,10 +93,10 @@ std::string checkpoint_refusal(const fs::path& p) {
 // as it was.
 TEST(DataSafety3, ARestartIntoItsOwnDirectoryNeverRemovesAnOutputItCannotRead) {
   const fs::path tmp = temp_dir("own_dir"), d = tmp / "D";
-  run(d, {"time.end=0.02"});
+  run_small(d, {"time.end=0.02"});
   const std::string whole = bytes(d / "output.h5");
   const auto restart = [&] {
-    return shell(quoted(run_args(d, {"time.end=0.04", "output.interval=0.01"})) + " --restart '" +
+    return shell(command(run_args(d, {"time.end=0.04", "output.interval=0.01"})) + " --restart '" +
                      (d / "checkpoint.h5").string() + "'",
                  tmp);
   };
@@ -223,7 +174,7 @@ TEST(DataSafety3, SweepsReuseARunOnlyForTheSameSceneAndRefuseASetOfAVariedKey) {
 // the clock must be its steps of dt.
 TEST(DataSafety3, CheckpointsAreVerifiedBitForBitAndTheirClockAgainstStepsAndDt) {
   const fs::path tmp = temp_dir("sealed");
-  run(tmp / "a", {"time.end=0.02"});
+  run_small(tmp / "a", {"time.end=0.02"});
   const fs::path ckpt = tmp / "a" / "checkpoint.h5";
   EXPECT_EQ(checkpoint_refusal(ckpt), "");
   const std::string good = bytes(ckpt);
@@ -256,7 +207,7 @@ TEST(DataSafety3, CheckpointsAreVerifiedBitForBitAndTheirClockAgainstStepsAndDt)
   set_value(tmp / "clock.h5", "/fluid/clock", 0, 100.0);
   seal_checkpoint((tmp / "clock.h5").string());
   try {
-    run(tmp / "b", {"time.end=0.6"}, (tmp / "clock.h5").string());
+    run_small(tmp / "b", {"time.end=0.6"}, (tmp / "clock.h5").string());
     ADD_FAILURE() << "a clock of t = 100 at step 20 was accepted";
   } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("its clock is not valid: t = 100 at step 20 is not 20 steps of time.dt = 0.001"),
@@ -264,7 +215,7 @@ TEST(DataSafety3, CheckpointsAreVerifiedBitForBitAndTheirClockAgainstStepsAndDt)
   }
   EXPECT_FALSE(fs::exists(tmp / "b"));
   // The untouched checkpoint restarts.
-  EXPECT_EQ(run(tmp / "c", {"time.end=0.03"}, ckpt.string())["steps"], 30);
+  EXPECT_EQ(run_small(tmp / "c", {"time.end=0.03"}, ckpt.string())["steps"], 30);
   fs::remove_all(tmp);
 }
 
@@ -272,13 +223,13 @@ TEST(DataSafety3, CheckpointsAreVerifiedBitForBitAndTheirClockAgainstStepsAndDt)
 // scene; --set only of keys a restart may change; a scene file given too must agree.
 TEST(DataSafety3, ARestartFromTheCheckpointAloneContinuesItsSceneBitForBit) {
   const fs::path tmp = temp_dir("alone");
-  run(tmp / "a", {"time.end=0.02"});
-  run(tmp / "straight", {"time.end=0.04", "output.diagnostics_every=1"});
+  run_small(tmp / "a", {"time.end=0.02"});
+  run_small(tmp / "straight", {"time.end=0.04", "output.diagnostics_every=1"});
   const std::string ckpt = (tmp / "a" / "checkpoint.h5").string();
   const std::string base = std::string(SPHIB_BINARY) + " run --restart '" + ckpt + "' --quiet";
   Exit e = shell(base + " --out '" + (tmp / "alone").string() + "' --set time.end=0.04 --set output.diagnostics_every=1", tmp);
   ASSERT_EQ(e.status, 0) << e.err;
-  e = shell(quoted(run_args(tmp / "with_file", {"time.end=0.04", "output.diagnostics_every=1"})) + " --restart '" + ckpt + "'", tmp);
+  e = shell(command(run_args(tmp / "with_file", {"time.end=0.04", "output.diagnostics_every=1"})) + " --restart '" + ckpt + "'", tmp);
   ASSERT_EQ(e.status, 0) << e.err;
   const std::string last_straight = slurp(tmp / "straight" / "diagnostics.csv");
   const std::string last_alone = slurp(tmp / "alone" / "diagnostics.csv");
@@ -289,7 +240,7 @@ TEST(DataSafety3, ARestartFromTheCheckpointAloneContinuesItsSceneBitForBit) {
   e = shell(base + " --out '" + (tmp / "mu").string() + "' --set fluid.mu=0.5", tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_NE(e.err.find("--set fluid.mu: a restart keeps the checkpoint's scene"), std::string::npos) << e.err;
-  e = shell(quoted(run_args(tmp / "other", {"time.end=0.04", "membrane.T0=2"})) + " --restart '" + ckpt + "'", tmp);
+  e = shell(command(run_args(tmp / "other", {"time.end=0.04", "membrane.T0=2"})) + " --restart '" + ckpt + "'", tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_NE(e.err.find("its scene does not match: membrane.T0"), std::string::npos) << e.err;
   EXPECT_FALSE(fs::exists(tmp / "mu"));
@@ -408,19 +359,19 @@ TEST(DataSafety3, TheLockIsNeverWrittenThroughALink) {
   fs::create_directories(d);
   write_bytes(tmp / "precious.txt", "the user's data\n");
   fs::create_symlink(tmp / "precious.txt", d / ".sphib.lock");
-  Exit e = shell(quoted(run_args(d, {"time.max_steps=2"})), tmp);
+  Exit e = shell(command(run_args(d, {"time.max_steps=2"})), tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_NE(e.err.find(".sphib.lock is a symbolic link (not a sphib lock"), std::string::npos) << e.err;
   EXPECT_EQ(slurp(tmp / "precious.txt"), "the user's data\n");
   fs::remove(d / ".sphib.lock");
   fs::create_hard_link(tmp / "precious.txt", d / ".sphib.lock");
-  e = shell(quoted(run_args(d, {"time.max_steps=2"})), tmp);
+  e = shell(command(run_args(d, {"time.max_steps=2"})), tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_NE(e.err.find("has 2 names (a hard link to another file)"), std::string::npos) << e.err;
   EXPECT_EQ(slurp(tmp / "precious.txt"), "the user's data\n");
   EXPECT_FALSE(fs::exists(d / "output.h5"));
   fs::remove(d / ".sphib.lock");
-  EXPECT_EQ(shell(quoted(run_args(d, {"time.max_steps=2"})), tmp).status, 0);  // a plain lock again
+  EXPECT_EQ(shell(command(run_args(d, {"time.max_steps=2"})), tmp).status, 0);  // a plain lock again
   fs::remove_all(tmp);
 }
 
@@ -444,7 +395,7 @@ TEST(DataSafety3, AFailingRunLeavesNoFileUnderItsFinalName) {
   const fs::path tmp = temp_dir("final_names"), d = tmp / "D";
   for (int n = 5; n <= 8; ++n) {  // too few descriptors at each point of the set-up (4: the loader fails)
     fs::remove_all(d);
-    const Exit e = shell("bash -c \"ulimit -n " + std::to_string(n) + "; exec " + quoted(run_args(d, {"time.max_steps=3"})) + "\"", tmp);
+    const Exit e = shell("bash -c \"ulimit -n " + std::to_string(n) + "; exec " + command(run_args(d, {"time.max_steps=3"})) + "\"", tmp);
     SCOPED_TRACE("ulimit -n " + std::to_string(n) + ": exit " + std::to_string(e.status) + ": " + e.err);
     if (e.status == 0) continue;
     EXPECT_TRUE(e.status == 1 || e.status == 2);
@@ -457,7 +408,7 @@ TEST(DataSafety3, AFailingRunLeavesNoFileUnderItsFinalName) {
   for (int inodes = 3; inodes <= 9; ++inodes) {
     if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, ("size=8m,nr_inodes=" + std::to_string(inodes)).c_str()) != 0) break;
     const fs::path md = mnt / "D";
-    const Exit e = shell(quoted(run_args(md, {"time.max_steps=3"})), tmp);
+    const Exit e = shell(command(run_args(md, {"time.max_steps=3"})), tmp);
     SCOPED_TRACE(std::to_string(inodes) + " inodes: exit " + std::to_string(e.status) + ": " + e.err);
     if (e.status != 0) {
       EXPECT_TRUE(e.status == 1 || e.status == 2);
@@ -468,10 +419,10 @@ TEST(DataSafety3, AFailingRunLeavesNoFileUnderItsFinalName) {
   }
   // An earlier run's files, one of which cannot be removed (a directory under its name): none removed.
   fs::remove_all(d);
-  run(d, {"time.max_steps=3"});
+  run_small(d, {"time.max_steps=3"});
   fs::remove(d / "summary.json");
   fs::create_directories(d / "summary.json" / "notes");
-  const Exit e = shell(quoted(run_args(d, {"time.max_steps=3"})), tmp);
+  const Exit e = shell(command(run_args(d, {"time.max_steps=3"})), tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_NE(e.err.find("summary.json is not a file a run wrote"), std::string::npos) << e.err;
   for (const char* f : {"output.h5", "output.xdmf", "diagnostics.csv", "checkpoint.h5"}) EXPECT_TRUE(fs::exists(d / f)) << f;
@@ -514,8 +465,8 @@ TEST(DataSafety3, TheSweepFindsExactlyTheSelfIntersectionsThatEveryPairFinds) {
 // summary field replaced it, and one named like a column gave duplicate columns.
 TEST(DataSafety3, StopReasonAndObserverNamesTellTheTruth) {
   const fs::path tmp = temp_dir("stop_reason");
-  EXPECT_EQ(run(tmp / "a", {"time.max_steps=3"})["stop_reason"], "time.max_steps");
-  EXPECT_EQ(run(tmp / "b", {"time.end=0.003"})["stop_reason"], "end time");
+  EXPECT_EQ(run_small(tmp / "a", {"time.max_steps=3"})["stop_reason"], "time.max_steps");
+  EXPECT_EQ(run_small(tmp / "b", {"time.end=0.003"})["stop_reason"], "end time");
   for (const std::string name : {"stop_reason", "steps", "kinetic_energy", "t"}) {
     Scene s = load_scene(kScene, {"grid.nx=24", "grid.ny=24", "membrane.nb=48", "time.dt=1e-3", "time.max_steps=2"});
     s.observers.push_back({name, [](const Simulation&) { return 42.0; }});
@@ -553,7 +504,7 @@ TEST(DataSafety3, EveryTerminatingSignalEndsARunWithCompleteFiles) {
   const fs::path d = tmp / "pipe_log";
   std::vector<std::string> args = run_args(d, {"time.max_steps=30"});
   args.erase(std::find(args.begin(), args.end(), "--quiet"));
-  const int s = std::system(("bash -c \"" + quoted(args) + " 2>&1 | head -c 1 > /dev/null; exit \\${PIPESTATUS[0]}\"").c_str());
+  const int s = std::system(("bash -c \"" + command(args) + " 2>&1 | head -c 1 > /dev/null; exit \\${PIPESTATUS[0]}\"").c_str());
   const int status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
   const nlohmann::json j = summary(d);
   EXPECT_EQ(status, j.contains("stop_signal") ? 141 : 0) << j.dump();
@@ -564,7 +515,7 @@ TEST(DataSafety3, EveryTerminatingSignalEndsARunWithCompleteFiles) {
 // Item 12: misleading messages and exit statuses.
 TEST(DataSafety3, MessagesNameTheRealProblem) {
   const fs::path tmp = temp_dir("messages");
-  run(tmp / "a", {"time.end=0.02"});
+  run_small(tmp / "a", {"time.end=0.02"});
   const std::string restart = std::string(SPHIB_BINARY) + " run --quiet --out '" + (tmp / "b").string() + "' --restart ";
   Exit e = shell(restart + "'" + (tmp / "a" / "output.h5").string() + "'", tmp);  // "older checkpoint format" before
   EXPECT_EQ(e.status, 2);
@@ -598,14 +549,14 @@ TEST(DataSafety3, MessagesNameTheRealProblem) {
     H5Aclose(a), H5Sclose(space), H5Tclose(type), H5Gclose(r), H5Fclose(g);
   }
   seal_checkpoint((tmp / "record.h5").string());
-  e = shell(restart + "'" + (tmp / "record.h5").string() + "' " + quoted({"--set", "time.end=0.04"}), tmp);
+  e = shell(restart + "'" + (tmp / "record.h5").string() + "' " + command({"--set", "time.end=0.04"}), tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_EQ(e.err.find("json.exception"), std::string::npos) << e.err;
   EXPECT_FALSE(fs::exists(tmp / "b"));
   // Out of memory while setting up: exit status 2, nothing written (it was 1). (Not under
   // AddressSanitizer: its shadow memory needs more address space than the limit leaves.)
 #ifndef __SANITIZE_ADDRESS__
-  e = shell("bash -c \"ulimit -v 600000; exec " + quoted(run_args(tmp / "big", {"grid.nx=1400", "grid.ny=1400",
+  e = shell("bash -c \"ulimit -v 600000; exec " + command(run_args(tmp / "big", {"grid.nx=1400", "grid.ny=1400",
                                                                                "limits.memory_gb=1000"})) + "\"", tmp);
   EXPECT_EQ(e.status, 2) << e.err;
   EXPECT_NE(e.err.find("out of memory while setting up the run"), std::string::npos) << e.err;

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "helpers.hpp"
+#include "process.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
@@ -28,25 +29,18 @@ namespace {
 
 using sphib_test::kSmall;
 using sphib_test::slurp;
+using sphib_test::run_small;
 const std::string& kScene = sphib_test::kOscillation;
 
-nlohmann::json run(const std::string& dir, std::vector<std::string> sets, const std::string& restart = "") {
-  sets.insert(sets.begin(), kSmall.begin(), kSmall.end());
-  Scene s = load_scene(kScene, sets);
-  RunOptions o;
-  o.out_dir = dir;
-  o.restart = restart;
-  return run_scene(s, o);
-}
 
 }  // namespace
 
 TEST(Reliability, RestartReproducesTheStraightRunBitForBit) {
   const fs::path d = fs::temp_directory_path() / "sphib_restart";
   fs::remove_all(d);
-  const auto straight = run((d / "a").string(), {"time.max_steps=50"});
-  run((d / "b").string(), {"time.max_steps=20"});
-  const auto restarted = run((d / "c").string(), {"time.max_steps=50"}, (d / "b" / "checkpoint.h5").string());
+  const auto straight = run_small((d / "a").string(), {"time.max_steps=50"});
+  run_small((d / "b").string(), {"time.max_steps=20"});
+  const auto restarted = run_small((d / "c").string(), {"time.max_steps=50"}, (d / "b" / "checkpoint.h5").string());
   EXPECT_EQ(restarted["steps"], 50);
   for (const char* k : {"time", "rx", "ry", "area", "kinetic_energy", "max_div_u", "elastic_energy", "max_speed"})
     EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k;
@@ -75,13 +69,13 @@ TEST(Reliability, RestartReportsTheStraightRunsAreaFiguresAndSeries) {
   fs::remove_all(d);
   const std::vector<std::string> out{"output.interval=0.1", "output.diagnostics_every=10"};
   auto with = [&](std::string end) { auto v = out; v.push_back("time.end=" + end); return v; };
-  const auto straight = run((d / "a").string(), with("1.2"));
-  run((d / "b").string(), with("0.5"));
+  const auto straight = run_small((d / "a").string(), with("1.2"));
+  run_small((d / "b").string(), with("0.5"));
   const std::string ckpt = (d / "b" / "checkpoint.h5").string();
-  const auto elsewhere = run((d / "c").string(), with("1.2"), ckpt);
-  const auto continued = run((d / "b").string(), with("1.2"), ckpt);
-  run((d / "e").string(), with("1.1"));  // past t = 1: its error at t = 1 comes with the checkpoint
-  const auto late = run((d / "f").string(), with("1.2"), (d / "e" / "checkpoint.h5").string());
+  const auto elsewhere = run_small((d / "c").string(), with("1.2"), ckpt);
+  const auto continued = run_small((d / "b").string(), with("1.2"), ckpt);
+  run_small((d / "e").string(), with("1.1"));  // past t = 1: its error at t = 1 comes with the checkpoint
+  const auto late = run_small((d / "f").string(), with("1.2"), (d / "e" / "checkpoint.h5").string());
   ASSERT_TRUE(straight.contains("area_relative_error_at"));
   for (const auto* r : {&elsewhere, &continued, &late}) {
     for (const char* k : {"area", "area_exact", "area_relative_error", "rx", "steps", "time"}) EXPECT_EQ(straight[k], (*r)[k]) << k;
@@ -103,9 +97,9 @@ TEST(Reliability, RestartReportsTheStraightRunsAreaFiguresAndSeries) {
 TEST(Reliability, RestartWithoutAStepAheadIsRefused) {
   const fs::path d = fs::temp_directory_path() / "sphib_restart_none";
   fs::remove_all(d);
-  run((d / "a").string(), {"time.end=0.02"});
+  run_small((d / "a").string(), {"time.end=0.02"});
   try {
-    run((d / "b").string(), {"time.end=0.02"}, (d / "a" / "checkpoint.h5").string());
+    run_small((d / "b").string(), {"time.end=0.02"}, (d / "a" / "checkpoint.h5").string());
     FAIL() << "a restart without a step ahead ran";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("time.end: 0.020000 (step 20) is not after the checkpoint's t = 0.02"),
@@ -119,7 +113,7 @@ TEST(Reliability, RestartWithoutAStepAheadIsRefused) {
 TEST(Reliability, DamagedCheckpointsAreRefused) {
   const fs::path d = fs::temp_directory_path() / "sphib_restart_damaged";
   fs::remove_all(d);
-  run((d / "a").string(), {"time.end=0.02"});
+  run_small((d / "a").string(), {"time.end=0.02"});
   const fs::path ckpt = d / "a" / "checkpoint.h5";
   auto damage = [&](const char* dataset, double value, int index) {
     const fs::path bad = d / (std::string("bad_") + std::to_string(index) + ".h5");
@@ -149,7 +143,7 @@ TEST(Reliability, DamagedCheckpointsAreRefused) {
                                 {damage("/membranes/0", 0.25, 4), "damaged: its SHA-256"}};
   for (const auto& c : cases) {
     try {
-      run((d / "b").string(), {"time.end=0.04"}, c.file);
+      run_small((d / "b").string(), {"time.end=0.04"}, c.file);
       ADD_FAILURE() << "accepted " << c.file;
     } catch (const CheckpointError& e) {
       EXPECT_NE(std::string(e.what()).find("checkpoint " + c.file + ": "), std::string::npos) << e.what();
@@ -187,9 +181,9 @@ TEST(Reliability, LongScenesRunCheckpointAndRestart) {
 TEST(Reliability, RestartWithAnotherSceneIsRefused) {
   const fs::path d = fs::temp_directory_path() / "sphib_restart_mismatch";
   fs::remove_all(d);
-  run((d / "a").string(), {"time.max_steps=5"});
+  run_small((d / "a").string(), {"time.max_steps=5"});
   try {
-    run((d / "b").string(), {"time.max_steps=10", "fluid.mu=0.2"}, (d / "a" / "checkpoint.h5").string());
+    run_small((d / "b").string(), {"time.max_steps=10", "fluid.mu=0.2"}, (d / "a" / "checkpoint.h5").string());
     FAIL() << "a restart with another viscosity was accepted";
   } catch (const CheckpointError& e) {  // refused before anything runs (the command's exit status 2)
     EXPECT_NE(std::string(e.what()).find("fluid.mu"), std::string::npos) << e.what();
