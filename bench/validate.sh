@@ -40,14 +40,23 @@
 #                  blows up between 0.85 and 0.99 of it, Poiseuille 30^2, h = 2.2 dx)
 #   fs_droplet     Table 3: the elliptic drop, N = 721 ... 7651 (n = 15 ... 50 rings), a at t = 0.8,
 #                  h/dx = 1.5 and 1.3
-#   fs_dam_break   Section 7: the dam break to t = 0.6 (5000 particles): front, loads, pictures
-#   fs_still       the still tank: hydrostatic loads and spurious speeds, with and without A's p = 0
+#   fs_dam_break   Section 7: the dam break to t = 0.6 (1250 and 5000 particles, wcsph.delta = 0 and
+#                  0.1): front, loads, pictures
+#   fs_still       the still tank: hydrostatic loads and spurious speeds, with and without A's p = 0 and
+#                  delta-SPH (wcsph.delta)
+#   fs_delta       Tables 1-3 by WCSPH with delta-SPH (wcsph.delta = 0.1), against fs_poiseuille ... above
+#   fs_lobovsky    Lobovsky et al. (2014)'s dam break (H = 0.3 m) by WCSPH: the pressure probes on the far
+#                  wall at 5000 and 20000 particles (docs/free_surfaces.md)
 # ISPH (method isph, the paper's second method), the same cases:
 #   isph_poiseuille  Table 1's ISPH column: N = 15^2 ... 60^2 (ISPH_NX=15,20,25,30 for a subset), t = 0.6
 #   isph_inclined    Table 2's ISPH column: the inclined plane, N = 15^2 ... 60^2 (ISPH_NX for a subset), t = 4
 #   isph_droplet     Table 3's ISPH column: the elliptic drop, N = 721 ... 7651, a at t = 0.8, h/dx = 1.5
-#   isph_dam_break   Section 7 (5000 particles): front, loads against fs_dam_break's (Fig. 10), pictures
-#   isph_still       the still tank of fs_still by ISPH (cases/still_tank_isph.toml): loads, spurious speeds
+#   isph_dam_break   Section 7 (1250 and 5000 particles; shifting fickian, xu, none): front, loads
+#                    against fs_dam_break's (Fig. 10), pictures
+#   isph_still       the still tank of fs_still by ISPH (cases/still_tank_isph.toml): loads, spurious
+#                    speeds, isph.scheme = consistent and paper
+#   isph_lobovsky    Lobovsky et al. (2014)'s dam break by ISPH: the pressure probes at 5000 and 20000 particles
+#   isph_scheme      Tables 1-3 with isph.scheme = paper (the scheme before issue 29), for the comparison
 # Without arguments: all but fig10 and sweep (the long ones).
 # PAIR=paper runs every scene with the paper's approximate projection and SPH interpolation
 # (fluid.projection = "approximate", coupling.interpolation = "sph") into bench_out/paper/; the
@@ -148,36 +157,67 @@ for s in "${sections[@]}"; do
       [ -f $OUT/fs_droplet/case/summary.json ] || $SPHIB run cases/droplet_wcsph.toml --out $OUT/fs_droplet/case --quiet
       /usr/bin/python3 scripts/plot.py $OUT/fs_droplet/case ;;
     fs_dam_break)
-      $SWEEP --scene cases/dam_break_wcsph.toml --out $OUT/fs_dam_break --vary grid.nx=200 \
+      $SWEEP --scene cases/dam_break_wcsph.toml --out $OUT/fs_dam_break --vary grid.nx=200,100 --vary wcsph.delta=0,0.1 \
+        --derive grid.ny=2*{grid.nx} --derive time.dt=0.008/{grid.nx} \
         --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,load_left_min,load_right_max,load_right_max_t,max_density_variation,seconds_per_step
       /usr/bin/python3 scripts/plot.py $OUT/fs_dam_break/run_000 ;;
     fs_still)
       $SWEEP --scene cases/still_tank_wcsph.toml --out $OUT/fs_still \
-        --vary free_surface.detection=none,dilts --vary wcsph.alpha=0.1,0.3 \
+        --vary free_surface.detection=none,dilts --vary wcsph.alpha=0.1,0.3 --vary wcsph.delta=0,0.1 \
         --report force_left,force_bottom,load_left_min,load_left_max,max_speed,max_density_variation ;;
-    isph_poiseuille)
-      $SWEEP --scene cases/poiseuille_afanasiev_isph.toml --out $OUT/isph_poiseuille --vary grid.nx=${ISPH_NX:-15,20,25,30,40,50,60} \
-        --derive grid.ny={grid.nx} --set output.interval=0 \
-        --report particles,profile_error,profile_error_max,rms_error,seconds_per_step ;;
-    isph_inclined)
-      $SWEEP --scene cases/inclined_plane.toml --out $OUT/isph_inclined --vary grid.nx=${ISPH_NX:-15,20,25,30,40,50,60} \
-        --derive grid.ny=2*{grid.nx} --set output.interval=0 \
-        --report particles,profile_error,profile_error_max,rms_error,seconds_per_step ;;
-    isph_droplet)
-      $SWEEP --scene cases/droplet.toml --out $OUT/isph_droplet --vary grid.nx=93,123,183,243,303 \
-        --derive grid.ny={grid.nx} --derive time.dt=0.0915/{grid.nx} --set time.end=0.8 --set output.times=[] \
-        --report particles,droplet_axis_error,droplet_axis_error_extent,seconds_per_step
-      [ -f $OUT/isph_droplet/case/summary.json ] || $SPHIB run cases/droplet.toml --out $OUT/isph_droplet/case --quiet
-      /usr/bin/python3 scripts/plot.py $OUT/isph_droplet/case ;;
+    fs_delta)
+      $SWEEP --scene cases/poiseuille_afanasiev_wcsph.toml --out $OUT/fs_delta_poiseuille --vary grid.nx=15,20,25,30,40,50,60 \
+        --derive grid.ny={grid.nx} --derive time.dt=0.3/{grid.nx}**2 --set output.interval=0 --set wcsph.delta=0.1 \
+        --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step
+      $SWEEP --scene cases/inclined_plane_wcsph.toml --out $OUT/fs_delta_inclined --vary grid.nx=15,20,25,30,40,50,60 \
+        --derive grid.ny=2*{grid.nx} --derive time.dt=0.25/{grid.nx}**2 --set output.interval=0 --set wcsph.delta=0.1 \
+        --report particles,profile_error,profile_error_max,rms_error,max_density_variation,seconds_per_step
+      $SWEEP --scene cases/droplet_wcsph.toml --out $OUT/fs_delta_droplet --vary grid.nx=93,123,183,243,303 \
+        --vary kernel.h_over_dx=1.5,1.3 --derive grid.ny={grid.nx} --derive time.dt=0.0915/{grid.nx} \
+        --set time.end=0.8 --set output.times=[] --set wcsph.delta=0.1 \
+        --report particles,droplet_axis_error,droplet_axis_error_extent,max_density_variation,seconds_per_step ;;
+    fs_lobovsky)
+      $SWEEP --scene cases/dam_break_lobovsky_wcsph.toml --out $OUT/fs_lobovsky --vary grid.nx=268,536 \
+        --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.01474/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
+        --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,max_density_variation,seconds_per_step
+      /usr/bin/python3 scripts/plot_probes.py $OUT/fs_lobovsky/probes.png $OUT/fs_lobovsky/run_000 $OUT/fs_lobovsky/run_001 ;;
+    isph_poiseuille|isph_inclined|isph_droplet|isph_scheme)
+      [ "$s" = isph_scheme ] && schemes=(paper) || schemes=(consistent)
+      [ "$s" = isph_scheme ] && tag=_paper || tag=
+      if [ "$s" = isph_poiseuille ] || [ "$s" = isph_scheme ]; then
+        $SWEEP --scene cases/poiseuille_afanasiev_isph.toml --out $OUT/isph_poiseuille$tag --vary grid.nx=${ISPH_NX:-15,20,25,30,40,50,60} \
+          --derive grid.ny={grid.nx} --set output.interval=0 --set isph.scheme=${schemes[0]} \
+          --report particles,profile_error,profile_error_max,rms_error,poisson_cg_iterations,seconds_per_step
+      fi
+      if [ "$s" = isph_inclined ] || [ "$s" = isph_scheme ]; then
+        $SWEEP --scene cases/inclined_plane.toml --out $OUT/isph_inclined$tag --vary grid.nx=${ISPH_NX:-15,20,25,30,40,50,60} \
+          --derive grid.ny=2*{grid.nx} --set output.interval=0 --set isph.scheme=${schemes[0]} \
+          --report particles,profile_error,profile_error_max,rms_error,seconds_per_step
+      fi
+      if [ "$s" = isph_droplet ] || [ "$s" = isph_scheme ]; then
+        $SWEEP --scene cases/droplet.toml --out $OUT/isph_droplet$tag --vary grid.nx=93,123,183,243,303 \
+          --derive grid.ny={grid.nx} --derive time.dt=0.0915/{grid.nx} --set time.end=0.8 --set output.times=[] \
+          --set isph.scheme=${schemes[0]} --report particles,droplet_axis_error,droplet_axis_error_extent,seconds_per_step
+        if [ "$s" = isph_droplet ]; then
+          [ -f $OUT/isph_droplet/case/summary.json ] || $SPHIB run cases/droplet.toml --out $OUT/isph_droplet/case --quiet
+          /usr/bin/python3 scripts/plot.py $OUT/isph_droplet/case
+        fi
+      fi ;;
     isph_dam_break)
-      $SWEEP --scene cases/dam_break.toml --out $OUT/isph_dam_break --vary grid.nx=200 \
+      $SWEEP --scene cases/dam_break.toml --out $OUT/isph_dam_break --vary grid.nx=200,100 --vary isph.shifting=fickian,xu,none \
+        --derive grid.ny=4*{grid.nx} --derive time.dt=0.03/{grid.nx} \
         --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,load_left_min,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
       compare=()
       [ -f $OUT/fs_dam_break/run_000/diagnostics.csv ] && compare=(--compare $OUT/fs_dam_break/run_000)
       /usr/bin/python3 scripts/plot.py $OUT/isph_dam_break/run_000 "${compare[@]}" ;;
     isph_still)
-      $SWEEP --scene cases/still_tank_isph.toml --out $OUT/isph_still --vary grid.nx=40 \
+      $SWEEP --scene cases/still_tank_isph.toml --out $OUT/isph_still --vary grid.nx=40 --vary isph.scheme=consistent,paper \
         --report force_left,force_bottom,load_left_min,load_left_max,max_speed ;;
+    isph_lobovsky)
+      $SWEEP --scene cases/dam_break_lobovsky.toml --out $OUT/isph_lobovsky --vary grid.nx=268,536 \
+        --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.067/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
+        --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
+      /usr/bin/python3 scripts/plot_probes.py $OUT/isph_lobovsky/probes.png $OUT/isph_lobovsky/run_000 $OUT/isph_lobovsky/run_001 ;;
     capsule_bending)  # (one thread per run: the two cores are shared)
       C="env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law skalak --eb-hat 0.1 --t-end 6"
       $C --ca 0.005,0.01,0.02,0.05 --cfl 0.05 --out $OUT/capsule_bending/ca_H2

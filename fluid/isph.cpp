@@ -32,6 +32,12 @@ std::optional<ParamProblem> isph_problem(const FluidParams& p) {
     return ParamProblem{p.poisson_solver == SolverKind::PcgFft ? "solver.poisson" : "solver.crank_nicolson",
                         "\"pcg_fft\" does not apply to a partly filled tank (its preconditioner is the FFT solver of the "
                         "full lattice); use pcg_cholmod or a CHOLMOD factorisation"};
+  if (p.isph.scheme != "consistent" && p.isph.scheme != "paper")
+    return ParamProblem{"isph.scheme", "\"" + p.isph.scheme + "\" is not allowed (allowed: consistent | paper)"};
+  if (p.isph.shifting != "auto" && p.isph.shifting != "fickian" && p.isph.shifting != "xu" && p.isph.shifting != "none")
+    return ParamProblem{"isph.shifting", "\"" + p.isph.shifting + "\" is not allowed (allowed: auto | fickian | xu | none)"};
+  if (!(p.isph.shifting_A > 0) || !std::isfinite(p.isph.shifting_A))
+    return ParamProblem{"isph.shifting_A", "must be positive and finite (Lind et al. 2012: 1 to 6)"};
   if (p.isph.viscous == "explicit" && p.cn_solver != SolverKind::Auto)
     return ParamProblem{"solver.crank_nicolson", "does not apply with isph.viscous = \"explicit\" (A Eq. 22: no "
                                                  "Crank-Nicolson system)"};
@@ -43,6 +49,15 @@ namespace {
 ParticleSet particles_of(const FluidParams& p) {
   if (const auto e = isph_problem(p)) throw std::invalid_argument(e->key + ": " + e->what);
   return fill_particles(make_lattice(p.domain, p.nx, p.ny), p.free_surface.fill);
+}
+
+ShiftingParams shifting_params(const IsphParams& p) {
+  ShiftingParams s;
+  s.kind = p.shifting != "auto" ? shifting_from_name(p.shifting)
+           : p.scheme == "paper" ? Shifting::None
+                                 : Shifting::Fickian;
+  s.A = p.shifting_A;
+  return s;
 }
 
 // The Verlet skin (neighbours.hpp), adaptive in [0.01, 0.3] of the support 2h, as LPSPH's
@@ -57,7 +72,8 @@ IsphFluid::IsphFluid(const FluidParams& params)
 IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
     : ProjectionFluid(params, static_cast<int>(set.x.rows()), set.volume), x_(set.x), x_star_(set.x),
       walls_(make_virtual_walls(lat_, W_.support())),
-      verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x) {
+      verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x),
+      shifter_(shifting_params(params.isph)) {
   const FreeSurfaceParams& fs = prm_.free_surface;
   explicit_viscous_ = prm_.isph.viscous == "explicit";
   accel_ = prm_.gravity;  // A Eq. (22)
@@ -78,8 +94,15 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
   k_ = moving_phases("move particles (A Eq. 25)", "neighbours (Verlet list with the wall particles)",
                      "operators, systems, A Eq. (26) sums");
   k_surface_ = prof_.phase("free surface: Dirichlet rows (A Eq. 26)");
+  if (shifter_.params().kind != Shifting::None) k_shift_ = prof_.phase("particle shifting");
+  dr_ = Mat2::Zero(size(), 2);
   auto t0 = Profile::Clock::now();
   geometry(true);
+  consistent_ = prm_.isph.scheme == "consistent";
+  if (consistent_) {  // the full support's sums, then the mirror rows they set
+    reference_sums();
+    assemble(false);
+  }
   add_setup("neighbours", 0.0);
   add_setup("assembly", seconds_since(t0));
   t0 = Profile::Clock::now();
@@ -153,6 +176,10 @@ void IsphFluid::project() {
     u_(i, 0) -= k * g * P.rx[q];
     u_(i, 1) -= k * g * P.ry[q];
   }
+  if (consistent_) {  // the sum form over the lattice's second moment: exact for a linear p on the lattice
+    grad_phi_ /= M0_;
+    u_.noalias() = u_star_ - k * grad_phi_;
+  }
   surface_gradient();
   wall_contact();
   wall_pressure();
@@ -164,10 +191,36 @@ void IsphFluid::project() {
 // (measured, dam break at 1250 particles: blow-up at t = 0.22 with dt = 5e-5, a particle through the
 // right wall at t = 0.34 with 1e-4; with it both run to 0.6).
 void IsphFluid::clip_tension() {
-  if (gauge_.dimension() > 0) return;  // a full tank: p is defined up to a constant (zero mean)
-  phi_ = phi_.cwiseMax(0.0);
-  gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
-  u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
+  if (gauge_.dimension() > 0) {
+    // A full tank: p is defined up to a constant, and the gauge's zero mean makes it negative in part
+    // of the tank, where the sum form's 2 p_i grad C_i pulls particles together (the tensile
+    // instability: measured, a closed tank under gravity 40 x 20 blew up at t = 0.14 with the paper's
+    // operators, 0.81 with the consistent ones). The consistent scheme takes the constant that makes
+    // the smallest p zero (the gradient of a constant is zero on a full support).
+    if (!consistent_) return;
+    phi_.array() -= phi_.minCoeff();
+    gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+    u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
+    return;
+  }
+  // Only the clipped particles' values change, so only their columns of the gradient: the particles'
+  // entries of A Eq. (13)'s sum form are antisymmetric (G_ij = V x_ij F_ij = -G_ji, one volume), so
+  // column j off the diagonal is minus row j; the diagonal G_jj (with the wall pairs) is row j's.
+  const double k = prm_.dt / prm_.rho;
+  for (int j = 0; j < size(); ++j) {
+    if (!(phi_[j] < 0)) continue;
+    const double d = -phi_[j];  // phi_j's change
+    phi_[j] = 0.0;
+    SpMat::InnerIterator gx(op_.grad_phix, j), gy(op_.grad_phiy, j);
+    for (; gx; ++gx, ++gy) {
+      const int i = static_cast<int>(gx.col());
+      const double ax = (i == j ? gx.value() : -gx.value()) * d, ay = (i == j ? gy.value() : -gy.value()) * d;
+      grad_phi_(i, 0) += ax;
+      grad_phi_(i, 1) += ay;
+      u_(i, 0) -= k * ax;
+      u_(i, 1) -= k * ay;
+    }
+  }
 }
 
 // Lennard-Jones repulsion of the inner wall row on u* (Monaghan's wall particles, A Section 3.6, with
@@ -177,7 +230,10 @@ void IsphFluid::clip_tension() {
 void IsphFluid::wall_repulsion() {
   const double D = 2.0 * prm_.gravity.norm() * fluid_height(prm_.free_surface.fill, prm_.domain, prm_.gravity);
   if (D == 0) return;
-  const double r0 = std::min(lat_.dx, lat_.dy), dt = prm_.dt;
+  // consistent: r0 just inside the spacing, so that a fluid at rest on the lattice (every wall pair at
+  // r = dx or beyond) feels nothing; at r0 = dx the one-sided spring made the rest state unstable
+  // (measured, still tank 40 x 20: round-off grew to 0.035 m/s by t = 4, 6e-14 with 0.98 dx)
+  const double r0 = std::min(lat_.dx, lat_.dy) * (consistent_ ? 0.98 : 1.0), dt = prm_.dt;
   const ParticlePairs& P = wall_pairs_;
   for (int q = 0; q < P.size(); ++q) {
     const int w = P.j[q] - size();
@@ -208,15 +264,17 @@ void IsphFluid::surface_gradient() {
     }
     // M^+ g over the directions in which the neighbours span (eigenvalues above 0.1 of a full support's 1)
     const double tr = m00 + m11, det = m00 * m11 - m01 * m01, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    const double lam1 = 0.5 * tr + disc, lam2 = 0.5 * tr - disc;
     double G[2] = {0, 0};
-    for (double lam : {0.5 * tr + disc, 0.5 * tr - disc}) {
-      if (lam < 0.1) continue;
-      double ex = m01, ey = lam - m00;  // eigenvector of [[m00, m01], [m01, m11]]
-      if (std::hypot(ex, ey) < 1e-12 * (1 + lam)) { ex = lam - m11; ey = m01; }
-      if (std::hypot(ex, ey) < 1e-12 * (1 + lam)) { ex = lam == 0.5 * tr + disc ? 1 : 0; ey = 1 - ex; }
-      const double n = std::hypot(ex, ey), c = (ex * gx + ey * gy) / (n * n * lam);
-      G[0] += c * ex;
-      G[1] += c * ey;
+    if (lam2 >= 0.1) {  // both directions: M^-1 g
+      G[0] = (m11 * gx - m01 * gy) / det;
+      G[1] = (m00 * gy - m01 * gx) / det;
+    } else if (lam1 >= 0.1) {  // one direction: the eigenvector of lam1
+      double ex = m01, ey = lam1 - m00;
+      if (std::hypot(ex, ey) <= 1e-12 * lam1) { ex = m00 >= m11 ? 1 : 0; ey = 1 - ex; }
+      const double n = std::hypot(ex, ey), c = (ex * gx + ey * gy) / (n * n * lam1);
+      G[0] = c * ex;
+      G[1] = c * ey;
     }
     u_(i, 0) = u_star_(i, 0) - k * G[0];
     u_(i, 1) = u_star_(i, 1) - k * G[1];
@@ -248,6 +306,105 @@ void IsphFluid::wall_contact() {
       }
 }
 
+// The consistent scheme's Poisson rows beside the free surface (see the header): a particle whose support
+// the surface cuts reads the missing neighbours as mirror images of itself with p = -p_i (the surface
+// the Dirichlet row p = 0 between), so -lap p_i gains -4 V p_i sum_missing F, sum_missing F = S_F -
+// sum_present F (S_F the full support's, reference_sums) over the particles and the wall particles.
+void IsphFluid::surface_mirror() {
+  for (int i = 0; i < size(); ++i) {
+    const double missing = S_F_ - csum_.sum_F[i];  // < 0 (F < 0): part of the support is empty
+    if (!surface_[i] && missing < 0) A_phi_.valuePtr()[diag_[i]] -= 4.0 * volume_ * missing;
+  }
+}
+
+// The sums of the mirror rows and of the shifts (shifting.hpp's ConcentrationSums) from what the
+// assembly made, without a pass of their own over the pairs: grad C_i = sum_j V_j x_ij F_ij is the
+// diagonal of the sum-form gradient G of A Eq. (13) less its wall pairs' second half (the rule
+// p_w = p_i puts V_w x_iw F_iw there twice); sum_j F_ij = -A_phi,ii / (2 V) over the particles plus the
+// wall pairs' F; the particles beside the surface: the surface and those with a Poisson entry to a
+// surface particle (A_phi before the Dirichlet rows; the operators share one pattern,
+// particle_operators.hpp). Lind et al.'s tensile term (R) is not in this grad C.
+void IsphFluid::surface_sums() {
+  const int N = size();
+  if (op_.grad_phix.nonZeros() != A_phi_.nonZeros() || op_.grad_phiy.nonZeros() != A_phi_.nonZeros())
+    throw std::logic_error("ISPH: the Poisson matrix and the gradient do not share their pattern");
+  const int *outer = A_phi_.outerIndexPtr(), *col = A_phi_.innerIndexPtr();
+  const double *a = A_phi_.valuePtr(), *gx = op_.grad_phix.valuePtr(), *gy = op_.grad_phiy.valuePtr();
+  csum_.grad_C.resize(N, 2);
+  csum_.sum_F.resize(N);
+  csum_.near.assign(N, 0);
+  diag_.resize(N);
+  for (int i = 0; i < N; ++i) {
+    const int d = static_cast<int>(std::lower_bound(col + outer[i], col + outer[i + 1], i) - col);  // columns sorted
+    diag_[i] = d;
+    csum_.grad_C(i, 0) = gx[d];  // sum_j V x_ij F_ij over the particles, the wall pairs twice (below)
+    csum_.grad_C(i, 1) = gy[d];
+    csum_.sum_F[i] = -a[d] / (2.0 * volume_);
+  }
+  const double Vw = lat_.volume;
+  for (int q = 0; q < wall_pairs_.size(); ++q) {
+    const int i = wall_pairs_.i[q];
+    const double F = wall_pairs_.F[q];
+    csum_.grad_C(i, 0) -= Vw * wall_pairs_.rx[q] * F;
+    csum_.grad_C(i, 1) -= Vw * wall_pairs_.ry[q] * F;
+    csum_.sum_F[i] += F;
+  }
+  for (int s : dirichlet_rows_) {  // A_phi is symmetric: a surface particle's row names its neighbours
+    csum_.near[s] = 1;
+    for (int k = outer[s]; k < outer[s + 1]; ++k)
+      if (a[k] != 0) csum_.near[col[k]] = 1;
+  }
+}
+
+// M0 = -sum_j V x_ij^2 F_ij and S_F = sum_j F_ij of a full support in the initial arrangement (the
+// lattice: 1.0105 and its own value at h = 1.3 dx; rings alike): the median over the particles with
+// no surface particle within their support, over their particle and wall-particle neighbours.
+void IsphFluid::reference_sums() {
+  const int N = size();
+  const double reach = verlet_.reach();
+  std::vector<double> m, f;
+  for (int i = 0; i < N; ++i) {
+    if (surface_[i]) continue;
+    bool cut = false;
+    double mi = 0, fi = 0;
+    for (int q = pairs_.offset[i]; q < pairs_.offset[i + 1] && !cut; ++q) {
+      const double r = pairs_.r[q];
+      if (r >= reach) continue;
+      const int j = pairs_.j[q];
+      if (j < N && surface_[j]) cut = true;
+      const double F = W_.F(r), V = j < N ? volume_ : lat_.volume;
+      mi -= 0.5 * V * r * r * F;  // half the trace of -sum V x_ij (x) x_ij F
+      fi += F;
+    }
+    if (cut) continue;
+    m.push_back(mi);
+    f.push_back(fi);
+  }
+  if (m.empty()) return;  // no particle with a full support: M0 = 1, S_F = 0 (no mirror rows)
+  std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());
+  std::nth_element(f.begin(), f.begin() + f.size() / 2, f.end());
+  M0_ = m[m.size() / 2];
+  S_F_ = f[f.size() / 2];
+}
+
+// A shift takes no particle closer to a wall than half a spacing (wall_contact's gap) nor closer than
+// it already is: the wall-normal part of dr_ towards a wall is cut to what keeps that distance.
+void IsphFluid::shift_off_walls() {
+  const Domain& d = prm_.domain;
+  const double gap[2] = {0.5 * lat_.dx, 0.5 * lat_.dy};
+  for (int i = 0; i < size(); ++i)
+    for (int a = 0; a < 2; ++a)
+      for (int s = 0; s < 2; ++s) {
+        const Side side = a == 0 ? (s == 0 ? Left : Right) : (s == 0 ? Bottom : Top);
+        if (!d.is_wall(side)) continue;
+        const double xi = x_(i, a), lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
+        const double dist = s == 0 ? xi - lo : hi - xi, towards = s == 0 ? -dr_(i, a) : dr_(i, a);
+        if (towards <= 0) continue;
+        const double allowed = std::max(0.0, dist - gap[a]);
+        if (towards > allowed) dr_(i, a) = s == 0 ? -allowed : allowed;
+      }
+}
+
 // The operators, both systems and A Eq. (26)'s sums at the list's positions (one pass), then the free
 // surface and the Poisson matrix's Dirichlet rows.
 void IsphFluid::assemble(bool new_pattern) {
@@ -274,6 +431,8 @@ void IsphFluid::assemble(bool new_pattern) {
   dirichlet_rows_.clear();
   for (int i = 0; i < size(); ++i)
     if (surface_[i]) dirichlet_rows_.push_back(i);
+  if (consistent_ || k_shift_ >= 0) surface_sums();
+  if (consistent_ && detect_) surface_mirror();
   eliminate_dirichlet(A_phi_);  // A Section 3.5: p = 0 embedded in the matrix, symmetrically
 }
 
@@ -313,12 +472,13 @@ void IsphFluid::make_solvers() {
   if (!explicit_viscous_)
     cn_ = crank_nicolson_solver(A_cn_, op_.lap_u.A, a_cn(), prm_.cn_solver, nullptr, Refactor::EveryStep,
                                 lattice ? LatticeReference{&lat_, &A_cn_} : LatticeReference{});
-  // auto: CG warm-started from the last p, preconditioned by a lagged CHOLMOD factor, with a free
-  // surface (measured, dam break 5000 particles to t = 0.15: 8.2 ms per step against 18.2 with a
-  // supernodal CHOLMOD factorisation every step, 34 simplicial); a full tank (the singular operator)
-  // takes the factorisation (CG stalls at a relative residual ~1e-13 there: Poiseuille 30^2).
-  SolverKind kind = prm_.poisson_solver;
-  if (kind == SolverKind::Auto && gauge_.dimension() > 0) kind = SolverKind::CholmodSupernodal;
+  // auto: CG warm-started from the last p, preconditioned by a lagged factor (measured, dam break 5000
+  // particles to t = 0.15: 8.2 ms per step against 18.2 with a supernodal CHOLMOD factorisation every
+  // step, 34 simplicial). A full tank's operator is singular (the constants): the gauge removes them
+  // from the right-hand side and from every preconditioned residual, and the factor is of the matrix
+  // pinned at one particle (NullSpaceHooks, linear_solver.hpp), so CG runs on the range of the
+  // operator; at isph.poisson_rtol it converges there as with a free surface (docs/free_surfaces.md).
+  const SolverKind kind = prm_.poisson_solver;
   // isph.poisson_rtol (default 1e-8, not the 1e-14 of LPSPH: ISPH's pressure is as accurate as its
   // O(h^2) Laplacian; measured, dam break 6000 steps: 7.1 CG iterations per solve and 1289
   // factorisations against 8.7 and 2172 at 1e-14, Poisson 49 s against 94, front and loads within the
@@ -365,8 +525,18 @@ void IsphFluid::viscous_rhs(const Mat2& F) {
 }
 
 void IsphFluid::end_step() {
-  ScopedTimer tm(prof_, k_.move);
-  x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}
+  {
+    ScopedTimer tm(prof_, k_.move);
+    x_ += prm_.dt * u_;  // A Eq. (25): x^{n+1} = x^n + dt u^{n+1}
+  }
+  if (k_shift_ >= 0) {  // shifting.hpp: the shifts from the step's pairs at x*, u carried to the new place
+    ScopedTimer tm(prof_, k_shift_);
+    const double reach = verlet_.reach();
+    shifter_.shifts(pairs_, size(), W_, reach, csum_, u_, prm_.dt, detect_ ? &surface_ : nullptr, dr_);
+    shifter_.carry_velocity(op_.grad_ux.A, op_.grad_uy.A, csum_, dr_, u_);
+    shift_off_walls();
+    x_ += dr_;
+  }
   keep_in_tank(prm_.domain, x_, t_, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");
 }
 
@@ -402,6 +572,11 @@ std::vector<std::string> IsphFluid::describe() const {
     << " (dx+dy)/2), " << static_cast<double>(within) / N << " neighbours per particle now; viscous predictor "
     << (explicit_viscous_ ? "explicit (A Eq. 22)" : "Crank-Nicolson (Eq. 28)") << ", nu dt max|lap_ii| = "
     << viscous_bound() << "; gravity (" << prm_.gravity.x() << ", " << prm_.gravity.y() << ")";
+  const Shifting sk = shifter_.params().kind;
+  m << "; particle shifting "
+    << (sk == Shifting::None      ? "none (A Eq. 25 alone)"
+        : sk == Shifting::Fickian ? "Fickian (Lind et al. 2012, D = " + std::to_string(shifter_.params().A) + " h |u| dt)"
+                                  : "Xu et al. (2009)");
   std::vector<std::string> lines{m.str()};
   std::ostringstream s;
   s << "ISPH: free surface ";

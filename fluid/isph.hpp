@@ -45,6 +45,28 @@
 // (a still tank then sinks); with the mirror rule the whole jump does, which makes -lap p = -(rho/dt)
 // div u* with dp/dn = 0 the discrete form of dp/dn = (rho/dt)(u* - u_w) . n at the wall.
 //
+// The consistent scheme (isph.scheme = "consistent", the default; "paper" keeps A's operators as they
+// were): a fluid at rest on the lattice is an exact fixed point of the step, so a still tank stays
+// still (to round-off) instead of growing a circulation. Three changes, each what the rest state needs:
+//   - the pressure gradient is A Eq. (13)'s sum form over M0 = -sum_j V x_ij^2 F_ij, the second moment
+//     of a full support in the initial arrangement (1.0105 on the lattice at h = 1.3 dx): the sum form
+//     of a linear p is M0 grad p, so the hydrostatic gradient is rho g exactly (with the wall
+//     particles' hydrostatic part below and the renormalised gradient at surface particles);
+//   - the Poisson rows of particles whose support is cut (beside the free surface) read the missing
+//     neighbours as mirror images of the particle with p = -p_i, antisymmetric about the Dirichlet
+//     rows p = 0: -lap p_i gains -4 V p_i (S_F - sum_j F_ij), S_F the full support's sum_j F_ij (an
+//     SPD diagonal term). On the lattice the second row then has exactly the hydrostatic solution;
+//     without it its Laplacian of a linear p is not zero and p below the surface rose 30 Pa over its
+//     hydrostatic value (measured, still tank 40 x 20), which pushed the top row up;
+//   - the Lennard-Jones push of the walls starts at 0.98 dx, inside the rest spacing (at dx its
+//     one-sided spring grew round-off into a circulation).
+//
+// Particle shifting (shifting.hpp, isph.shifting; auto: fickian with the consistent scheme, none with
+// the paper's): after x^{n+1} = x^n + dt u^{n+1}, x^{n+1} += dr and u^{n+1} += (dr . grad) u^{n+1} away
+// from the surface, the shifts dr from the step's pairs at x* (Lind et al. 2012's Fickian shifting with
+// its free-surface correction, or Xu et al. 2009's); no shift takes a particle closer to a wall than
+// half a spacing.
+//
 // Beyond the paper (each measured, isph.cpp): negative pressures clipped to 0 with a free surface and
 // u^{n+1} taken from the clipped p (clip_tension; as MPS); no particle within half a spacing of a
 // wall (wall_contact: its normal velocity towards the wall cut); a Lennard-Jones push of the inner
@@ -52,8 +74,8 @@
 // neighbours instead of the sum form (surface_gradient).
 //
 // Linear systems: the solver policy of the moving particles (solver_policy.hpp, Refactor::EveryStep);
-// auto: warm-started CG with a lagged CHOLMOD preconditioner with a free surface, CHOLMOD for a full
-// tank (make_solvers says why).
+// auto: warm-started CG with a lagged preconditioner (a CHOLMOD factor; the FFT solver of the lattice
+// for a full tank that starts on it), with a free surface and without (make_solvers says why).
 // The Poisson matrix is singular only without a free surface (a tank full of fluid: the constants,
 // fixed by the gauge as in LPSPH). A connected set of particles without a surface particle (a closed
 // bubble of fluid cut off by walls) makes it singular: the solver then stops the run.
@@ -73,6 +95,7 @@
 #include "fluid/free_surface.hpp"
 #include "fluid/particle_operators.hpp"
 #include "fluid/projection_core.hpp"
+#include "fluid/shifting.hpp"
 #include "fluid/walls.hpp"
 
 namespace sphib {
@@ -119,6 +142,10 @@ class IsphFluid final : public ProjectionFluid {
   void surface_gradient();       // the renormalised gradient at surface particles (isph.cpp)
   void wall_contact();           // no particle within half a spacing of a wall (see the header)
   void wall_repulsion();         // Lennard-Jones force of the inner wall row on u* (isph.cpp)
+  void shift_off_walls();        // the shifts dr_ keep wall_contact's gap
+  void surface_mirror();         // consistent: the Poisson rows beside the surface (isph.cpp)
+  void surface_sums();           // csum_ from the assembly's operators (isph.cpp)
+  void reference_sums();         // consistent: M0_, S_F_ of a full support at t = 0
   void find_wall_pairs();        // wall_pairs_ from pairs_
   void wall_pressure();          // p_w_ from phi_ (A Eq. 30 normalised, with the hydrostatic term)
   void make_solvers();
@@ -137,8 +164,14 @@ class IsphFluid final : public ProjectionFluid {
   SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
   bool detect_ = false;
   std::vector<char> surface_;
+  ParticleShifter shifter_;   // after A Eq. (25) (shifting.hpp; isph.shifting)
+  Mat2 dr_;                   // the last step's shifts
+  ConcentrationSums csum_;    // grad C, sum F and the particles beside the surface at the step's x*
+  std::vector<int> diag_;     // the diagonal's place in A_phi_'s values, row by row
+  bool consistent_ = false;   // isph.scheme = "consistent" (see the header)
+  double M0_ = 1, S_F_ = 0;   // consistent: a full support's -sum V x^2 F and sum F (reference_sums)
   MovingPhases k_;
-  int k_surface_;
+  int k_surface_, k_shift_ = -1;
 };
 
 }  // namespace sphib

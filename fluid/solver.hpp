@@ -41,6 +41,7 @@ struct WcsphParams {
   double alpha = 0.0;                   // artificial viscosity of Monaghan (1992) (0: off)
   int smooth_every = 0;                 // density smoothing A Eq. (29) every so many steps (0: off)
   std::string wall_pressure = "rest";   // rest (p(rho0)) | eq30 (A Eq. 30) | extrapolated (A Eq. 30 normalised + hydrostatic term)
+  double delta = 0.0;  // delta-SPH density diffusion (Antuono et al. 2010, 2012; wcsph.hpp), 0: off (0.1: theirs)
 };
 
 // ISPH with a free surface (Afanasiev, Makarchuk & Popov 2011, Sections 3.4-3.6; isph.hpp).
@@ -50,6 +51,14 @@ struct IsphParams {
   // factorisation after a solve that needed more than poisson_refresh iterations (isph.cpp, make_solvers).
   double poisson_rtol = 1e-8;
   int poisson_refresh = 8;
+  // consistent (the default) | paper: the operators of isph.hpp's consistent scheme, or those of
+  // Afanasiev et al. as they were (with the Lennard-Jones push of the walls).
+  std::string scheme = "consistent";
+  // Particle shifting after each step (shifting.hpp): fickian (Lind et al. 2012, with the free-surface
+  // correction), xu (Xu et al. 2009) or none (A Eq. 25 alone); auto: fickian with the consistent
+  // scheme, none with the paper's.
+  std::string shifting = "auto";
+  double shifting_A = 2.0;  // Fickian: D = A h |u| dt (Lind et al. Eq. 24)
 };
 
 // The Poisson operator of the projection (Eq. 32). Exact: D G, the divergence of the gradient the

@@ -146,6 +146,8 @@ void WcsphFluid::accelerations(const Mat2& F) {
   // Monaghan (1992) artificial viscosity, alpha c h; A's continuity equation
   const double av = prm_.wcsph.alpha * c_ * W_.h, eta2 = 0.01 * W_.h * W_.h;
   const bool continuity = pc_;
+  const double dhc = prm_.wcsph.delta * W_.h * c_;  // delta-SPH: delta h c
+  if (continuity && dhc > 0) density_gradient();
   a_ = F.array().colwise() / rho_.array();  // external force per unit volume / rho_i
   if (prm_.gravity.norm() != 0) a_.rowwise() += prm_.gravity.transpose();  // A Eq. (22)'s g
   if (continuity) drho_.setZero(N);
@@ -171,6 +173,15 @@ void WcsphFluid::accelerations(const Mat2& F) {
       if (continuity) {
         drho_[i] += m_ * ux * Fk;                                  // A Eqs. (2), (14): m u_ij . grad_i W_ij
         if (j < N) drho_[j] += m_ * ux * Fk;                       // the same from j
+        if (j < N && dhc > 0) {
+          // delta-SPH (see the header): psi_ij . grad_i W_ij = -2 (rho_j - rho_i) F_ij
+          //   - (<grad rho>_i^L + <grad rho>_j^L) . x_ij F_ij; seen from j (psi_ji = psi_ij,
+          //   grad_j W_ji = -grad_i W_ij) its negative: the diffusion conserves mass
+          const double d = (-2.0 * (rho_[j] - rho_[i]) - ((grad_rho_(i, 0) + grad_rho_(j, 0)) * rx +
+                                                           (grad_rho_(i, 1) + grad_rho_(j, 1)) * ry)) * Fk * dhc;
+          drho_[i] += V_[j] * d;
+          drho_[j] -= V_[i] * d;
+        }
       }
       if (av > 0 && ux < 0) Pi = -av * (ux / (P.r[k] * P.r[k] + eta2)) / (0.5 * (rho_[i] + rho_j));
     }
@@ -199,6 +210,45 @@ void WcsphFluid::accelerations(const Mat2& F) {
     if (j < N) {  // the pair seen from j: x_ji = -x_ij, u_ji = -u_ij (equal masses)
       a_(j, 0) -= fx;
       a_(j, 1) -= fy;
+    }
+  }
+}
+
+// delta-SPH's <grad rho>_i^L = L_i sum_j V_j (rho_j - rho_i) grad_i W_ij over the fluid pairs (Antuono et
+// al. 2012, Eq. 6), L_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-1; where the neighbours span one
+// direction only (a thin jet, a lone pair), the gradient along it; none: 0.
+void WcsphFluid::density_gradient() {
+  const int N = N_;
+  const ParticlePairs& P = pairs_;
+  Mat2& g = grad_rho_;
+  g.setZero(N, 2);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(N, 3);  // m00, m01, m11
+  for (int k = 0; k < P.size(); ++k) {
+    const int i = P.i[k], j = P.j[k];
+    if (j >= N) continue;
+    const double rx = P.rx[k], ry = P.ry[k], F = P.F[k], dr = rho_[j] - rho_[i];
+    // from i: V_j (x_j - x_i) (x) x_ij F = -V_j x_ij (x) x_ij F; V_j (rho_j - rho_i) x_ij F; from j alike
+    const double xx = -rx * rx * F, xy = -rx * ry * F, yy = -ry * ry * F;
+    M(i, 0) += V_[j] * xx; M(i, 1) += V_[j] * xy; M(i, 2) += V_[j] * yy;
+    M(j, 0) += V_[i] * xx; M(j, 1) += V_[i] * xy; M(j, 2) += V_[i] * yy;
+    g(i, 0) += V_[j] * dr * rx * F; g(i, 1) += V_[j] * dr * ry * F;
+    g(j, 0) += V_[i] * dr * rx * F; g(j, 1) += V_[i] * dr * ry * F;  // (rho_i - rho_j)(x_j - x_i) F
+  }
+  for (int i = 0; i < N; ++i) {
+    const double m00 = M(i, 0), m01 = M(i, 1), m11 = M(i, 2), gx = g(i, 0), gy = g(i, 1);
+    const double tr = m00 + m11, det = m00 * m11 - m01 * m01, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    const double lam1 = 0.5 * tr + disc, lam2 = 0.5 * tr - disc;
+    if (lam2 >= 0.1) {
+      g(i, 0) = (m11 * gx - m01 * gy) / det;
+      g(i, 1) = (m00 * gy - m01 * gx) / det;
+    } else if (lam1 >= 0.1) {
+      double ex = m01, ey = lam1 - m00;
+      if (std::hypot(ex, ey) <= 1e-12 * lam1) { ex = m00 >= m11 ? 1 : 0; ey = 1 - ex; }
+      const double n = std::hypot(ex, ey), c = (ex * gx + ey * gy) / (n * n * lam1);
+      g(i, 0) = c * ex;
+      g(i, 1) = c * ey;
+    } else {
+      g(i, 0) = g(i, 1) = 0;
     }
   }
 }

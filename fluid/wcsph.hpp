@@ -76,6 +76,18 @@
 // measured on the Poiseuille of A Section 6.1 (30^2, h = 2.2 dx), stable at 0.85 of it, blown up
 // (stopped by the run's guards) at 0.99; the cases take half. After a step, u()
 // is the next predictor v^{n+1}; p, rho and the volumes are those of the evaluation at r^n.
+// delta-SPH (wcsph.delta > 0; Antuono, Colagrossi, Marrone & Molteni 2010, Comput. Phys. Commun.
+// 181:532, Eq. 7 and Antuono, Colagrossi & Marrone 2012, Comput. Phys. Commun. 183:2570, Eqs. 5-6;
+// Marrone et al. 2011, Comput. Methods Appl. Mech. Engrg. 200:1526, Eq. 3): a diffusion term in the
+// continuity equation,
+//   rhodot_i += delta h c sum_j V_j psi_ij . grad_i W_ij,
+//   psi_ij = 2 (rho_j - rho_i) (x_j - x_i) / |x_j - x_i|^2 - (<grad rho>_i^L + <grad rho>_j^L),
+// <grad rho>_i^L = L_i sum_j V_j (rho_j - rho_i) grad_i W_ij the renormalised density gradient, L_i the
+// inverse of sum_j V_j (x_j - x_i) (x) grad_i W_ij, over the fluid particles only (the wall particles
+// take no part: Antuono et al. 2012, Section 2). The second term makes the diffusion vanish on a
+// linear density field, the hydrostatic one: without it the term of Molteni & Colagrossi (2009)
+// pulls a column at rest (Antuono et al. 2012, Section 3). It damps the high-frequency pressure
+// noise of the continuity density (what A Eq. 29's smoothing and the artificial viscosity were for).
 // Artificial viscosity (Monaghan 1992, Annu. Rev. Astron. Astrophys. 30:543, Eq. 4.1 with beta = 0):
 // Pi_ij = -alpha c h mu_ij / rho_ij, mu_ij = u_ij . x_ij / (r^2 + 0.01 h^2) when u_ij . x_ij < 0, added
 // to the pressure term as -sum_j m Pi_ij grad_i W_ij (A: needed for stability in the dam break).
@@ -189,6 +201,7 @@ class WcsphFluid final : public FluidSolver {
   void evaluate(const Mat2& F);            // at x_ with u_, rho_: neighbours, surface, pressures, rates
   void pressures();                        // A Eq. (27), p = 0 on the free surface, wall particles
   void smooth_density(Vec& rho) const;     // A Eq. (29)
+  void density_gradient();                 // delta-SPH: <grad rho>^L into grad_rho_
   void step_afanasiev(const Mat2& F);      // A Eqs. (19)-(21)
   NamedArrays state_afanasiev() const;
   Eigen::MatrixXd clock() const;                   // t, n, the density monitor (and A's first-step flag)
@@ -222,6 +235,7 @@ class WcsphFluid final : public FluidSolver {
   // A's predictor-corrector: v^{n-1/2}, rho^{n-1/2}, rhodot, the next predicted density
   Mat2 v_half_;
   Vec rho_half_, drho_, rho_next_;
+  Mat2 grad_rho_;  // delta-SPH: the renormalised density gradient of the evaluation
   bool started_ = false;
   SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
   std::vector<char> surface_;

@@ -20,6 +20,10 @@ std::optional<ParamProblem> wcsph_free_surface_problem(const FluidParams& p) {
     return ParamProblem{"wcsph.wall_pressure", "\"" + w.wall_pressure + "\" is not allowed (allowed: rest | eq30 | extrapolated)"};
   if (!(w.alpha >= 0) || !std::isfinite(w.alpha)) return ParamProblem{"wcsph.alpha", "must be >= 0 and finite"};
   if (w.smooth_every < 0) return ParamProblem{"wcsph.smooth_every", "must be >= 0"};
+  if (!(w.delta >= 0) || !std::isfinite(w.delta)) return ParamProblem{"wcsph.delta", "must be >= 0 and finite"};
+  if (w.delta > 0 && w.integrator != "predictor_corrector")
+    return ParamProblem{"wcsph.delta", "needs wcsph.integrator = \"predictor_corrector\" (a diffusion term of the continuity "
+                                       "equation; the leapfrog's density is the summation density)"};
   const bool free = has_free_surface(p.domain, p.free_surface), gravity = p.gravity.norm() != 0;
   if (!gravity && !free) return std::nullopt;
   const std::string what = free ? "a free surface" : "gravity";

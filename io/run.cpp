@@ -40,6 +40,7 @@ Observers observers_for(const Scene& scene, const Simulation& sim, const std::st
   if (scene.exact == "droplet") o.add(droplet_axis(sim));
   if (scene.exact == "dam_break") o.add(dam_break_front(sim, scene.reference_dir));
   if (scene.loads) o.add(wall_loads(sim));
+  if (!scene.probes.probes.empty()) o.add(pressure_probes(sim, scene.probes));
   if (scene.steady_eps > 0) o.add(steady_state(scene.steady_eps));
   const bool membranes = !scene.membranes.empty();
   if (scene.exact == "membrane_equilibrium" && membranes) {

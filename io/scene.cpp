@@ -646,6 +646,26 @@ void read_free_surface(Reader& r, Scene& s) {
                              false, 0.0, true, 1.0);
 }
 
+// The free-surface methods' regularisation (issue 29): ISPH's particle shifting (fluid/shifting.hpp),
+// WCSPH's delta-SPH density diffusion (fluid/wcsph.hpp).
+void read_regularisation(Reader& r, Scene& s) {
+  FluidParams& f = s.sim.fluid;
+  f.isph.scheme = r.choice("isph.scheme", "consistent", {"consistent", "paper"},
+                           "ISPH's operators: consistent (a fluid at rest stays at rest: the pressure gradient exact for a "
+                           "linear pressure on the initial arrangement, the Poisson rows beside the free surface mirrored, "
+                           "no Lennard-Jones push; fluid/isph.hpp) or paper (Afanasiev et al.'s Eqs. 13, 17 as before)");
+  f.isph.shifting = r.choice("isph.shifting", "auto", {"auto", "fickian", "xu", "none"},
+                             "ISPH's particle shifting after each step: fickian (Lind et al. 2012, with their free-surface "
+                             "correction), xu (Xu et al. 2009), none (Afanasiev et al.'s Eq. 25 alone); auto: fickian with "
+                             "isph.scheme = consistent, none with paper");
+  f.isph.shifting_A = r.number("isph.shifting_A", 2.0, "> 0", "Fickian shifting's D = A h |u| dt (Lind et al. 2012: A in [1, 6])",
+                               false, 0.0, true);
+  f.wcsph.delta = r.number("wcsph.delta", 0.0, ">= 0",
+                           "delta-SPH density diffusion delta h c sum_j V_j psi_ij . grad W (Antuono et al. 2010, 2012; "
+                           "predictor_corrector; 0: off, 0.1: theirs)",
+                           false, 0.0);
+}
+
 // The time step, the run's length and the linear solvers.
 void read_time_and_solvers(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
@@ -735,6 +755,75 @@ void read_output(Reader& r, Scene& s) {
                                "refuse a run whose memory estimate (sphib check) exceeds this many GB (0: the machine's "
                                "memory, MemTotal or the cgroup's limit); raise it to run anyway",
                                false, 0.0);
+}
+
+// Pressure probes on the walls (observe/probes.cpp): observe.probes, probe_names, probe_size,
+// probe_window. A probe must lie on a wall line, within the wall.
+void read_probes(Reader& r, Scene& s) {
+  const Domain& d = s.sim.fluid.domain;
+  ProbeParams& pp = s.probes;
+  std::vector<std::string> names;
+  if (const toml::node* n = r.raw("observe.probe_names", "array of strings",
+                                  "names of the probes, one per observe.probes entry (default 1, 2, ...): columns probe_<name>")) {
+    const toml::array* a = n->as_array();
+    if (!a) r.fail("observe.probe_names", "must be an array of strings");
+    for (const auto& e : *a) {
+      const auto v = e.value<std::string>();
+      if (!v || v->empty() || v->find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos)
+        r.fail("observe.probe_names", "each name must be a non-empty word of letters, digits and _");
+      if (std::find(names.begin(), names.end(), *v) != names.end()) r.fail("observe.probe_names", "\"" + *v + "\" is listed twice");
+      names.push_back(*v);
+    }
+  }
+  if (const toml::node* n = r.raw("observe.probes", "array of [x, y]",
+                                  "pressure probes: points on wall lines (e.g. [[1.61, 0.003]] on the right wall x = 1.61); "
+                                  "columns probe_<name>, the pressure a sensor of width observe.probe_size reads, averaged over "
+                                  "observe.probe_window (observe/probes.cpp)")) {
+    const toml::array* a = n->as_array();
+    if (!a) r.fail("observe.probes", "must be an array of [x, y] points");
+    const double tol = 1e-9 * std::max(d.Lx(), d.Ly());
+    for (size_t k = 0; k < a->size(); ++k) {
+      const toml::array* pt = a->get(k)->as_array();
+      Eigen::Vector2d x;
+      if (!pt || pt->size() != 2) r.fail("observe.probes", "entry " + std::to_string(k) + " must be [x, y]");
+      for (int c = 0; c < 2; ++c) {
+        const auto v = pt->get(c)->value<double>();
+        if (!v || !std::isfinite(*v)) r.fail("observe.probes", "entry " + std::to_string(k) + " must hold two finite numbers");
+        x[c] = *v;
+      }
+      PressureProbe pr;
+      pr.x = x;
+      pr.name = k < names.size() ? names[k] : std::to_string(k + 1);
+      bool on_wall = false;
+      for (Side side : {Left, Right, Bottom, Top}) {
+        const bool vertical = side == Left || side == Right;
+        const double line = side == Left ? d.x0 : side == Right ? d.x1 : side == Bottom ? d.y0 : d.y1;
+        const double across = vertical ? x.x() : x.y(), along = vertical ? x.y() : x.x();
+        const double lo = vertical ? d.y0 : d.x0, hi = vertical ? d.y1 : d.x1;
+        if (d.is_wall(side) && std::fabs(across - line) <= tol && along >= lo - tol && along <= hi + tol) {
+          pr.side = side;
+          on_wall = true;
+          break;
+        }
+      }
+      if (!on_wall) {
+        std::ostringstream m;
+        m << "entry " << k << " [" << x.x() << ", " << x.y() << "] is not on a wall of the tank [" << d.x0 << ", " << d.x1
+          << "] x [" << d.y0 << ", " << d.y1 << "] (a probe is a point of a wall line)";
+        r.fail("observe.probes", m.str());
+      }
+      pp.probes.push_back(pr);
+    }
+    if (!names.empty() && names.size() != pp.probes.size())
+      r.fail("observe.probe_names", "must name every probe (" + std::to_string(pp.probes.size()) + " in observe.probes)");
+  } else if (!names.empty()) {
+    r.fail("observe.probe_names", "names probes, but observe.probes lists none");
+  }
+  pp.size = r.number("observe.probe_size", 0.0, ">= 0",
+                     "a probe's sensor width along its wall (its reading is the mean pressure over it; 0: a point)", false, 0.0);
+  pp.window = r.number("observe.probe_window", 0.0, ">= 0",
+                       "a probe's averaging time: each reading is the mean over the steps of [t - window, t] (0: the step's own)",
+                       false, 0.0);
 }
 
 // [membrane] for one, [[membranes]] for several (documenting: the keys of [membrane] are listed).
@@ -876,8 +965,10 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   read_domain(r, s);
   read_fluid(r, s);
   read_free_surface(r, s);
+  read_regularisation(r, s);
   read_time_and_solvers(r, s);
   read_output(r, s);
+  read_probes(r, s);
   read_membranes(r, s, docs_out != nullptr);
   read_contact(r, s, program.size());
   if (docs_out) { *docs_out = r.docs; return s; }

@@ -44,6 +44,7 @@ struct Scene {
   std::string path, title, method = "eulerian";
   std::string exact = "none";  // none | poiseuille | couette | cavity | membrane_equilibrium | membrane_oscillation | inclined_plane | droplet | dam_break
   bool loads = false;          // force_<wall>, load_<wall> columns (observe/loads.cpp)
+  ProbeParams probes;          // pressure probes on the walls (observe/probes.cpp)
   SimulationParams sim;
   std::vector<MembraneScene> membranes;
   double t_end = 1.0;

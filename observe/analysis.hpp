@@ -110,6 +110,23 @@ std::unique_ptr<Analysis> dam_break_front(const Simulation& sim, const std::stri
 // particle in the band is alone, their largest x; -infinity when the band is empty.
 double surge_front_x(const Mat2& x, double y0, double band, double reach);
 
+// probes.cpp: pressure probes on the walls (see its header): a probe is a point of a wall line (its
+// side given), its sensor the wall segment of width `size` around it, its reading the kernel
+// interpolation of the particles' pressure (with the hydrostatic term of Adami et al. 2012) averaged
+// over the sensor and over the time window [t - window, t] of the steps; columns probe_<name>, the
+// summary's probe_<name>_max and probe_<name>_max_t over every step.
+struct PressureProbe {
+  std::string name;
+  Eigen::Vector2d x = Eigen::Vector2d::Zero();
+  Side side = Right;  // the wall it sits on
+};
+struct ProbeParams {
+  std::vector<PressureProbe> probes;
+  double size = 0.0;    // the sensor's width along the wall (0: a point)
+  double window = 0.0;  // the averaging time (0: each step's own value)
+};
+std::unique_ptr<Analysis> pressure_probes(const Simulation& sim, const ProbeParams& params);
+
 // steady.cpp: du_rms, dp_rms (Eqs. 81-82); done once both are below eps dt.
 std::unique_ptr<Analysis> steady_state(double eps);
 
