@@ -667,31 +667,7 @@ class Bench {
         const double L = use_hstar ? m.p.h_star() : m.p.dx();
         d.push_back({std::sqrt(m.p.rho * L * L * L / m.p.T0), m.p.mu * L / m.p.T0, m.estimate()});
       }
-    Fit f;
-    f.n = static_cast<int>(d.size());
-    if (d.size() < 2) return f;
-    auto cost = [&](double li, double lv) {
-      const double Ci = std::pow(10.0, li), Cv = std::pow(10.0, lv);
-      double s = 0;
-      for (const auto& r : d) {
-        const double e = std::log(r[2] / std::max(Ci * r[0], Cv * r[1]));
-        s += e * e;
-      }
-      return s;
-    };
-    // coarse grid, then a fine one around its minimum
-    double best = INFINITY, bi = 0, bv = 0;
-    for (double li = -4; li <= 4; li += 0.05)
-      for (double lv = -4; lv <= 5; lv += 0.05)
-        if (const double c = cost(li, lv); c < best) { best = c; bi = li; bv = lv; }
-    const double ci = bi, cv = bv;
-    for (double li = ci - 0.1; li <= ci + 0.1; li += 0.002)
-      for (double lv = cv - 0.1; lv <= cv + 0.1; lv += 0.002)
-        if (const double c = cost(li, lv); c < best) { best = c; bi = li; bv = lv; }
-    f.Ci = std::pow(10.0, bi);
-    f.Cv = std::pow(10.0, bv);
-    f.rms_log = std::sqrt(best / d.size());
-    return f;
+    return fit_two(d);
   }
 
   std::string markdown() const {
