@@ -66,10 +66,13 @@ Simulation::Simulation(const SimulationParams& params)
     prm_.markers.max_move = std::min(fluid_->lattice().dx, fluid_->lattice().dy);
   interp_ = prm_.interpolation;
   if (interp_ == MarkerInterpolation::Auto) {
-    bool bending = false;
-    for (const auto& s : prm_.membranes) bending |= s.membrane.mat.Eb > 0;
+    // B-splines where the kernel curl's lattice-scale ripple matters: bending (it feeds the curvature)
+    // and the laws other than Hookean (the neo-Hookean ring lost 4e-5 of its area by t = 10 with the
+    // kernel curl, 1e-6 with B-splines: docs/membrane_validation.md).
+    bool smooth = false;
+    for (const auto& s : prm_.membranes) smooth |= s.membrane.mat.Eb > 0 || s.membrane.mat.law != "hookean";
     interp_ = !fluid_->has_stream_function() ? MarkerInterpolation::Sph
-              : bending                      ? MarkerInterpolation::BSpline
+              : smooth                       ? MarkerInterpolation::BSpline
                                              : MarkerInterpolation::DivergenceFree;
   }
   if (interp_ != MarkerInterpolation::Sph && !fluid_->has_stream_function())

@@ -703,7 +703,8 @@ void read_time_and_solvers(Reader& r, Scene& s) {
       "marker velocity: divergence_free (curl of the stream function interpolated with the SPH kernel: membranes "
       "keep their area), bspline (the same curl, the stream function interpolated by tensor cubic B-splines on the "
       "lattice: no lattice-scale ripple), sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
-      "bspline when a membrane has bending, else divergence_free; sph for the other methods");
+      "bspline when a membrane has bending or a law other than hookean, else divergence_free; sph for the other "
+      "methods");
   if ((interp == "divergence_free" || interp == "bspline") && s.method != "eulerian")
     r.fail("coupling.interpolation", "\"" + interp + "\" needs method \"eulerian\" (the fixed lattice's stream function)");
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
