@@ -67,7 +67,7 @@ std::string toml_string(const std::string& s) {
   return r + "\"";
 }
 
-std::string type_name(py::handle v) { return py::str(py::type::of(v).attr("__name__")).cast<std::string>(); }
+std::string py_type_name(py::handle v) { return py::str(py::type::of(v).attr("__name__")).cast<std::string>(); }
 
 // A Python value as the TOML literal of its type, so that the scene reader applies a file's rules:
 // bool (and numpy.bool_) -> true/false; an integer (int, numpy integers: numbers.Integral) -> an
@@ -117,7 +117,7 @@ std::string toml_value(py::handle v, const std::string& key, int depth = 0) {
     for (py::handle e : v) r += (r.size() > 1 ? ", " : "") + toml_value(e, key, depth + 1);
     return r + "]";
   }
-  throw py::type_error("scene key " + key + ": a " + type_name(v) +
+  throw py::type_error("scene key " + key + ": a " + py_type_name(v) +
                        " is not a scene value (numbers, booleans, strings, paths and lists or arrays of them are)");
 }
 
@@ -125,7 +125,7 @@ std::string toml_value(py::handle v, const std::string& key, int depth = 0) {
 void flatten(const py::dict& d, const std::string& prefix, std::vector<std::string>& out, int depth = 0) {
   if (depth > 8) throw py::value_error("scene key " + prefix + "..: tables nested more than 8 deep are not a scene");
   for (auto [k, v] : d) {
-    if (!py::isinstance<py::str>(k)) throw py::type_error("scene keys are strings (got a " + type_name(k) + ")");
+    if (!py::isinstance<py::str>(k)) throw py::type_error("scene keys are strings (got a " + py_type_name(k) + ")");
     const std::string key = prefix + k.cast<std::string>();
     if (py::isinstance<py::dict>(v)) flatten(v.cast<py::dict>(), key + ".", out, depth + 1);
     else out.push_back(key + "=" + toml_value(v, key));
@@ -244,7 +244,7 @@ struct PySim {
 // A read-only view of an array held by the simulation behind `ps` (the view keeps it alive), or a
 // copy when it is lent.
 template <class M>
-py::array array(const PySim& ps, const M& m) {
+py::array view_of(const PySim& ps, const M& m) {
   if (!ps.owned) return py::cast(M(m));
   py::object self = py::cast(&ps, py::return_value_policy::reference);  // the existing Python object
   return py::cast(Eigen::Ref<const M>(m), py::return_value_policy::reference_internal, self);
@@ -271,7 +271,7 @@ struct PyScene {
   }
 
   // The C++ scene, its callbacks bound to ctx.
-  Scene build(const std::shared_ptr<Context>& ctx) const {
+  Scene assemble(const std::shared_ptr<Context>& ctx) const {
     Scene s = scene;
     const Mat2 x0 = make_lattice(s.sim.fluid.domain, s.sim.fluid.nx, s.sim.fluid.ny).x;
     if (!body_force.is_none()) {
@@ -301,7 +301,7 @@ struct PyScene {
                                  try {
                                    return r.cast<double>();
                                  } catch (const py::cast_error&) {
-                                   raise(PyExc_TypeError, "observer '" + what + "' must return a number (got " + type_name(r) + ")");
+                                   raise(PyExc_TypeError, "observer '" + what + "' must return a number (got " + py_type_name(r) + ")");
                                  }
                                });
                              }});
@@ -328,7 +328,7 @@ extern "C" void on_signal(int sig) { g_stop.store(sig); }
 
 py::dict run(const PyScene& ps, const std::filesystem::path& out, bool log, const std::optional<std::filesystem::path>& restart) {
   auto ctx = std::make_shared<Context>();
-  const Scene scene = ps.build(ctx);
+  const Scene scene = ps.assemble(ctx);
   RunOptions opt;
   opt.out_dir = out.string();
   opt.log = log ? &std::cerr : nullptr;
@@ -399,7 +399,7 @@ void step(PySim& s, long n) {
 }
 
 // The (x, y) or point list given for a membrane.
-Eigen::Vector2d pair(const std::vector<double>& v, const char* what) {
+Eigen::Vector2d point2(const std::vector<double>& v, const char* what) {
   if (v.size() != 2) throw py::value_error(std::string(what) + " must be (x, y)");
   return {v[0], v[1]};
 }
@@ -450,7 +450,7 @@ void bind_membranes(py::module_& m) {
     std::string law, reference;
     std::optional<double> T0, Es, C, kappa0;
     double Eb, prestretch;
-    Membrane build(Mat2 X, double r0) const {
+    Membrane membrane(Mat2 X, double r0) const {
       Material mat;
       mat.law = law;
       if (T0 && Es) throw py::value_error("give T0 or Es, not both (T0 is the Hookean law's Es)");
@@ -478,27 +478,27 @@ void bind_membranes(py::module_& m) {
       std::optional<double> kappa0, const std::string &reference, double prestretch
 #define SPHIB_MAT Mat{law, reference, T0, Es, C, kappa0, Eb, prestretch}
   m.def("circle", [](long nb, double r0, std::optional<double> radius, std::vector<double> centre, SPHIB_MAT_PARAMS) {
-          const Eigen::Vector2d c = pair(centre, "centre");
-          return SPHIB_MAT.build(circle(marker_count(nb), c.x(), c.y(), radius.value_or(r0)), r0);
+          const Eigen::Vector2d c = point2(centre, "centre");
+          return SPHIB_MAT.membrane(circle(marker_count(nb), c.x(), c.y(), radius.value_or(r0)), r0);
         }, py::arg("nb"), py::arg("r0"), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
         SPHIB_MAT_ARGS, "A circle of the given radius (default r0: at rest) about centre.");
   m.def("ellipse", [](long nb, double r0, double rx, double ry, std::vector<double> centre, SPHIB_MAT_PARAMS) {
-          const Eigen::Vector2d c = pair(centre, "centre");
-          return SPHIB_MAT.build(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0);
+          const Eigen::Vector2d c = point2(centre, "centre");
+          return SPHIB_MAT.membrane(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0);
         }, py::arg("nb"), py::arg("r0"), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
         SPHIB_MAT_ARGS, "An axis-aligned ellipse with half-axes rx, ry about centre.");
   m.def("from_points", [](const Mat2& points, long nb, double r0, SPHIB_MAT_PARAMS) {
-          return SPHIB_MAT.build(from_points(points, marker_count(nb)), r0);
+          return SPHIB_MAT.membrane(from_points(points, marker_count(nb)), r0);
         },
         py::arg("points"), py::arg("nb"), py::arg("r0") = 1.0, SPHIB_MAT_ARGS,
         "A closed curve through points (m x 2, anticlockwise), resampled at nb markers uniform in arclength.");
   m.def("polar", [](const std::function<double(double)>& r, long nb, double r0, std::vector<double> centre, SPHIB_MAT_PARAMS) {
-          const Eigen::Vector2d c = pair(centre, "centre");
-          return SPHIB_MAT.build(from_polar(r, marker_count(nb), c.x(), c.y()), r0);
+          const Eigen::Vector2d c = point2(centre, "centre");
+          return SPHIB_MAT.membrane(from_polar(r, marker_count(nb), c.x(), c.y()), r0);
         }, py::arg("r"), py::arg("nb"), py::arg("r0") = 1.0, py::arg("centre") = std::vector<double>{0, 0}, SPHIB_MAT_ARGS,
         "A star-shaped curve of radius r(theta) about centre.");
   m.def("curve", [](const std::function<Eigen::Vector2d(double)>& C_, long nb, double r0, SPHIB_MAT_PARAMS) {
-          return SPHIB_MAT.build(from_curve(C_, marker_count(nb)), r0);
+          return SPHIB_MAT.membrane(from_curve(C_, marker_count(nb)), r0);
         }, py::arg("C"), py::arg("nb"), py::arg("r0") = 1.0, SPHIB_MAT_ARGS,
         "A closed curve C(t) -> (x, y), t in [0, 1), anticlockwise, C(1) = C(0).");
 #undef SPHIB_MAT_ARGS
@@ -544,7 +544,7 @@ void bind_membranes(py::module_& m) {
   m.def("angular_velocity", [](const Mat2& X, const Mat2& U, std::optional<std::vector<double>> centre) {
           markers_arg(X);
           if (U.rows() != X.rows()) throw py::value_error("U must have the shape of X (nb x 2)");
-          const Eigen::Vector2d c = centre ? pair(*centre, "centre") : ellipse_fit(X).centroid;
+          const Eigen::Vector2d c = centre ? point2(*centre, "centre") : ellipse_fit(X).centroid;
           return mean_angular_velocity(X, markers_arg(U, "U"), c);
         }, py::arg("X"), py::arg("U"), py::arg("centre") = py::none(),
         "Mean angular velocity of markers X moving at U about centre (default: the polygon's centroid): "
@@ -609,7 +609,7 @@ void bind_scene(py::module_& m) {
              auto ctx = std::make_shared<Context>();
              std::ostringstream o;
              try {
-               sphib::app::check_scene(s.build(ctx), o);
+               sphib::app::check_scene(s.assemble(ctx), o);
              } catch (const std::exception& e) {
                reraise(*ctx, e);
              }
@@ -656,7 +656,7 @@ void bind_simulation(py::module_& m) {
       .def(py::init([](const PyScene& ps) {
              auto s = std::make_unique<PySim>();
              s->ctx = std::make_shared<Context>();
-             s->scene = ps.build(s->ctx);
+             s->scene = ps.assemble(s->ctx);
              refuse_if_too_large(s->scene);  // SceneError before any allocation
              try {
                s->owned = std::make_unique<Simulation>(s->scene.sim);
@@ -692,24 +692,24 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("dx", [](const PySim& s) { return s.get().fluid().lattice().dx; }, "lattice spacing along x")
       .def_property_readonly("dy", [](const PySim& s) { return s.get().fluid().lattice().dy; }, "lattice spacing along y")
       .def_property_readonly("h", [](const PySim& s) { return s.get().fluid().h(); }, "smoothing length h")
-      .def_property_readonly("x", [](const PySim& s) { return array(s, s.get().fluid().x()); },
+      .def_property_readonly("x", [](const PySim& s) { return view_of(s, s.get().fluid().x()); },
                              "particle positions (N x 2; on a lattice particle i + nx j)")
-      .def_property_readonly("u", [](const PySim& s) { return array(s, s.get().fluid().u()); },
+      .def_property_readonly("u", [](const PySim& s) { return view_of(s, s.get().fluid().u()); },
                              "velocity u^n (N x 2): u[:, 0].reshape(ny, nx) is u on the lattice, still a view")
-      .def_property_readonly("p", [](const PySim& s) { return array(s, s.get().fluid().p()); }, "pressure (N)")
-      .def_property_readonly("phi", [](const PySim& s) { return array(s, s.get().fluid().phi()); },
+      .def_property_readonly("p", [](const PySim& s) { return view_of(s, s.get().fluid().p()); }, "pressure (N)")
+      .def_property_readonly("phi", [](const PySim& s) { return view_of(s, s.get().fluid().phi()); },
                              "projection methods: phi^n; WCSPH: density (N)")
-      .def_property_readonly("volumes", [](const PySim& s) { return array(s, s.get().fluid().volumes()); }, "particle volumes (N)")
-      .def_property_readonly("force", [](const PySim& s) { return array(s, s.get().force()); },
+      .def_property_readonly("volumes", [](const PySim& s) { return view_of(s, s.get().fluid().volumes()); }, "particle volumes (N)")
+      .def_property_readonly("force", [](const PySim& s) { return view_of(s, s.get().force()); },
                              "force per unit volume of the last step on the particles, body + membranes (N x 2)")
       .def_property_readonly("membrane_count", [](const PySim& s) { return s.get().membranes().size(); }, "number of membranes")
-      .def("markers", [](const PySim& s, int k) { return array(s, s.membrane(k).m.X); },
+      .def("markers", [](const PySim& s, int k) { return view_of(s, s.membrane(k).m.X); },
            py::arg("k") = 0, "marker positions X of membrane k (nb x 2)")
-      .def("membrane_force", [](const PySim& s, int k) { return array(s, s.membrane(k).f); },
+      .def("membrane_force", [](const PySim& s, int k) { return view_of(s, s.membrane(k).f); },
            py::arg("k") = 0, "force density f of membrane k at its markers (nb x 2)")
-      .def("tension", [](const PySim& s, int k) { return array(s, s.membrane(k).T); },
+      .def("tension", [](const PySim& s, int k) { return view_of(s, s.membrane(k).T); },
            py::arg("k") = 0, "tension T of membrane k at its markers (nb)")
-      .def("marker_velocity", [](const PySim& s, int k) { return array(s, s.membrane(k).U); },
+      .def("marker_velocity", [](const PySim& s, int k) { return view_of(s, s.membrane(k).U); },
            py::arg("k") = 0, "u(X) at the markers of membrane k after the last step (nb x 2)")
       .def("membrane", [](const PySim& s, int k) {
              const MembraneState& ms = s.membrane(k);
