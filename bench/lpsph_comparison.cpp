@@ -37,6 +37,7 @@
 #include "bench/common.hpp"
 #include "bench/poiseuille.hpp"
 #include "coupling/simulation.hpp"
+#include "fluid/factory.hpp"
 #include "fluid/lagrangian.hpp"
 #include "io/scene.hpp"
 #include "membrane/geometry.hpp"

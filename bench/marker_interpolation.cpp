@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "coupling/interpolate.hpp"
+#include "fluid/factory.hpp"
 #include "fluid/solver.hpp"
 
 using namespace sphib;

@@ -7,6 +7,7 @@
 
 #include "coupling/interpolate.hpp"
 #include "coupling/spread.hpp"
+#include "fluid/factory.hpp"
 
 namespace sphib {
 

@@ -189,11 +189,4 @@ class FluidSolver {
   long revision_ = 0;
 };
 
-// What is wrong with the free-surface keys for params.method (free_surface_problem and the
-// method's own), as (scene key, message); nothing if all is well. make_fluid refuses the same.
-std::optional<ParamProblem> free_surface_problem(const FluidParams& params);
-
-// The solver of params.method.
-std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params);
-
 }  // namespace sphib

@@ -11,7 +11,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "fluid/products.hpp"
+#include "fluid/row_stencil.hpp"
+#include "fluid/types.hpp"
 
 namespace sphib::stencil {
 

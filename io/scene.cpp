@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "fluid/factory.hpp"
 #include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"

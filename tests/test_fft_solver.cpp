@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fluid/boundary.hpp"
+#include "fluid/factory.hpp"
 #include "fluid/fft_poisson.hpp"
 #include "fluid/gauge.hpp"
 #include "fluid/kernel.hpp"

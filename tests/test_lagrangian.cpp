@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fluid/exact.hpp"
+#include "fluid/factory.hpp"
 #include "fluid/lagrangian.hpp"
 #include "fluid/eulerian.hpp"
 #include "io/run.hpp"

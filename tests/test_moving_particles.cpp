@@ -14,6 +14,7 @@
 #include <tuple>
 #include <vector>
 
+#include "fluid/factory.hpp"
 #include "fluid/lagrangian.hpp"
 #include "fluid/particle_operators.hpp"
 #include "fluid/products.hpp"

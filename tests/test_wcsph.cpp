@@ -11,6 +11,7 @@
 #include <string>
 
 #include "fluid/exact.hpp"
+#include "fluid/factory.hpp"
 #include "fluid/solver.hpp"
 #include "fluid/wcsph.hpp"
 
