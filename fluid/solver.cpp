@@ -32,14 +32,6 @@ const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& 
   throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
 }
 
-NamedArrays FluidSolver::state() const {
-  throw std::runtime_error("checkpoints are not available for method \"" + params().method + "\"");
-}
-
-void FluidSolver::restore(const NamedArrays&) {
-  throw std::runtime_error("checkpoints are not available for method \"" + params().method + "\"");
-}
-
 void FluidSolver::set_viscosity(const int*, const double*, int) {
   throw std::invalid_argument("a variable viscosity (membrane.viscosity_ratio != 1) is not available for method \"" +
                               params().method + "\" (use method = \"eulerian\")");

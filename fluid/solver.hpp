@@ -174,9 +174,9 @@ class FluidSolver {
   virtual void set_viscosity(const int* at, const double* m, int n);
 
   // Everything that determines the following steps (for checkpoints), and its restoration into a
-  // solver built from the same parameters. Methods without checkpoints throw std::runtime_error.
-  virtual NamedArrays state() const;
-  virtual void restore(const NamedArrays& state);
+  // solver built from the same parameters: every method has both.
+  virtual NamedArrays state() const = 0;
+  virtual void restore(const NamedArrays& state) = 0;
 
   int size() const { return static_cast<int>(x().rows()); }
   double h() const { return kernel().h; }
