@@ -33,15 +33,7 @@ int main(int argc, char** argv) {
   app.add_option("--rounds", rounds, "rounds of (empty, suspension) blocks");
   app.add_option("--block", block, "steps per block");
   app.add_option("--warm-up", warm, "steps of each before the first round");
-  app.add_option("--count", p.count, "capsules");
-  app.add_option("--nb", p.nb, "markers per capsule");
-  app.add_option("--nx", p.nx, "particles along x and y");
-  app.add_option("--contact-strength", p.contact_strength, "De of the contact force in units of T0 (0: off)");
-  app.add_option("--marker-eps", p.marker_eps, "solver.marker_eps");
-  app.add_option("--eb", p.Eb, "bending modulus in units of T0 a^2 (semi-implicit)");
-  app.add_option("--linear-step", p.linear_step, "solver.marker_linear_step");
-  app.add_option("--interpolation", p.interpolation, "marker velocity: bspline or divergence_free")
-      ->check(CLI::IsMember({"bspline", "divergence_free"}));
+  add_suspension_options(app, p);
   return run_main(app, argc, argv, [&] {
     SuspensionParams e = p;
     e.empty = true;

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "io/scene.hpp"
 #include "membrane/membrane.hpp"
 #include "membrane/packing.hpp"
@@ -64,6 +66,19 @@ inline Scene suspension_scene(const SuspensionParams& p) {
                                /*fixed=*/false, /*semi_implicit=*/p.Eb > 0});
   if (p.contact_strength > 0) s.sim.contact = {p.contact_strength * p.T0(), p.contact_range * dx, 0.0, true};
   return s;
+}
+
+// The command-line options of the suspension that its case and its benchmark share.
+inline void add_suspension_options(CLI::App& app, SuspensionParams& p) {
+  app.add_option("--count", p.count, "capsules");
+  app.add_option("--nb", p.nb, "markers per capsule");
+  app.add_option("--nx", p.nx, "particles along x and y");
+  app.add_option("--contact-strength", p.contact_strength, "De of the contact force in units of T0 (0: off)");
+  app.add_option("--marker-eps", p.marker_eps, "solver.marker_eps");
+  app.add_option("--eb", p.Eb, "bending modulus in units of T0 a^2 (semi-implicit)");
+  app.add_option("--linear-step", p.linear_step, "solver.marker_linear_step");
+  app.add_option("--interpolation", p.interpolation, "marker velocity: bspline or divergence_free (SPH kernel)")
+      ->check(CLI::IsMember({"bspline", "divergence_free"}));
 }
 
 }  // namespace sphib

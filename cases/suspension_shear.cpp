@@ -24,20 +24,12 @@ int main(int argc, char** argv) {
   long steps = 0, every = 0;
   std::string out = "out/suspension_shear";
   CLI::App app{"capsule suspension in a sheared box: effective viscosity, gaps, areas"};
-  app.add_option("--count", p.count, "capsules");
-  app.add_option("--nb", p.nb, "markers per capsule");
+  add_suspension_options(app, p);
   app.add_option("--phi", p.phi, "area fraction of the capsules");
   app.add_option("--ca", p.Ca, "capillary number mu G a / T0");
-  app.add_option("--nx", p.nx, "particles along x and y");
   app.add_option("--cfl", p.cfl, "time step dt = cfl dx / U");
   app.add_option("--seed", p.seed, "seed of the random placement");
-  app.add_option("--contact-strength", p.contact_strength, "De of the contact force in units of T0 (0: off)");
-  app.add_option("--marker-eps", p.marker_eps, "solver.marker_eps");
-  app.add_option("--eb", p.Eb, "bending modulus in units of T0 a^2 (semi-implicit)");
-  app.add_option("--linear-step", p.linear_step, "solver.marker_linear_step");
   app.add_option("--contact-range", p.contact_range, "its range r0 in lattice spacings");
-  app.add_option("--interpolation", p.interpolation, "marker velocity: bspline or divergence_free (SPH kernel)")
-      ->check(CLI::IsMember({"bspline", "divergence_free"}));
   app.add_flag("--empty", p.empty, "the same box without capsules");
   app.add_option("--t-end", t_end, "end time in units of 1/G");
   app.add_option("--steps", steps, "stop after this many steps");
