@@ -79,7 +79,7 @@ Simulation::Simulation(const SimulationParams& params)
   if (interp_ != MarkerInterpolation::Sph && !fluid_->has_stream_function())
     throw std::invalid_argument(std::string("coupling.interpolation = \"") +
                                 (interp_ == MarkerInterpolation::BSpline ? "bspline" : "divergence_free") +
-                                "\" needs a stream function of the fluid, which method \"" + prm_.fluid.method +
+                                "\" needs a stream function of the fluid, which method \"" + to_string(prm_.fluid.method) +
                                 "\" does not provide (use \"sph\")");
   if (!mem_.empty()) {  // no membranes, no coupling
     if (fluid_->particles_move()) grid_.build(fluid_->x());
@@ -94,7 +94,7 @@ Simulation::Simulation(const SimulationParams& params)
   if (contrast) {
     if (!fluid_->supports_variable_viscosity())
       throw std::invalid_argument("membrane.viscosity_ratio != 1 (a viscosity contrast) needs method \"eulerian\"; method \"" +
-                                  prm_.fluid.method + "\" has one viscosity everywhere");
+                                  std::string(to_string(prm_.fluid.method)) + "\" has one viscosity everywhere");
     std::vector<double> lambda;
     for (const auto& s : prm_.membranes) lambda.push_back(s.viscosity_ratio);
     // A ratio below 1 takes its cross term explicitly (fluid/variable_viscosity.hpp): measured stable

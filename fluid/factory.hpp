@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 
+#include "fluid/free_surface.hpp"
 #include "fluid/solver.hpp"
 
 namespace sphib {
