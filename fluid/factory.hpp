@@ -4,7 +4,6 @@
 #include <memory>
 #include <optional>
 
-#include "fluid/free_surface.hpp"
 #include "fluid/solver.hpp"
 
 namespace sphib {

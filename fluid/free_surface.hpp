@@ -24,10 +24,6 @@ bool supports_free_surface(FluidMethod method);
 // A partly filled tank or an open side: the fluid has a free surface.
 bool has_free_surface(const Domain& d, const FreeSurfaceParams& fs);
 
-// A refused set-up: the scene key to blame and what is wrong.
-struct ParamProblem {
-  std::string key, what;
-};
 
 // What is wrong with a free-surface set-up for `method`, if anything: a free surface (a partly filled
 // tank or an open side) or gravity for a method without free surfaces, gravity along a periodic

@@ -10,6 +10,11 @@
 
 namespace sphib {
 
+// A refused set-up: the scene key to blame and what is wrong.
+struct ParamProblem {
+  std::string key, what;
+};
+
 // A choice's name in scene files and messages.
 template <class E>
 struct EnumName {

@@ -16,6 +16,7 @@
 #include <toml++/toml.h>
 
 #include "fluid/factory.hpp"
+#include "fluid/free_surface.hpp"
 #include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
