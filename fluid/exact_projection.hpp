@@ -38,8 +38,14 @@ class ExactProjection {
  public:
   // The lattice method's geometry (kept by reference: it outlives this) and the Poisson solver kind.
   // `projection`: the exact projection is in use (else only the markers' stream function is).
+  // `compact` (EPSPH's compact storage, eulerian.hpp; with `projection`): the divergence and the
+  // transposed gradients keep only their stencils' rows (stencil_rows_only), and the solvers are
+  // made by make_solvers(), which the owner calls after freeing what it no longer needs (the pair
+  // list is not read after the constructor then).
   ExactProjection(const Lattice& lat, const Images& im, const PairList& pairs, const Operators& op,
-                  const CubicSplineKernel& W, const RowStencil* vel_st, SolverKind kind, bool projection);
+                  const CubicSplineKernel& W, const RowStencil* vel_st, SolverKind kind, bool projection,
+                  bool compact = false);
+  void make_solvers();  // the normal equations' and the markers' (a compact constructor's are deferred)
 
   // The exact projection of u*, in three parts (timed apart by the caller):
   // C^T u* and the flux Q of u*: the normal equations' right-hand side (the fluid at `revision`)
@@ -76,7 +82,7 @@ class ExactProjection {
   const CubicSplineKernel& W_;
   const RowStencil* vel_st_;
   SolverKind kind_;
-  bool projection_;
+  bool projection_, compact_;
   // the divergence D = -G^T (Dx, Dy, one pattern, their stencil), the velocity modes it does not see
   SpMat div_x_, div_y_;
   RowStencil div_st_;

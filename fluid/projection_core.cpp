@@ -202,6 +202,7 @@ const Vec& ProjectionFluid::p() const {
   if (p_revision_ != revision_) {
     ScopedTimer tm(prof_, k_pressure_);
     if (explicit_viscous_) p_ = phi();  // Afanasiev et al. Eqs. (23)-(24): phi is p^{n+1}
+    else if (lap_phi_st_) pressure_from_phi(op_.lap_phi, phi(), a_cn(), p_, lap_phi_st_);  // Eq. (35), by stencil
     else pressure_from_phi(operators().lap_phi, phi(), a_cn(), p_);  // Eq. (35)
     p_revision_ = revision_;
   }
