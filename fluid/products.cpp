@@ -257,13 +257,21 @@ void release(SpMat& A) {
   A.swap(empty);
 }
 
+void negate(SpMat& A) {
+  double* v = A.valuePtr();
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) v[k] = -v[k];
+}
+
+SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                              int r0, int m) {
+  const SpMat a2 = s2 * A2.middleRows(r0, m);
+  return SpMat(SpMat(SpMat(A1.middleRows(r0, m)) * B1) + SpMat(a2 * B2));
+}
+
 SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2, int block) {
   const int n = static_cast<int>(A1.rows());
-  if (block <= 0) block = std::max(1024, n / 64);
-  auto rows = [&](int r0, int m) {
-    const SpMat a2 = s2 * A2.middleRows(r0, m);
-    return SpMat(SpMat(SpMat(A1.middleRows(r0, m)) * B1) + SpMat(a2 * B2));
-  };
+  if (block <= 0) block = product_block(n);
+  auto rows = [&](int r0, int m) { return rows_of_sum_of_products(A1, B1, s2, A2, B2, r0, m); };
   SpMat R(A1.rows(), B1.cols());
   {  // room for n rows as long as the longest of the middle block's (on a lattice the interior rows
      // are the longest: walls and seams only fold columns onto others)

@@ -59,7 +59,13 @@ void release(SpMat& A);
 // entries of the whole products and their sum (each row of a product is summed alone, in the order
 // of its row of A1 or A2), without the two whole products held at once.
 SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
-                      int block = 0);  // 0: max(1024, rows / 64)
+                      int block = 0);  // 0: product_block(rows)
+// Its rows r0 .. r0 + m - 1 alone (an m-row matrix), and the default block of an n-row product
+SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                              int r0, int m);
+inline int product_block(int n) { return n / 64 > 1024 ? n / 64 : 1024; }
+// A = -A in place, exactly (no new storage: an assignment of -A would grow its own)
+void negate(SpMat& A);
 
 // Image terms: an image operator B (N x M) has entries only in the rows near walls. y += B c
 // over those rows (`rows` = nonempty_rows(B)); c is M x 2 (both columns) or one column.
