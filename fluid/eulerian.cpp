@@ -47,15 +47,16 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   if (compact_) {
     // Compact storage: every product of a step goes through the stencils, so each operator keeps
     // only its stencil's rows (stencil_rows_only), and what only the setup reads is freed as soon as
-    // it has been read: the pair list and the phi gradients after the exact projection's divergence
-    // (D = -G^T) is made, the Morris Laplacian after its solver (made here, while it exists, rather
-    // than when phi is first asked for).
+    // it has been read: the pair list after the assembly, the phi gradients after the exact
+    // projection's divergence (D = -G^T) is made, the Morris Laplacian after its solver (made here,
+    // while it exists, rather than when phi is first asked for).
+    const double m = ExactProjection::gradient_normalisation(lat_, pairs_, W_);
+    pairs_ = PairList();
     make_phi_solver();
     lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
     keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
     lap_phi_st_ = &lap_phi_st_lattice_;
-    streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, true, true);
-    pairs_ = PairList();
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true, true);
     release(op_.grad_phix);
     release(op_.grad_phiy);
     streams_->make_solvers();
@@ -63,7 +64,8 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
     keep_stencil_rows(op_.grad_ux.A, vel_st_lattice_);
     keep_stencil_rows(op_.grad_uy.A, vel_st_lattice_);
   } else if (exact()) {
-    streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, true);
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, ExactProjection::gradient_normalisation(lat_, pairs_, W_),
+                                                 vel_st_, prm_.poisson_solver, true);
   } else {
     make_phi_solver();
   }
@@ -87,8 +89,10 @@ const Operators& EulerianFluid::operators() const {
 }
 
 void EulerianFluid::make_phi_solver() const {
+  SpMat minus_lap = op_.lap_phi;  // -lap (negated in place: an assigned -A grows its own storage)
+  negate(minus_lap);
   auto s = singular_solver(exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson",
-                           -op_.lap_phi, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+                           minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
   poisson_ = std::move(s.solver);
   poisson_unpinned_ = s.unpinned;
 }
@@ -189,7 +193,8 @@ StreamFunction EulerianFluid::stream_function() const {
   ScopedTimer tm(prof_, k_psi_);
   if (!streams_) {
     pairs_current();
-    streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, false);
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, ExactProjection::gradient_normalisation(lat_, pairs_, W_),
+                                                 vel_st_, prm_.poisson_solver, false);
   }
   return streams_->markers(u_, revision_);
 }

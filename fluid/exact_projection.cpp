@@ -15,20 +15,21 @@ std::string wall_name(Side w) {
 }
 }  // namespace
 
-ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const PairList& pairs, const Operators& op,
-                                 const CubicSplineKernel& W, const RowStencil* vel_st, SolverKind kind,
-                                 bool projection, bool compact)
-    : lat_(lat), im_(im), pairs_(pairs), op_(op), W_(W), vel_st_(vel_st), kind_(kind), projection_(projection),
-      compact_(compact && projection) {
-  // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
-  // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle. The curl of psi_m
-  // reproduces u at long waves as G G^T / lap ~ m: psi_m is divided by m, so that it does exactly
-  // (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at every resolution).
-  const int i = lat_.nx / 2 + lat_.nx * (lat_.ny / 2);
+double ExactProjection::gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W) {
+  const int i = lat.nx / 2 + lat.nx * (lat.ny / 2);
   double mx = 0;
-  for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k)
-    mx -= lat_.volume * W_.F(pairs_.r[k]) * pairs_.rx[k] * pairs_.rx[k];
-  mpsi_scale_ = 1.0 / mx;
+  for (int k = pairs.offset[i]; k < pairs.offset[i + 1]; ++k) mx -= lat.volume * W.F(pairs.r[k]) * pairs.rx[k] * pairs.rx[k];
+  return mx;
+}
+
+ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Operators& op, double m,
+                                 const RowStencil* vel_st, SolverKind kind, bool projection, bool compact)
+    : lat_(lat), im_(im), op_(op), vel_st_(vel_st), kind_(kind), projection_(projection),
+      compact_(compact && projection) {
+  // The curl of psi_m reproduces u at long waves as G G^T / lap ~ m: psi_m is divided by m, so that
+  // it does exactly (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at
+  // every resolution).
+  mpsi_scale_ = 1.0 / m;
   if (projection_) {
     for (int k = 0; k < 4; ++k) {
       const Side w = static_cast<Side>(k);
@@ -126,8 +127,11 @@ void ExactProjection::make_psi_solver() {
   // The markers' psi_m: -lap psi_m = C^T u, lap with odd images (lap_u.A, Eq. 31): definite with a
   // wall, the constants its null space on a doubly periodic box.
   mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
-  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", -op_.lap_u.A,
+  SpMat minus_lap = op_.lap_u.A;  // -lap (negated in place: an assigned -A grows its own storage)
+  negate(minus_lap);
+  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", minus_lap,
                                    mpsi_gauge_, kind_, &lat_, Refactor::Once);
+  release(minus_lap);
   mpsi_solver_ = std::move(m.solver);
   mpsi_unpinned_ = m.unpinned;
   if (compact_) {  // from here on read only through psi_st_

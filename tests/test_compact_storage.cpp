@@ -2,8 +2,8 @@
 // products of the whole matrices bit for bit; G^T G by row blocks equals the whole products and
 // their sum; the assembly straight into compressed rows equals the triplet assembly it replaced; and
 // a compact fluid steps exactly as one holding the whole matrices. Inputs hold exact zeros of both
-// signs among random values. (Checked that they fail: a pruned matrix used without its stencil, or a
-// class's reference row dropped from stencil_rows_only, each fail.)
+// signs among random values. (Checked that they fail: a class's reference row dropped from
+// stencil_rows_only fails the first and the fourth.)
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -69,8 +69,10 @@ TEST(CompactStorage, StencilRowsOnlyGiveTheWholeMatricesProducts) {
     const RowStencil st = find_row_stencil({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A});
     const SpMat L = stencil_rows_only(op.lap_u.A, st), Gx = stencil_rows_only(op.grad_ux.A, st),
                 Gy = stencil_rows_only(op.grad_uy.A, st);
-    if (box.h_over_dx < 2)  // a lattice: a handful of classes and the corner rows
-      EXPECT_LT(L.nonZeros(), op.lap_u.A.nonZeros() / 8) << box.n;
+    if (box.h_over_dx < 2)  // a lattice: a handful of classes and the corner rows (measured: 0.29 of
+                            // the non-zeros on the 20^2 closed box, 0.14 on the 24^2 periodic one,
+                            // falling like 1/n: the classes run along the walls)
+      EXPECT_LT(L.nonZeros(), op.lap_u.A.nonZeros() / 3) << box.n;
     else  // no stencil: every row kept
       EXPECT_TRUE(same_matrix(L, op.lap_u.A)) << box.n;
     Random R;
