@@ -38,20 +38,20 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   // the Morris Laplacian (Eqs. 31-32, the constants its null space); the exact projection solves the
   // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
   // is asked for (phi()).
-  t0 = Profile::Clock::now();
-  cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
-  gauge_ = Gauge(lat_, NullSpace::Constants);
+  // Compact storage: every product of a step goes through the stencils, so each operator keeps only
+  // its stencil's rows (stencil_rows_only), and what only the setup reads is freed as soon as it has
+  // been read: the pair list after the assembly, the phi gradients after the exact projection's
+  // divergence (D = -G^T) is made, the Morris Laplacian after its solver (made here, while it
+  // exists, rather than when phi is first asked for).
   pairs_count_ = pairs_.size();
   auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
   compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
+  const double m = exact() ? ExactProjection::gradient_normalisation(lat_, pairs_, W_) : 0.0;
+  if (compact_) pairs_ = PairList();
+  t0 = Profile::Clock::now();
+  cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
+  gauge_ = Gauge(lat_, NullSpace::Constants);
   if (compact_) {
-    // Compact storage: every product of a step goes through the stencils, so each operator keeps
-    // only its stencil's rows (stencil_rows_only), and what only the setup reads is freed as soon as
-    // it has been read: the pair list after the assembly, the phi gradients after the exact
-    // projection's divergence (D = -G^T) is made, the Morris Laplacian after its solver (made here,
-    // while it exists, rather than when phi is first asked for).
-    const double m = ExactProjection::gradient_normalisation(lat_, pairs_, W_);
-    pairs_ = PairList();
     make_phi_solver();
     lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
     keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
@@ -64,8 +64,7 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
     keep_stencil_rows(op_.grad_ux.A, vel_st_lattice_);
     keep_stencil_rows(op_.grad_uy.A, vel_st_lattice_);
   } else if (exact()) {
-    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, ExactProjection::gradient_normalisation(lat_, pairs_, W_),
-                                                 vel_st_, prm_.poisson_solver, true);
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true);
   } else {
     make_phi_solver();
   }

@@ -74,7 +74,8 @@ void ProjectionFluid::eliminate_dirichlet(SpMat& A) {
 }
 
 SpMat ProjectionFluid::crank_nicolson_matrix() const {
-  SpMat A = -a_cn() * op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28), same pattern as lap (diagonal in it)
+  SpMat A = op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28), same pattern as lap (diagonal in it)
+  A *= -a_cn();           // (in place: an assigned -a lap would grow its own storage to twice)
   for (int i = 0; i < A.outerSize(); ++i) A.coeffRef(i, i) += 1.0;
   return A;
 }
