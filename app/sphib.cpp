@@ -15,7 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "app/check.hpp"
+#include "io/check.hpp"
 #include "app/sweep.hpp"
 #include "io/checkpoint.hpp"
 #include "io/run.hpp"
@@ -139,7 +139,7 @@ int main(int argc, char** argv) {
                                              : sphib::checkpoint_scene(sphib::read_checkpoint(restart), restart, sets);
     if (scene_path.empty()) scene_path = scene.path;
     if (check->parsed()) {
-      const int warnings = sphib::app::check_scene(scene, std::cout, build);
+      const int warnings = sphib::check_scene(scene, std::cout, build);
       if (warnings) std::cout << "  " << warnings << " warning(s)\n";
       return 0;
     }
@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     opt.restart = restart;
     opt.before_run = [&](const sphib::Simulation& sim) {
       std::ostringstream w;
-      const int n = sphib::app::time_step_warnings(scene, sim, w);
+      const int n = sphib::time_step_warnings(scene, sim, w);
       if (n == 0) return;
       std::cerr << w.str();
       if (strict)

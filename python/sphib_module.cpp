@@ -28,7 +28,7 @@
 #include <optional>
 #include <sstream>
 
-#include "app/check.hpp"
+#include "io/check.hpp"
 #include "io/footprint.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
@@ -609,7 +609,7 @@ void bind_scene(py::module_& m) {
              auto ctx = std::make_shared<Context>();
              std::ostringstream o;
              try {
-               sphib::app::check_scene(s.assemble(ctx), o);
+               sphib::check_scene(s.assemble(ctx), o);
              } catch (const std::exception& e) {
                reraise(*ctx, e);
              }

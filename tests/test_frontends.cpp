@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/check.hpp"
+#include "io/check.hpp"
 #include "io/footprint.hpp"
 #include "io/scene.hpp"
 #include "membrane/shapes.hpp"
@@ -94,7 +94,7 @@ TEST(Check, FreeSurfaceScenesAreEstimatedByTheirFluidParticles) {
   EXPECT_LT(e.fluid, 40e6);
   EXPECT_GT(e.fluid, 15e6);
   std::ostringstream out;
-  EXPECT_EQ(app::check_scene(dam, out), 0) << out.str();
+  EXPECT_EQ(check_scene(dam, out), 0) << out.str();
   EXPECT_EQ(out.str().find("not built"), std::string::npos) << out.str();
   // Gravity is the velocity scale: 2 sqrt(g H) = 2 sqrt(9.81 x 0.292) = 3.38 m/s.
   EXPECT_NE(out.str().find("with U = 3.38 (gravity"), std::string::npos) << out.str();
@@ -102,7 +102,7 @@ TEST(Check, FreeSurfaceScenesAreEstimatedByTheirFluidParticles) {
   EXPECT_NE(out.str().find("explicit viscous limit"), std::string::npos);
   // WCSPH: the same particles, and its acoustic limit shown.
   std::ostringstream w;
-  app::check_scene(load_scene(kSource + "/cases/dam_break_wcsph.toml"), w);
+  check_scene(load_scene(kSource + "/cases/dam_break_wcsph.toml"), w);
   EXPECT_NE(w.str().find("5000 particles"), std::string::npos) << w.str();
   EXPECT_NE(w.str().find("acoustic and viscous limit (Coelho et al. Eq. 19)"), std::string::npos) << w.str();
 }

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "app/check.hpp"
+#include "io/check.hpp"
 #include "cases/capsule_shear.hpp"
 #include "cases/membrane_relaxation.hpp"
 #include "io/run.hpp"
@@ -87,7 +87,7 @@ TEST(MembraneValidation, CheckReportsTheBendingLimit) {
     std::vector<std::string> all = base;
     all.insert(all.end(), sets.begin(), sets.end());
     std::ostringstream out;
-    *warnings = app::check_scene(load_scene(scene, all), out);
+    *warnings = check_scene(load_scene(scene, all), out);
     return out.str();
   };
   int w = 0;

@@ -7,7 +7,7 @@
 
 #include "io/scene.hpp"
 
-namespace sphib::app {
+namespace sphib {
 
 // Prints the report to out; returns the number of warnings (a narrow kernel, sparse markers,
 // time-step estimates exceeded, more memory than the run may take). Throws what Simulation's
@@ -21,4 +21,4 @@ int check_scene(const Scene& scene, std::ostream& out, bool build = false);
 // explicit elastic estimate, WCSPH's acoustic limit, ISPH's explicit viscous limit. Returns their number.
 int time_step_warnings(const Scene& scene, const Simulation& sim, std::ostream& out);
 
-}  // namespace sphib::app
+}  // namespace sphib

@@ -1,4 +1,4 @@
-#include "app/check.hpp"
+#include "io/check.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "membrane/force.hpp"
 #include "membrane/geometry.hpp"
 
-namespace sphib::app {
+namespace sphib {
 
 namespace {
 
@@ -318,4 +318,4 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
 
 }  // namespace
 
-}  // namespace sphib::app
+}  // namespace sphib
