@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   app.add_option("--steps", steps, "stop each run after this many steps (smoke test)");
   app.add_option("--nx", p.nx, "particles along x (ny = nx/2)");
   app.add_option("--nb", p.nb, "markers (0: two per dx)");
+  app.add_option("--h-star", p.h_star, "the spreading kernel's radius h* (membrane.h_star; 0: 1.4 h = 1.68 dx)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--height", p.H, "channel height H (domain H x 2H, r0 = 0.4, confinement 2 r0/H)");
   app.add_option("--t-end", p.t_end, "end time in units of 1/G");
   app.add_option("--cfl", p.cfl, "time step dt = cfl dx / U, U = G H/2 the wall speed");

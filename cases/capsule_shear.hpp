@@ -15,6 +15,7 @@ struct CapsuleParams {
   double eb_hat = 0.0;     // Eb / (Es r0^2): Ca_b = mu G r0^3 / Eb = Ca / eb_hat
   double H = 2.0, r0 = 0.4, rho = 1.0, mu = 1.0, G = 1.0;
   int nx = 64, nb = 0;     // nb = 0: two markers per dx
+  double h_star = 0.0;     // the spreading's radius h* (membrane.h_star; 0: 1.4 h, h = 1.2 dx)
   double cfl = 0.0125;     // dt = cfl dx / U, U = G H / 2 the wall speed
   double t_end = 16.0;     // in units of 1/G
   double lambda = 1.0;      // viscosity ratio mu_in / mu_out (membrane.viscosity_ratio; mu = mu_out)
@@ -41,7 +42,7 @@ inline Scene capsule_scene(const CapsuleParams& p) {
     f.projection = Projection::Approximate;
     s.sim.interpolation = MarkerInterpolation::Sph;
   }
-  const double dx = L / p.nx, h_star = 1.4 * f.h_over_dx * dx;
+  const double dx = L / p.nx, h_star = p.h_star > 0 ? p.h_star : 1.4 * f.h_over_dx * dx;
   f.dt = p.cfl * dx / U;
   Material mat;
   mat.law = p.law;

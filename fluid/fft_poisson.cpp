@@ -444,6 +444,7 @@ struct Work {  // one column's arrays: the right-hand side, its transform, the s
 // shared among threads.
 class LatticeSolver : public LinearSolver {
  public:
+  bool exact() const override { return true; }
   ~LatticeSolver() override { release(); }
 
   // The systems from A (whose model is m); false (and why) when one is not (semi-)definite.

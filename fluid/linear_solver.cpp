@@ -29,6 +29,7 @@ using Clock = std::chrono::steady_clock;
 
 class CholmodSolver final : public LinearSolver {
  public:
+  bool exact() const override { return true; }
   CholmodSolver(const std::string& system, const SpMat& A, SolverKind kind) {
     cholmod_start(&c_);
     started_ = true;
@@ -147,6 +148,7 @@ class CholmodSolver final : public LinearSolver {
 
 class UmfpackSolver final : public LinearSolver {
  public:
+  bool exact() const override { return true; }
   UmfpackSolver(const std::string& system, const SpMat& A) : A_(A) {
     A_.makeCompressed();
     info_.system = system;

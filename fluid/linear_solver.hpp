@@ -32,6 +32,9 @@ class LinearSolver {
   virtual void solve(const double* B, double* X, int k) = 0;
   const SolverInfo& info() const { return info_; }
   virtual double mean_iterations() const { return 0.0; }  // iterative solvers: per solve so far
+  // true when solve() gives A^-1 B to round-off (a factorisation or a fast transform), false when
+  // it stops at a tolerance (iterative)
+  virtual bool exact() const { return false; }
   // Preconditioned iterations (lagged_pcg): numeric factorisations of the preconditioner since the
   // solver was made, and of them those that kept the symbolic analysis. 0 for the others.
   virtual long preconditioner_factorisations() const { return 0; }

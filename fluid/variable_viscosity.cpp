@@ -32,50 +32,66 @@ class VariableViscosity::Cg final : public LinearSolver {
   void solve(const double* B, double* X, int k) override {
     if (k != 2) throw std::logic_error("variable viscosity: CG solves both velocity components at once");
     const int n = info_.n;
-    R_.resize(n, 2), Z_.resize(n, 2), P_.resize(n, 2), Q_.resize(n, 2);
+    const double a = v_.prm_.a;
+    R_.resize(n, 2), Z_.resize(n, 2), P_.resize(n, 2), Q_.resize(n, 2), S_.resize(n, 2);
     Eigen::Map<const Mat2> b(B, n, 2);
     Eigen::Map<Mat2> x(X, n, 2);
     if (count_ >= 3 && last_ == step_ - 1)  // the quadratic extrapolation of the last three steps' u*
       for (int e = 0; e < 2; ++e)
         for (int i = 0; i < n; ++i) x(i, e) = 3.0 * (H_[h0_](i, e) - H_[(h0_ + 1) % 3](i, e)) + H_[(h0_ + 2) % 3](i, e);
-    // One system of 2N unknowns: the cross term couples the components (X), so both columns share
-    // alpha and beta; the preconditioner (C0^-1 on each column) is symmetric positive definite.
-    v_.product(x.data(), R_.data());
-    R_ = b - R_;
     const double normA = v_.norm_C(), bn = b.norm();
     auto converged = [&](double rr, double xx) {
       const double r = std::sqrt(rr);
       return r <= v_.prm_.rtol * bn || r <= kBackward * (normA * std::sqrt(xx) + bn);
     };
-    if (bn == 0.0) x.setZero();
     int it = 0;
-    if (bn != 0.0 && !converged(R_.squaredNorm(), x.squaredNorm())) {
-      M_.solve(R_.data(), Z_.data(), 2);
-      P_ = Z_;
-      double rz = dot(R_, Z_);
-      while (true) {
-        if (++it > v_.prm_.max_iter) {
-          std::ostringstream m;
-          m << "variable viscosity: conjugate gradients on the Crank-Nicolson matrix did not converge in "
-            << v_.prm_.max_iter << " iterations (n = " << n << ", relative residual " << R_.norm() / bn << ")";
-          throw std::runtime_error(m.str());
-        }
-        v_.product(P_.data(), Q_.data());
-        const double alpha = rz / dot(P_, Q_);
-        double rr = 0, xx = 0;  // one pass: x += alpha p, r -= alpha q, |r|^2, |x|^2
-        double *xv = x.data(), *rv = R_.data();
-        const double *pv = P_.data(), *qv = Q_.data();
-        for (int i = 0; i < 2 * n; ++i) {
-          xv[i] += alpha * pv[i];
-          rv[i] -= alpha * qv[i];
-          rr += rv[i] * rv[i];
-          xx += xv[i] * xv[i];
-        }
-        if (converged(rr, xx)) break;
+    if (bn == 0.0) {
+      x.setZero();
+    } else {
+      v_.product(X, R_.data());  // r0 = b - C_m x0, x0 the guess: the one product with the whole of C0
+      R_ = b - R_;
+      const bool exact = M_.exact();
+      if (!converged(R_.squaredNorm(), x.squaredNorm())) {
+        // PCG with M = C0^-1: z = C0^-1 r, so C0 z = r and C0 p = r + beta C0 p_old (S) follow
+        // without a product with C0; C_m p = C0 p - a V_m p touches rows() only. (M iterative: C0 p
+        // is not known that way, the product in full.)
         M_.solve(R_.data(), Z_.data(), 2);
-        const double rz_new = dot(R_, Z_);
-        P_ = Z_ + (rz_new / rz) * P_;
-        rz = rz_new;
+        P_ = Z_;
+        if (exact) S_ = R_;
+        double rz = dot(R_, Z_);
+        while (true) {
+          if (++it > v_.prm_.max_iter) {
+            std::ostringstream m;
+            m << "variable viscosity: conjugate gradients on the Crank-Nicolson matrix did not converge in "
+              << v_.prm_.max_iter << " iterations (n = " << n << ", relative residual " << R_.norm() / bn << ")";
+            throw std::runtime_error(m.str());
+          }
+          if (exact) {
+            Q_ = S_;
+            v_.add_vm(P_.data(), Q_.data(), -a);  // q = C_m p
+          } else {
+            v_.product(P_.data(), Q_.data());
+          }
+          const double alpha = rz / dot(P_, Q_);
+          double rr = 0, xx = 0;  // one pass: x += alpha p, r -= alpha q, |r|^2, |x|^2
+          double *xv = x.data(), *rv = R_.data();
+          const double *pv = P_.data(), *qv = Q_.data();
+          for (int i = 0; i < 2 * n; ++i) {
+            xv[i] += alpha * pv[i];
+            rv[i] -= alpha * qv[i];
+            rr += rv[i] * rv[i];
+            xx += xv[i] * xv[i];
+          }
+          if (converged(rr, xx)) break;
+          M_.solve(R_.data(), Z_.data(), 2);
+          const double rz_new = dot(R_, Z_), beta = rz_new / rz;
+          double *pw = P_.data(), *sw = S_.data();
+          const double *zv = Z_.data();
+          for (int i = 0; i < 2 * n; ++i) pw[i] = zv[i] + beta * pw[i];
+          if (exact)
+            for (int i = 0; i < 2 * n; ++i) sw[i] = rv[i] + beta * sw[i];
+          rz = rz_new;
+        }
       }
     }
     iterations_ += it;
@@ -114,7 +130,7 @@ class VariableViscosity::Cg final : public LinearSolver {
   static double dot(const Mat2& a, const Mat2& b) { return a.col(0).dot(b.col(0)) + a.col(1).dot(b.col(1)); }
   const VariableViscosity& v_;
   LinearSolver& M_;
-  Mat2 R_, Z_, P_, Q_;
+  Mat2 R_, Z_, P_, Q_, S_;  // S = C0 p
   long iterations_ = 0, solves_ = 0;
   Mat2 H_[3];               // the last three solutions, the newest H_[h0_] (see solve)
   int h0_ = 0;
@@ -279,8 +295,11 @@ void VariableViscosity::row_v(int i, Value&& f, Offset&& c, double out[2]) const
 
 void VariableViscosity::product(const double* x, double* y) const {
   apply2(C0_, x, y, &st_);  // (I - a L) x as a lattice stencil, then - a V_m x in the rows it touches
+  add_vm(x, y, -prm_.a);
+}
+
+void VariableViscosity::add_vm(const double* x, double* y, double c) const {
   const double* x1 = x + N_;
-  const double a = prm_.a;
   for (int i : rows_) {  // row_v without image offsets, on plain arrays
     const double xi0 = x[i], xi1 = x1[i];
     double s0 = 0, s1 = 0;
@@ -290,8 +309,8 @@ void VariableViscosity::product(const double* x, double* y) const {
       s0 += bxx_[k] * d0 + bxy_[k] * d1;
       s1 += bxy_[k] * d0 + byy_[k] * d1;
     }
-    y[i] -= a * s0;
-    y[N_ + i] -= a * s1;
+    y[i] += c * s0;
+    y[N_ + i] += c * s1;
   }
 }
 

@@ -96,11 +96,15 @@ class VariableViscosity {
 
   // y = C_m x, x and y N x 2 (column-major)
   void product(const double* x, double* y) const;
+  // y += c V_m x in rows() (the other rows of V_m x are zero), x and y N x 2 (column-major)
+  void add_vm(const double* x, double* y, double c) const;
   LinearSolver& solver();  // CG on C_m, preconditioned by C0's solver
   const LinearSolver& solver() const;
   // The solver for step n (first: the first step after a new initial velocity): CG started from the
   // quadratic extrapolation of the u* of the three steps before when it solved them, else from the
-  // caller's guess.
+  // caller's guess. With C0's solver exact (a transform or a factorisation), the CG multiplies by the
+  // whole of C0 once per solve (the first residual): C0 p follows from C0 z = r (z = C0^-1 r), and
+  // C_m p = C0 p - a V_m p touches rows() only.
   LinearSolver& solver_for_step(long n, bool first);
   double beta_kappa() const { return kappa_; }  // beta(e) = gamma (1 + kappa (e_x^4 + e_y^4))
   double beta_gamma() const { return gamma_; }
