@@ -329,8 +329,10 @@ for s in "${sections[@]}"; do
       /usr/bin/python3 scripts/vesicle_theory.py check | tee $D/theory.txt
       /usr/bin/python3 scripts/vesicle_theory.py angle --nu 0.8 --lam 1,2,3,4,5,6,8,12,16 | tee -a $D/theory.txt
       for l in 1 2 3 4 5 6 8 12 16; do $V --set membrane.viscosity_ratio=$l --out $D/n128_l$l; done  # 1-6 min each
-      for l in 1 3; do $V --set membrane.viscosity_ratio=$l "${H4[@]}" --out $D/H4_n128_l$l; done
-      $V $N256 --set time.dt=2.5e-4 --set time.end=10 --out $D/n256_l1
+      $V --set membrane.viscosity_ratio=16 --set time.end=40 --out $D/n128_l16_t40
+      for l in 1 3; do $V --set membrane.viscosity_ratio=$l "${H4[@]}" --out $D/H4_n128_l$l; done  # 2 and 10 min
+      $V --set membrane.viscosity_ratio=3 --set membrane.Eb=0.64 --set time.dt=5e-4 --set time.end=15 --out $D/ca0.1_n128_l3
+      for l in 1 3; do $V --set membrane.viscosity_ratio=$l $N256 --set time.dt=2.5e-4 --set time.end=10 --out $D/n256_l$l; done
       # the semi-implicit force (membrane.semi_implicit = true): its time-step error, and the lattices
       S="$V --set membrane.semi_implicit=true"
       for dt in 5e-4 2.5e-4; do $S --set time.dt=$dt --set time.end=10 --out $D/semi_implicit/n128_l1_dt$dt; done  # dt = 1e-3: n128_l1
@@ -341,7 +343,7 @@ for s in "${sections[@]}"; do
         $S --set membrane.viscosity_ratio=$l --set time.end=30 --out $D/semi_implicit/n128_l$l
       done
       for l in 1 3; do $S --set membrane.viscosity_ratio=$l $N256 --set time.dt=5e-4 --set time.end=30 --out $D/semi_implicit/n256_l$l; done
-      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/n256_l1 --csv $D/sweep.csv --plot $D/vesicle_shear.png | tee $D/sweep.txt
+      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/n256_l* $D/ca0.1_* --csv $D/sweep.csv --plot $D/vesicle_shear.png | tee $D/sweep.txt
       /usr/bin/python3 scripts/vesicle_shear.py $D/semi_implicit/* --csv $D/semi_implicit.csv | tee $D/semi_implicit.txt ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac

@@ -8,13 +8,15 @@ Keller-Skalak model (scripts/vesicle_theory.py), the angle or the verdict.
   tumbling      theta fell by more than 90 degrees during the run; the period is the time between
                 the last two crossings of theta = -90 k degrees (n/a if fewer than two);
   tank-treading otherwise; theta_TT is the mean over the last quarter, with its standard deviation
-                and its drift (last - first value of that quarter) as the test of steadiness.
+                and its drift (last - first value of that quarter) as the test of steadiness;
+  not settled   no fall of 90 degrees, but a drift over the last quarter above 1 degree.
 
   vesicle_shear.py RUN_DIR ... [--csv FILE] [--plot PNG]
 
 --plot draws theta(t) of the runs and the tank-treading angle against lambda beside the 2-D
 Keller-Skalak model; it reads the lattice and lambda from run names nNX_lLAMBDA (H4_ in front: the
-wider channel), as bench/validate.sh vesicle_shear names them.
+wider channel; a suffix _tT for a longer run, which then stands for its lambda), as
+bench/validate.sh vesicle_shear names them.
 """
 import argparse
 import csv
@@ -32,6 +34,8 @@ def analyse(run):
     partial = not os.path.exists(path) and os.path.exists(path + ".part")  # a run still going
     with open(path + ".part" if partial else path) as f:
         rows = list(csv.DictReader(f))[: -1 if partial else None]
+    if len(rows) < 2:
+        return {"run": run, "motion": "(no rows yet)"}
     t = np.array([float(r["t"]) for r in rows])
     th = np.array([float(r["m0_inclination"]) for r in rows])
     th = np.unwrap(2 * th) / 2  # the axis is defined modulo pi
@@ -64,6 +68,8 @@ def analyse(run):
         out["omega"] = float(om[q].mean())
         out["D"] = float(D[q].mean())
         out["theta_min_deg"] = float(th_deg.min())
+        if abs(out["theta_drift_deg"]) > 1.0:  # still turning: neither verdict yet
+            out["motion"] = "not settled"
     try:
         with open(os.path.join(run, "summary.json")) as f:
             s = json.load(f)
@@ -79,7 +85,11 @@ def main():
     ap.add_argument("--csv", help="write the table here too")
     ap.add_argument("--plot", help="write the figure here (PNG)")
     a = ap.parse_args()
-    res = [analyse(r) for r in a.runs]
+    runs = [r for r in a.runs if os.path.exists(os.path.join(r, "diagnostics.csv")) or
+            os.path.exists(os.path.join(r, "diagnostics.csv.part"))]
+    for r in sorted(set(a.runs) - set(runs)):
+        print(f"run={r}  (no diagnostics yet)")
+    res = [analyse(r) for r in runs]
     keys = ["run", "motion", "nu_start", "nu_end", "theta_deg", "theta_sd_deg", "theta_drift_deg", "theta_min_deg", "omega", "D",
             "first_minus90_time", "period", "area_rel_error_end", "strain_max_end", "t_end", "wall_seconds"]
     for r in res:
@@ -91,7 +101,7 @@ def main():
             line.append(f"{k}={v:.5g}" if isinstance(v, float) else f"{k}={v}")
         print("  ".join(line))
     if a.plot:
-        plot(a.runs, res, a.plot)
+        plot(runs, res, a.plot)
     if a.csv:
         with open(a.csv, "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
@@ -110,12 +120,20 @@ def plot(runs, res, png):
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     groups = {}
     for run, r in zip(runs, res):
-        m = re.search(r"(H4_)?n(\d+)_l([\d.]+)", os.path.basename(os.path.normpath(run)))
+        if "t_end" not in r:
+            continue
+        m = re.fullmatch(r"(H4_)?n(\d+)_l([\d.]+)(_t\d+)?", os.path.basename(os.path.normpath(run)))
         if not m:
             continue
         key = ("H = 4, " if m.group(1) else "") + f"{m.group(2)} x {int(m.group(2)) // 2}"
         groups.setdefault(key, []).append((float(m.group(3)), r, run))
-    finest = max((k for k in groups if not k.startswith("H")), key=lambda k: int(k.split()[0]))
+    for key in groups:  # one run per lambda: the longest
+        best = {}
+        for lam, r, run in groups[key]:
+            if lam not in best or r["t_end"] > best[lam][1]["t_end"]:
+                best[lam] = (lam, r, run)
+        groups[key] = list(best.values())
+    finest = max(groups, key=lambda k: len(groups[k]))  # the lambda sweep
     for lam, r, run in sorted(groups[finest]):
         with open(os.path.join(run, "diagnostics.csv")) as f:
             rows = list(csv.DictReader(f))
@@ -124,13 +142,13 @@ def plot(runs, res, png):
         ax1.plot(t, th, label=f"lambda = {lam:g}")
     ax1.set_xlabel("G t")
     ax1.set_ylabel("inclination (degrees)")
-    ax1.set_title(f"inclination, {finest}")
+    ax1.set_title(f"inclination, {finest}, H = 2")
     ax1.legend(fontsize=8)
     a, b = vt.axes_for_reduced_area(0.8)
-    lams = np.linspace(0.5, 4.05, 60)
+    lams = np.linspace(0.5, 4.0507, 60)
     th = [0.5 * np.degrees(np.arccos(min(1.0, 1.0 / vt.ks_coefficients(a, b, l, 200)[0]))) for l in lams]
     ax2.plot(lams, th, "k-", label="2-D Keller-Skalak, unbounded")
-    for key, marker in zip(sorted(groups), "osd^v"):
+    for key, marker in zip(sorted(groups, key=lambda k: (k.startswith("H"), int(k.split(", ")[-1].split()[0]))), "osd^v"):
         pts = sorted(groups[key])
         tt = [(l, r["theta_deg"]) for l, r, _ in pts if r["motion"] == "tank-treading"]
         tu = [l for l, r, _ in pts if r["motion"] == "tumbling"]
@@ -138,6 +156,7 @@ def plot(runs, res, png):
         if tu:
             ax2.plot(tu, [0.0] * len(tu), marker, mfc="none", color=line.get_color())
     ax2.axvline(4.0507, color="k", ls=":", lw=0.8)
+    ax2.axhline(0.0, color="k", lw=0.5)
     ax2.set_xlabel("lambda = mu_in / mu_out")
     ax2.set_ylabel("tank-treading angle (degrees); open at 0: tumbling")
     ax2.set_title("reduced area 0.8, confinement 2 R0/H = 0.4 (0.2 with H = 4)")
