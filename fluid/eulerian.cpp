@@ -20,7 +20,10 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   // Operators, once (Eqs. 27-34), and the rows of their patterns that are lattice translates. The
   // convection gradient is the divergence's, so Stokes flow assembles nothing more.
   t0 = Profile::Clock::now();
-  op_ = build_operators(pairs_, lat_, im_, W_);
+  {
+    Operators built = build_operators(pairs_, lat_, im_, W_);
+    op_.swap(built);  // (not an assignment: that would copy)
+  }
   vel_st_lattice_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
   phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
   operators_changed(&vel_st_lattice_, &phi_st_lattice_);
@@ -35,19 +38,60 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   // the Morris Laplacian (Eqs. 31-32, the constants its null space); the exact projection solves the
   // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
   // is asked for (phi()).
+  // Compact storage: every product of a step goes through the stencils, so each operator keeps only
+  // its stencil's rows (stencil_rows_only), and what only the setup reads is freed as soon as it has
+  // been read: the pair list after the assembly, the phi gradients after the exact projection's
+  // divergence (D = -G^T) is made, the Morris Laplacian after its solver (made here, while it
+  // exists, rather than when phi is first asked for).
+  pairs_count_ = pairs_.size();
+  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
+  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
+  const double m = exact() ? ExactProjection::gradient_normalisation(lat_, pairs_, W_) : 0.0;
+  if (compact_) pairs_ = PairList();
   t0 = Profile::Clock::now();
   cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
   gauge_ = Gauge(lat_, NullSpace::Constants);
-  if (exact()) streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, true);
-  else make_phi_solver();
+  if (compact_) {
+    make_phi_solver();
+    lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
+    keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
+    lap_phi_st_ = &lap_phi_st_lattice_;
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true, true);
+    release(op_.grad_phix);
+    release(op_.grad_phiy);
+    streams_->make_solvers();
+    keep_stencil_rows(op_.lap_u.A, vel_st_lattice_);
+    keep_stencil_rows(op_.grad_ux.A, vel_st_lattice_);
+    keep_stencil_rows(op_.grad_uy.A, vel_st_lattice_);
+  } else if (exact()) {
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true);
+  } else {
+    make_phi_solver();
+  }
   add_setup("factorisation", seconds_since(t0));
   k_psi_ = prof_.phase("stream function");
   convective_ = prm_.convection;
 }
 
+void EulerianFluid::pairs_current() const {
+  if (pairs_.offset.empty()) pairs_ = find_pairs(lat_, im_.x, W_.support());  // freed by the compact storage
+}
+
+const Operators& EulerianFluid::operators() const {
+  if (compact_) {  // the whole matrices again (their values are the assembly's: the same bits)
+    pairs_current();
+    Operators whole = build_operators(pairs_, lat_, im_, W_);
+    op_.swap(whole);
+    compact_ = false;
+  }
+  return op_;
+}
+
 void EulerianFluid::make_phi_solver() const {
+  SpMat minus_lap = op_.lap_phi;  // -lap (negated in place: an assigned -A grows its own storage)
+  negate(minus_lap);
   auto s = singular_solver(exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson",
-                           -op_.lap_phi, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+                           minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
   poisson_ = std::move(s.solver);
   poisson_unpinned_ = s.unpinned;
 }
@@ -92,6 +136,8 @@ void EulerianFluid::set_viscosity(const int* at, const double* m, int n) {
     if (uniform) return;  // nothing differs from the constant-viscosity step
     VariableViscosityParams vp = visc_prm_;
     vp.a = a_cn();
+    operators();  // the whole matrices and the pair list (compact storage: assembled again)
+    pairs_current();
     visc_ = std::make_unique<VariableViscosity>(pairs_, im_, size(), volume_, W_, crank_nicolson_matrix(), *cn_, vp);
     k_visc_ = prof_.phase("variable viscosity (operator rows)");
   }
@@ -144,8 +190,11 @@ double EulerianFluid::max_abs_divergence() const {
 
 StreamFunction EulerianFluid::stream_function() const {
   ScopedTimer tm(prof_, k_psi_);
-  if (!streams_)
-    streams_ = std::make_unique<ExactProjection>(lat_, im_, pairs_, op_, W_, vel_st_, prm_.poisson_solver, false);
+  if (!streams_) {
+    pairs_current();
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, ExactProjection::gradient_normalisation(lat_, pairs_, W_),
+                                                 vel_st_, prm_.poisson_solver, false);
+  }
   return streams_->markers(u_, revision_);
 }
 
@@ -155,7 +204,7 @@ double EulerianFluid::poisson_residual() const {
   if (exact()) return streams_->normal_equations_residual(u_star_);
   Vec b = (-prm_.rho / prm_.dt) * div_;
   gauge_.project(b);
-  Vec r = -(op_.lap_phi * phi_);
+  Vec r = -(operators().lap_phi * phi_);
   r -= b;
   const double nb = b.norm();
   return nb > 0 ? r.norm() / nb : r.norm();
@@ -174,7 +223,7 @@ std::vector<std::string> EulerianFluid::describe() const {
   std::ostringstream m;
   m << "EPSPH: " << lat_.nx << " x " << lat_.ny << " = " << size() << " fixed particles, " << im_.size()
     << " images, h = " << W_.h << " (" << prm_.h_over_dx << " (dx+dy)/2), "
-    << static_cast<double>(pairs_.size()) / size() << " neighbours per particle, convection "
+    << static_cast<double>(pairs_count_) / size() << " neighbours per particle, convection "
     << (prm_.convection ? "on" : "off (Stokes)") << ", "
     << (exact() ? "exact projection (Poisson operator D G)" : "approximate projection (Poisson operator: Morris Laplacian)")
     << "; products: " << vel_st_lattice_.stencil_rows() << " velocity and " << phi_st_lattice_.stencil_rows()
@@ -187,7 +236,7 @@ std::vector<std::string> EulerianFluid::describe() const {
 
 std::vector<std::pair<std::string, double>> EulerianFluid::figures() const {
   std::vector<std::pair<std::string, double>> f{{"images", im_.size()},
-                                                {"neighbours_per_particle", static_cast<double>(pairs_.size()) / size()}};
+                                                {"neighbours_per_particle", static_cast<double>(pairs_count_) / size()}};
   if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
   if (visc_) f.emplace_back("variable_viscosity_cg_iterations", visc_->solver().mean_iterations());
   return f;
@@ -246,7 +295,7 @@ std::optional<FluidSolver::Footprint> EulerianFluid::footprint() const {
     f.factor_nonzeros += si.nnz_factor ? si.nnz_factor : si.nnz_used;  // an iterative solver keeps A itself
     if (si.system == "Poisson") f.factor_nonzeros += si.nnz_A;         // kept for the residual check
   }
-  f.pairs = static_cast<long>(pairs_.size());
+  f.pairs = static_cast<long>(pairs_.size());  // (none kept by the compact storage)
   return f;
 }
 

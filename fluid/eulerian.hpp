@@ -50,6 +50,10 @@ class EulerianFluid final : public ProjectionFluid {
   std::vector<std::string> describe() const override;
   std::vector<std::pair<std::string, double>> figures() const override;
   std::optional<Footprint> footprint() const override;
+  // The whole operator matrices (the compact storage assembles them again when first asked for, and
+  // keeps them from then on)
+  const Operators& operators() const override;
+  bool compact_storage() const { return compact_; }
   // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and projection solves
   // and the fused sparse products, on the current fields), each timed alone, best of `reps`.
   double floor_seconds(int reps = 20) const override;
@@ -64,6 +68,16 @@ class EulerianFluid final : public ProjectionFluid {
   void restore_extra(const NamedArrays& st) override;
   bool exact() const { return prm_.projection == Projection::Exact; }
   void make_phi_solver() const;  // exact projection: the Morris Laplacian's, for phi~ (on demand)
+  void pairs_current() const override;  // the pair list again where the compact storage freed it
+
+  // Compact storage (the exact projection with the lattice solvers, solver.* = auto or fft): the
+  // operators keep only their stencils' rows, the pair list and the phi gradients are freed after
+  // the setup (see the constructor). Off where a solver key forces another solver, with the
+  // approximate projection, and once the whole matrices are asked for (operators(), a variable
+  // viscosity).
+  mutable bool compact_ = false;
+  long pairs_count_ = 0;             // the pair list's length (kept when the list is freed)
+  RowStencil lap_phi_st_lattice_;    // lap_phi's own stencil (compact storage: the pressure, Eq. 35)
 
   RowStencil vel_st_lattice_, phi_st_lattice_;  // the lattice rows of the velocity and phi patterns
   ImageRows vel_images_;            // the velocity pattern's blocks with image terms

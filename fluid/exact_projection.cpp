@@ -15,10 +15,21 @@ std::string wall_name(Side w) {
 }
 }  // namespace
 
-ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const PairList& pairs, const Operators& op,
-                                 const CubicSplineKernel& W, const RowStencil* vel_st, SolverKind kind,
-                                 bool projection)
-    : lat_(lat), im_(im), pairs_(pairs), op_(op), W_(W), vel_st_(vel_st), kind_(kind), projection_(projection) {
+double ExactProjection::gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W) {
+  const int i = lat.nx / 2 + lat.nx * (lat.ny / 2);
+  double mx = 0;
+  for (int k = pairs.offset[i]; k < pairs.offset[i + 1]; ++k) mx -= lat.volume * W.F(pairs.r[k]) * pairs.rx[k] * pairs.rx[k];
+  return mx;
+}
+
+ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Operators& op, double m,
+                                 const RowStencil* vel_st, SolverKind kind, bool projection, bool compact)
+    : lat_(lat), im_(im), op_(op), vel_st_(vel_st), kind_(kind), projection_(projection),
+      compact_(compact && projection) {
+  // The curl of psi_m reproduces u at long waves as G G^T / lap ~ m: psi_m is divided by m, so that
+  // it does exactly (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at
+  // every resolution).
+  mpsi_scale_ = 1.0 / m;
   if (projection_) {
     for (int k = 0; k < 4; ++k) {
       const Side w = static_cast<Side>(k);
@@ -28,17 +39,27 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Pai
                                     ": a wall velocity with a normal component lets fluid through the wall; "
                                     "the exact projection (fluid.projection = \"exact\") needs impermeable walls");
     }
-    div_x_ = -SpMat(op_.grad_phix.transpose());
-    div_y_ = -SpMat(op_.grad_phiy.transpose());
+    div_x_ = op_.grad_phix.transpose();
+    div_y_ = op_.grad_phiy.transpose();
+    negate(div_x_);
+    negate(div_y_);
     div_st_ = find_row_stencil({&div_x_, &div_y_});
+    if (compact_) {
+      keep_stencil_rows(div_x_, div_st_);
+      keep_stencil_rows(div_y_, div_st_);
+    }
     vmodes_ = VelocityModes(lat_);
     parity_.resize(lat_.size());
     for (int i = 0; i < lat_.size(); ++i) parity_[i] = static_cast<unsigned char>(2 * ((i / lat_.nx) & 1) + ((i % lat_.nx) & 1));
     vel_images_ = ImageRows(vel_st_, lat_.size(), {&op_.grad_ux.B, &op_.grad_uy.B});
-    make_psi_solver();
+    if (!compact_) make_psi_solver();
   }
   const int N = lat_.size();
   psi_m_ = cu_ = b_m_ = Vec::Zero(N);
+}
+
+void ExactProjection::make_solvers() {
+  if (!psi_solver_) make_psi_solver();
 }
 
 void ExactProjection::make_psi_solver() {
@@ -49,17 +70,33 @@ void ExactProjection::make_psi_solver() {
   const SpMat& Gx = op_.grad_ux.A;
   const SpMat& Gy = op_.grad_uy.A;
   psi_ty_ = Gy.transpose();
-  psi_tx_ = -SpMat(Gx.transpose());
+  psi_tx_ = Gx.transpose();
+  negate(psi_tx_);  // -Gx^T
   psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
   const Domain& d = lat_.domain;
   psi_gauge_ = Gauge(lat_, NullSpace::GradientOddImages);
-  const SpMat A = psi_ty_ * Gy + SpMat(Gx.transpose()) * Gx;
-  SystemSolver s = singular_solver(projection_ ? "Poisson (exact projection: the stream function, G^T G, odd images)"
-                                               : "stream function (G^T G, odd images)",
-                                   A, psi_gauge_, kind_, &lat_, Refactor::Once);
+  // G^T G = Gy^T Gy + Gx^T Gx (Gx^T = -psi_tx_, exactly), a block of rows at a time: the same bits
+  // as the whole products. The compact storage hands the lattice solver the blocks alone (G^T G,
+  // 3-4 times the non-zeros of G, never held whole); otherwise, or where it lacks the structure,
+  // the matrix is made from them.
+  const std::string system = projection_ ? "Poisson (exact projection: the stream function, G^T G, odd images)"
+                                         : "stream function (G^T G, odd images)";
+  const int N = lat_.size();
+  SystemSolver s;
+  if (compact_) {
+    const MatrixRows gtg = [&](const std::function<void(const SpMat&, int)>& f) {
+      for (int r0 = 0, m = product_block(N); r0 < N; r0 += m)
+        f(rows_of_sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx, r0, std::min(m, N - r0)), r0);
+    };
+    s = lattice_singular_solver(system, gtg, N, psi_gauge_, kind_, lat_);
+  }
+  if (!s.solver) {
+    const SpMat A = sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx);
+    s = singular_solver(system, A, psi_gauge_, kind_, &lat_, Refactor::Once);
+  }
   psi_solver_ = std::move(s.solver);
   psi_unpinned_ = s.unpinned;
-  const int N = lat_.size(), M = im_.size();
+  const int M = im_.size();
   psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
   psi_r1_ = Mat2::Zero(N, 2);
   if (d.periodic_x != d.periodic_y) {
@@ -90,19 +127,17 @@ void ExactProjection::make_psi_solver() {
   // The markers' psi_m: -lap psi_m = C^T u, lap with odd images (lap_u.A, Eq. 31): definite with a
   // wall, the constants its null space on a doubly periodic box.
   mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
-  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", -op_.lap_u.A,
+  SpMat minus_lap = op_.lap_u.A;  // -lap (negated in place: an assigned -A grows its own storage)
+  negate(minus_lap);
+  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", minus_lap,
                                    mpsi_gauge_, kind_, &lat_, Refactor::Once);
+  release(minus_lap);
   mpsi_solver_ = std::move(m.solver);
   mpsi_unpinned_ = m.unpinned;
-  // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
-  // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle. The curl of psi_m
-  // reproduces u at long waves as G G^T / lap ~ m: psi_m is divided by m, so that it does exactly
-  // (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at every resolution).
-  const int i = lat_.nx / 2 + lat_.nx * (lat_.ny / 2);
-  double mx = 0;
-  for (int k = pairs_.offset[i]; k < pairs_.offset[i + 1]; ++k)
-    mx -= lat_.volume * W_.F(pairs_.r[k]) * pairs_.rx[k] * pairs_.rx[k];
-  mpsi_scale_ = 1.0 / mx;
+  if (compact_) {  // from here on read only through psi_st_
+    keep_stencil_rows(psi_ty_, psi_st_);
+    keep_stencil_rows(psi_tx_, psi_st_);
+  }
 }
 
 void ExactProjection::curl_transpose(const Mat2& u) {
@@ -195,8 +230,15 @@ double ExactProjection::normal_equations_residual(const Mat2& u_star) {
   // ||A x - b|| / ||b|| with the unpinned operator and the right-hand side of the last step
   curl_transpose(u_star);
   psi_rhs();
-  Vec r = psi_ty_ * (op_.grad_uy.A * psi_);  // Gy^T Gy psi + Gx^T Gx psi
-  r.noalias() -= psi_tx_ * (op_.grad_ux.A * psi_);
+  // Gy^T Gy psi + Gx^T Gx psi = Gy^T (Gy psi) + psi_tx_ (-Gx psi), by the stencils (the operators
+  // may keep only their stencils' rows)
+  const int N = lat_.size();
+  Mat2 g(N, 2), w(N, 2);
+  gradient(op_.grad_ux.A, op_.grad_uy.A, psi_, g, vel_st_);
+  w.col(0) = g.col(1);
+  w.col(1) = -g.col(0);
+  Vec r(N);
+  sphib::divergence(psi_ty_, psi_tx_, w, r, &psi_st_);
   r -= b_psi_;
   const double nb = b_psi_.norm();
   return nb > 0 ? r.norm() / nb : r.norm();

@@ -36,10 +36,18 @@ namespace sphib {
 
 class ExactProjection {
  public:
-  // The lattice method's geometry (kept by reference: it outlives this) and the Poisson solver kind.
-  // `projection`: the exact projection is in use (else only the markers' stream function is).
-  ExactProjection(const Lattice& lat, const Images& im, const PairList& pairs, const Operators& op,
-                  const CubicSplineKernel& W, const RowStencil* vel_st, SolverKind kind, bool projection);
+  // The lattice method's geometry (kept by reference: it outlives this), the lattice normalisation
+  // m of its gradient (gradient_normalisation) and the Poisson solver kind. `projection`: the exact
+  // projection is in use (else only the markers' stream function is). `compact` (EPSPH's compact
+  // storage, eulerian.hpp; with `projection`): the divergence and the transposed gradients keep only
+  // their stencils' rows (stencil_rows_only), and the solvers are made by make_solvers(), which the
+  // owner calls after freeing what it no longer needs.
+  ExactProjection(const Lattice& lat, const Images& im, const Operators& op, double m, const RowStencil* vel_st,
+                  SolverKind kind, bool projection, bool compact = false);
+  // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
+  // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle's pairs.
+  static double gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W);
+  void make_solvers();  // the normal equations' and the markers' (a compact constructor's are deferred)
 
   // The exact projection of u*, in three parts (timed apart by the caller):
   // C^T u* and the flux Q of u*: the normal equations' right-hand side (the fluid at `revision`)
@@ -71,12 +79,10 @@ class ExactProjection {
 
   const Lattice& lat_;
   const Images& im_;
-  const PairList& pairs_;
   const Operators& op_;
-  const CubicSplineKernel& W_;
   const RowStencil* vel_st_;
   SolverKind kind_;
-  bool projection_;
+  bool projection_, compact_;
   // the divergence D = -G^T (Dx, Dy, one pattern, their stencil), the velocity modes it does not see
   SpMat div_x_, div_y_;
   RowStencil div_st_;

@@ -34,6 +34,11 @@ bool refuse(std::string& why, std::string reason) {
   return false;
 }
 
+// A compressed matrix as one block of rows
+MatrixRows whole(const SpMat& A) {
+  return [&A](const std::function<void(const SpMat&, int)>& f) { f(A, 0); };
+}
+
 // ================================================================================================
 // The structure of A (see the header): a model of its rows, checked against every row
 // ================================================================================================
@@ -58,6 +63,7 @@ struct Model {
   XKind x = XKind::Periodic;  // the parity of the x images, once the rows have been matched
   int ix0 = 0, wx = 0, wy = 0;
   double tol = 0;                       // 1e-12 max |A|
+  long nnz = 0;                         // A's non-zeros (for info())
   std::vector<std::vector<Entry>> cls;  // per class, in the reference row's storage order
 
   int classes() const { return y_periodic ? 1 : ny; }
@@ -74,24 +80,35 @@ struct Model {
 };
 
 // Half-widths, reference rows and their entries; false (and why) when the lattice cannot hold them.
-bool extract_model(const SpMat& A, Model& m, std::string& why) {
-  const int nx = m.nx, N = m.nx * m.ny;
-  const int* o = A.outerIndexPtr();
-  const int* c = A.innerIndexPtr();
-  const double* a = A.valuePtr();
+// One pass over A's rows: max |A|, the half-width in y and the rows the model may take its entries
+// from (every row of column ix0 candidates: the half-width in x between walls comes from them).
+bool extract_model(const MatrixRows& A, Model& m, std::string& why) {
+  const int nx = m.nx;
   double amax = 0;
-  for (int i = 0; i < N; ++i)
-    for (int k = o[i]; k < o[i + 1]; ++k) {
-      amax = std::max(amax, std::fabs(a[k]));
-      if (!m.y_periodic) m.wy = std::max(m.wy, std::abs(c[k] / nx - i / nx));
+  std::vector<std::vector<std::pair<int, double>>> ref(m.classes());  // (column, value) of each class's row
+  const int ix0 = m.x_periodic ? 0 : nx / 2;
+  A([&](const SpMat& B, int r0) {
+    const int* o = B.outerIndexPtr();
+    const int* c = B.innerIndexPtr();
+    const double* a = B.valuePtr();
+    m.nnz += B.nonZeros();
+    for (int t = 0; t < B.rows(); ++t) {
+      const int i = r0 + t;
+      for (int k = o[t]; k < o[t + 1]; ++k) {
+        amax = std::max(amax, std::fabs(a[k]));
+        if (!m.y_periodic) m.wy = std::max(m.wy, std::abs(c[k] / nx - i / nx));
+      }
+      if (i % nx == ix0 && (!m.y_periodic || i / nx == 0))
+        for (int k = o[t]; k < o[t + 1]; ++k) ref[m.class_of(i / nx)].emplace_back(c[k], a[k]);
     }
+  });
   if (!(amax > 0)) return refuse(why, "the matrix is zero");
   if (!m.y_periodic && 2 * m.wy + 1 > m.ny) return refuse(why, "the band in y is as wide as the lattice");
   m.tol = 1e-12 * amax;
-  m.ix0 = m.x_periodic ? 0 : nx / 2;
+  m.ix0 = ix0;
   if (!m.x_periodic) {
     for (int cl = 0; cl < m.classes(); ++cl)
-      for (int k = o[m.ix0 + nx * cl]; k < o[m.ix0 + nx * cl + 1]; ++k) m.wx = std::max(m.wx, std::abs(c[k] % nx - m.ix0));
+      for (const auto& [col, v] : ref[cl]) m.wx = std::max(m.wx, std::abs(col % nx - m.ix0));
     if (m.ix0 - m.wx < 1 || m.ix0 + m.wx > nx - 2) {
       std::ostringstream s;
       s << "the stencil (half-width " << m.wx << " in x) reaches a wall from the middle of the lattice (n_x = " << nx
@@ -100,11 +117,8 @@ bool extract_model(const SpMat& A, Model& m, std::string& why) {
     }
   }
   m.cls.assign(m.classes(), {});
-  for (int cl = 0; cl < m.classes(); ++cl) {
-    const int r = m.ix0 + nx * cl;
-    for (int k = o[r]; k < o[r + 1]; ++k)
-      m.cls[cl].push_back({m.slot_x(m.ix0, c[k] % nx), m.slot_y(cl, c[k] / nx), a[k]});
-  }
+  for (int cl = 0; cl < m.classes(); ++cl)
+    for (const auto& [col, v] : ref[cl]) m.cls[cl].push_back({m.slot_x(m.ix0, col % nx), m.slot_y(cl, col / nx), v});
   return true;
 }
 
@@ -124,41 +138,52 @@ std::string mismatch(const Model& m, int i, int parity, const char* what) {
 // missing. O(nnz): the predicted row is accumulated in `acc`, stamped by row. (Measured on every
 // operator of tests/test_fft_solver.cpp, wall and corner rows included: the rows match their
 // folded model to 5.9e-15 of max |A|, round-off of the different summation orders.)
-bool rows_match(const SpMat& A, const Model& m, int parity, std::string& why) {
+bool rows_match(const MatrixRows& A, const Model& m, int parity, std::string& why) {
   const int nx = m.nx, ny = m.ny, N = nx * ny;
-  const int* o = A.outerIndexPtr();
-  const int* c = A.innerIndexPtr();
-  const double* a = A.valuePtr();
   std::vector<double> acc(N, 0.0);
   std::vector<int> stamp(N, -1), seen(N, -1), touched;
-  for (int i = 0; i < N; ++i) {
-    const int ix = i % nx, iy = i / nx;
-    touched.clear();
-    for (const Entry& e : m.cls[m.class_of(iy)]) {
-      int jx = m.x_periodic ? (ix + e.sx) % nx : ix + e.sx - m.wx;
-      double sign = 1.0;
-      if (jx < 0 || jx >= nx) {  // an image: column -1 - jx or 2 n_x - 1 - jx carries its parent's value times parity
-        jx = jx < 0 ? -1 - jx : 2 * nx - 1 - jx;
-        sign = parity;
+  bool ok = true;
+  A([&](const SpMat& B, int r0) {
+    const int* o = B.outerIndexPtr();
+    const int* c = B.innerIndexPtr();
+    const double* a = B.valuePtr();
+    for (int t = 0; ok && t < B.rows(); ++t) {
+      const int i = r0 + t;
+      const int ix = i % nx, iy = i / nx;
+      touched.clear();
+      for (const Entry& e : m.cls[m.class_of(iy)]) {
+        int jx = m.x_periodic ? (ix + e.sx) % nx : ix + e.sx - m.wx;
+        double sign = 1.0;
+        if (jx < 0 || jx >= nx) {  // an image: column -1 - jx or 2 n_x - 1 - jx carries its parent's value times parity
+          jx = jx < 0 ? -1 - jx : 2 * nx - 1 - jx;
+          sign = parity;
+        }
+        const int jy = m.y_periodic ? (iy + e.sy) % ny : iy + e.sy - m.wy;
+        const int j = jx + nx * jy;
+        if (stamp[j] != i) {
+          stamp[j] = i;
+          acc[j] = 0.0;
+          touched.push_back(j);
+        }
+        acc[j] += sign * e.v;
       }
-      const int jy = m.y_periodic ? (iy + e.sy) % ny : iy + e.sy - m.wy;
-      const int j = jx + nx * jy;
-      if (stamp[j] != i) {
-        stamp[j] = i;
-        acc[j] = 0.0;
-        touched.push_back(j);
+      for (int k = o[t]; k < o[t + 1]; ++k) {
+        const int j = c[k];
+        if (std::fabs(a[k] - (stamp[j] == i ? acc[j] : 0.0)) > m.tol) {
+          ok = refuse(why, mismatch(m, i, parity, ""));
+          break;
+        }
+        seen[j] = i;
       }
-      acc[j] += sign * e.v;
+      if (!ok) break;
+      for (int j : touched)
+        if (seen[j] != i && std::fabs(acc[j]) > m.tol) {
+          ok = refuse(why, mismatch(m, i, parity, "lacks"));
+          break;
+        }
     }
-    for (int k = o[i]; k < o[i + 1]; ++k) {
-      const int j = c[k];
-      if (std::fabs(a[k] - (stamp[j] == i ? acc[j] : 0.0)) > m.tol) return refuse(why, mismatch(m, i, parity, ""));
-      seen[j] = i;
-    }
-    for (int j : touched)
-      if (seen[j] != i && std::fabs(acc[j]) > m.tol) return refuse(why, mismatch(m, i, parity, "lacks"));
-  }
-  return true;
+  });
+  return ok;
 }
 
 // Whether every class's stencil is even in d_x (B_k real) and, when y is periodic, in d_y (the
@@ -181,8 +206,8 @@ bool model_even(const Model& m, std::string& why) {
 
 // The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parity found
 // from the rows (even tried first); false (and why) when A has no such structure.
-bool analyse(const SpMat& A, int nx, int ny, bool px, bool py, Model& m, std::string& why) {
-  if (A.rows() != nx * ny || A.cols() != nx * ny) return refuse(why, "the matrix is not n_x n_y square");
+bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px, bool py, Model& m, std::string& why) {
+  if (rows != static_cast<long>(nx) * ny || cols != static_cast<long>(nx) * ny) return refuse(why, "the matrix is not n_x n_y square");
   m.nx = nx;
   m.ny = ny;
   m.x_periodic = px;
@@ -422,7 +447,7 @@ class LatticeSolver : public LinearSolver {
   ~LatticeSolver() override { release(); }
 
   // The systems from A (whose model is m); false (and why) when one is not (semi-)definite.
-  virtual bool factor(const SpMat& A, const Model& m, std::string& why) = 0;
+  virtual bool factor(long nnz, const Model& m, std::string& why) = 0;  // (nnz: A's, for info())
 
   // Columns are independent: with OpenMP and a large lattice two threads take one each (u and v of
   // the Crank-Nicolson system), each in its own workspace (FFTW's new-array execute is thread-safe).
@@ -450,9 +475,9 @@ class LatticeSolver : public LinearSolver {
   bool refactorize(const SpMat& A) override {
     std::string why;
     Model m;
-    bool ok = analyse(A, nx_, ny_, x_ == XKind::Periodic, y_periodic_, m, why);
+    bool ok = analyse(whole(A), A.rows(), A.cols(), nx_, ny_, x_ == XKind::Periodic, y_periodic_, m, why);
     if (ok && m.x != x_) ok = refuse(why, "the x images changed parity (the transforms are planned for the first)");
-    if (!ok || !factor(A, m, why)) throw std::runtime_error("linear solver: system '" + info_.system + "': " + why);
+    if (!ok || !factor(m.nnz, m, why)) throw std::runtime_error("linear solver: system '" + info_.system + "': " + why);
     return true;
   }
 
@@ -545,7 +570,7 @@ class BandedSolver final : public LatticeSolver {
                });
   }
 
-  bool factor(const SpMat& A, const Model& m, std::string& why) override {
+  bool factor(long nnz, const Model& m, std::string& why) override {
     w_ = m.wy;
     ldab_ = w_ + 1;
     std::vector<double> band;  // B_k, then its factor, in LAPACK's lower band storage
@@ -559,7 +584,7 @@ class BandedSolver final : public LatticeSolver {
                              std::to_string(first - drop_.begin()) + " annihilates the constant or alternating vector in y)");
     if (!factor_bands(band, why)) return false;
     arrange_factors(band);
-    info_.nnz_A = info_.nnz_used = A.nonZeros();
+    info_.nnz_A = info_.nnz_used = nnz;
     info_.nnz_factor = static_cast<long>(nk_) * ldab_ * ny_;
     std::ostringstream s;
     s << x_transform_name(x_) << " + banded Cholesky in y (LAPACK dpbtrf; walls): " << nk_ << " systems of " << ny_
@@ -728,7 +753,7 @@ class DiagonalSolver final : public LatticeSolver {
   // The eigenvalues lambda(k_y, k_x) = sum_{d_y} cos(2 pi k_y d_y / n_y) g(d_y, k_x),
   // g(d_y, k_x) = sum_{d_x} s(d_x, d_y) cos(theta_{k_x} d_x); stored as 1 / (lambda times the
   // transforms' scale), 0 for a zero eigenvalue (|lambda| <= 1e-10 max |lambda|: the null space).
-  bool factor(const SpMat& A, const Model& m, std::string& why) override {
+  bool factor(long nnz, const Model& m, std::string& why) override {
     const int nk = waves_.nk, ny = ny_;
     std::vector<int> row_of(ny, -1), dys;  // the d_y slots present
     for (const Entry& e : m.cls[0])
@@ -765,7 +790,7 @@ class DiagonalSolver final : public LatticeSolver {
     }
     if (singular_ && nnull == 0) return refuse(why, "the matrix was said to be singular but no eigenvalue is zero");
     if (!singular_ && nnull > 0) return refuse(why, "the matrix is singular, not positive definite (" + std::to_string(nnull) + " zero eigenvalues)");
-    info_.nnz_A = info_.nnz_used = A.nonZeros();
+    info_.nnz_A = info_.nnz_used = nnz;
     info_.nnz_factor = static_cast<long>(lambda.size());
     std::ostringstream s;
     if (complex_) s << "2-D FFT (FFTW r2c; periodic in x and y)";
@@ -810,16 +835,21 @@ std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const S
     compressed.makeCompressed();
     a = &compressed;
   }
+  return make_fft_solver(system, whole(*a), a->rows(), L, singular, why);
+}
+
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
+                                              bool singular, std::string* why) {
   const auto t0 = Clock::now();
   std::string w;
   Model m;
-  if (analyse(*a, L.nx, L.ny, L.domain.periodic_x, L.domain.periodic_y, m, w)) {
+  if (analyse(A, n, n, L.nx, L.ny, L.domain.periodic_x, L.domain.periodic_y, m, w)) {
     const double t_analyse = seconds_since(t0);
     const auto t1 = Clock::now();
     std::unique_ptr<LatticeSolver> s;
     if (m.y_periodic) s = std::make_unique<DiagonalSolver>(system, m, singular);
     else s = std::make_unique<BandedSolver>(system, m, singular);
-    if (s->factor(*a, m, w)) {
+    if (s->factor(m.nnz, m, w)) {
       s->set_seconds(t_analyse, seconds_since(t1));
       return s;
     }

@@ -39,6 +39,7 @@
 // solved with x(k, i_y = 0) = 0; diagonal, every zero eigenvalue's component is set to 0. So a solution
 // is returned for every right-hand side orthogonal to the null space; the caller fixes the null
 // components (fluid/gauge.hpp).
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -47,6 +48,9 @@
 
 namespace sphib {
 
+// A matrix given as consecutive blocks of its rows (make_fft_solver below).
+using MatrixRows = std::function<void(const std::function<void(const SpMat& rows, int first_row)>&)>;
+
 // The solver for A on lattice L, or nullptr when A lacks the structure (`why` then says which check
 // failed). Along a periodic axis every row must be a translate of its reference row; along a walled
 // axis the translate with the wall images folded in, even or odd (found from A: the parity whose
@@ -54,6 +58,13 @@ namespace sphib {
 // periodic), A symmetric, the systems positive definite (up to the null space when `singular`).
 // The method text (info().method) names the transforms, the images and the systems.
 std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L,
+                                              bool singular, std::string* why = nullptr);
+
+// The same for an n x n matrix given as its rows, a block at a time: A(f) calls
+// f(B, r0) for consecutive compressed blocks B of rows r0 .. r0 + B.rows() - 1, every row once, in
+// order, and may be called up to three times (the model, then the rows against it, for each parity
+// of the x images). The matrix itself need never exist (EPSPH's compact storage: G^T G).
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
                                               bool singular, std::string* why = nullptr);
 
 }  // namespace sphib

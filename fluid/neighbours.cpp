@@ -150,6 +150,11 @@ PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
       P.ry[k] = dj * L.dy;
       P.r[k] = std::sqrt(P.rx[k] * P.rx[k] + P.ry[k] * P.ry[k]);
     }
+  // kept for the setup (EPSPH): no room left from the growth of the arrays (up to twice their size)
+  P.j.shrink_to_fit();
+  P.rx.shrink_to_fit();
+  P.ry.shrink_to_fit();
+  P.r.shrink_to_fit();
   return P;
 }
 

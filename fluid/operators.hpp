@@ -17,6 +17,10 @@ namespace sphib {
 struct ImageOp {
   SpMat A;  // N x N, on the particle values
   SpMat B;  // N x M, on the image offsets c (zero columns for scalar images)
+  void swap(ImageOp& o) {  // (Eigen's sparse matrices have no move assignment: an assignment copies)
+    A.swap(o.A);
+    B.swap(o.B);
+  }
 };
 
 struct Operators {
@@ -24,6 +28,14 @@ struct Operators {
   ImageOp grad_ux, grad_uy;  // x and y derivative of a velocity component (Eqs. 30, 40)
   SpMat lap_phi;            // Laplacian of phi, images phi_i' = phi_i (Eq. 31)
   SpMat grad_phix, grad_phiy;  // gradient of phi (Eqs. 27, 34)
+  void swap(Operators& o) {
+    lap_u.swap(o.lap_u);
+    grad_ux.swap(o.grad_ux);
+    grad_uy.swap(o.grad_uy);
+    lap_phi.swap(o.lap_phi);
+    grad_phix.swap(o.grad_phix);
+    grad_phiy.swap(o.grad_phiy);
+  }
 };
 
 struct OperatorRequest {
@@ -41,7 +53,9 @@ ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rul
 
 
 // Eq. (35): p^{n+1/2} = phi^{n+1} - (nu dt / 2) lap phi^{n+1}, with a = nu dt / 2 (zero mean, as phi).
-void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p);
+// `st`: lap_phi's stencil (find_row_stencil({&lap_phi})), the product through it (the same bits;
+// needed when lap_phi keeps only its stencil's rows: stencil_rows_only).
+void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p, const RowStencil* st = nullptr);
 
 Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W);
 

@@ -116,6 +116,12 @@ using Blk = RowStencil::Block;
   stencil::accumulate_block<2, 1, false>(cl, k, w, in, acc);
   stencil::store<2>(acc, out, k.begin, k.count, k.stride);
 }
+[[gnu::target_clones("avx2", "default")]] void block_apply1(const Cls& cl, const Blk& k, const double* const* w,
+                                                           const double* const* in, double* const* out) {
+  double acc[1][kBlock];
+  stencil::accumulate_block<1, 1, false>(cl, k, w, in, acc);
+  stencil::store<1>(acc, out, k.begin, k.count, k.stride);
+}
 [[gnu::target_clones("avx2", "default")]] void block_gradient2(const Cls& cl, const Blk& k, const double* const* w,
                                                               const double* const* in, double* const* out) {
   double acc[4][kBlock];
@@ -212,6 +218,82 @@ void apply2(const SpMat& A, const double* x, double* y, const RowStencil* st) {
   const double* in[2] = {x, x + n};
   double* out[2] = {y, y + n};
   product<2, 1, false>(A, val, in, out, st, block_apply2);
+}
+
+void apply1(const SpMat& A, const double* x, double* y, const RowStencil* st) {
+  const double* val[1] = {A.valuePtr()};
+  const double* in[1] = {x};
+  double* out[1] = {y};
+  product<1, 1, false>(A, val, in, out, st, block_apply1);
+}
+
+SpMat stencil_rows_only(const SpMat& A, const RowStencil& st) {
+  const int n = static_cast<int>(A.rows());
+  std::vector<char> keep(n, st.classes.empty() ? 1 : 0);  // no classes: every row is plain
+  for (const auto& c : st.classes) keep[c.ref] = 1;
+  for (int i : st.rest) keep[i] = 1;
+  const int* o = A.outerIndexPtr();
+  long nnz = 0;
+  for (int i = 0; i < n; ++i)
+    if (keep[i]) nnz += o[i + 1] - o[i];
+  SpMat R(A.rows(), A.cols());
+  R.reserve(nnz);
+  for (int i = 0; i < n; ++i) {
+    R.startVec(i);
+    if (keep[i])
+      for (int k = o[i]; k < o[i + 1]; ++k) R.insertBack(i, A.innerIndexPtr()[k]) = A.valuePtr()[k];  // zeros kept
+  }
+  R.finalize();
+  return R;
+}
+
+void keep_stencil_rows(SpMat& A, const RowStencil& st) {
+  SpMat R = stencil_rows_only(A, st);
+  A.swap(R);
+}
+
+void release(SpMat& A) {
+  SpMat empty;
+  A.swap(empty);
+}
+
+void negate(SpMat& A) {
+  double* v = A.valuePtr();
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) v[k] = -v[k];
+}
+
+SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                              int r0, int m) {
+  const SpMat a2 = s2 * A2.middleRows(r0, m);
+  return SpMat(SpMat(SpMat(A1.middleRows(r0, m)) * B1) + SpMat(a2 * B2));
+}
+
+SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2, int block) {
+  const int n = static_cast<int>(A1.rows());
+  if (block <= 0) block = product_block(n);
+  auto rows = [&](int r0, int m) { return rows_of_sum_of_products(A1, B1, s2, A2, B2, r0, m); };
+  SpMat R(A1.rows(), B1.cols());
+  {  // room for n rows as long as the longest of the middle block's (on a lattice the interior rows
+     // are the longest: walls and seams only fold columns onto others)
+    const int r0 = std::max(0, std::min(n / 2, n - block)), m = std::min(block, n - r0);
+    const SpMat P = rows(r0, m);
+    long longest = 0;
+    for (int i = 0; i < m; ++i) longest = std::max<long>(longest, P.outerIndexPtr()[i + 1] - P.outerIndexPtr()[i]);
+    R.reserve(longest * n);
+  }
+  for (int r0 = 0; r0 < n; r0 += block) {
+    const int m = std::min(block, n - r0);
+    const SpMat P = rows(r0, m);
+    auto& data = R.data();  // grow by half at least, should a block not fit (insertBack grows by one)
+    if (data.size() + P.nonZeros() > data.allocatedSize()) data.reserve(std::max<long>(P.nonZeros(), data.size() / 2));
+    for (int i = 0; i < m; ++i) {
+      R.startVec(r0 + i);
+      for (int k = P.outerIndexPtr()[i]; k < P.outerIndexPtr()[i + 1]; ++k)
+        R.insertBack(r0 + i, P.innerIndexPtr()[k]) = P.valuePtr()[k];
+    }
+  }
+  R.finalize();
+  return R;
 }
 
 void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& dy, const RowStencil* st) {

@@ -41,7 +41,31 @@ void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const R
 void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st = nullptr);
 //   the same in the rows `rows` of g only (the other rows untouched), the same bits as gradient()
 void gradient_rows(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const std::vector<int>& rows);
+//   y = A x for one column (the pressure's Laplacian, Eq. 35)
+void apply1(const SpMat& A, const double* x, double* y, const RowStencil* st = nullptr);
 bool same_pattern(const SpMat& A, const SpMat& B);
+
+// A with only the rows the products above read when given `st` (find_row_stencil over A and its
+// partners): its classes' reference rows and its `rest` rows, every other row empty. The products
+// with `st` then give the same bits as with A, from about (classes + rest) rows of storage instead
+// of N (EPSPH's compact storage, eulerian.hpp); any other use of the result sees empty rows.
+SpMat stencil_rows_only(const SpMat& A, const RowStencil& st);
+// A = stencil_rows_only(A, st), A's whole storage released (an assignment would keep its capacity)
+void keep_stencil_rows(SpMat& A, const RowStencil& st);
+// A's storage released (A 0 x 0)
+void release(SpMat& A);
+
+// A1 B1 + s2 A2 B2 (s2 = +1 or -1, exact), computed `block` rows at a time: bit for bit the
+// entries of the whole products and their sum (each row of a product is summed alone, in the order
+// of its row of A1 or A2), without the two whole products held at once.
+SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                      int block = 0);  // 0: product_block(rows)
+// Its rows r0 .. r0 + m - 1 alone (an m-row matrix), and the default block of an n-row product
+SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                              int r0, int m);
+inline int product_block(int n) { return n / 64 > 1024 ? n / 64 : 1024; }
+// A = -A in place, exactly (no new storage: an assignment of -A would grow its own)
+void negate(SpMat& A);
 
 // Image terms: an image operator B (N x M) has entries only in the rows near walls. y += B c
 // over those rows (`rows` = nonempty_rows(B)); c is M x 2 (both columns) or one column.

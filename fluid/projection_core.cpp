@@ -74,7 +74,8 @@ void ProjectionFluid::eliminate_dirichlet(SpMat& A) {
 }
 
 SpMat ProjectionFluid::crank_nicolson_matrix() const {
-  SpMat A = -a_cn() * op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28), same pattern as lap (diagonal in it)
+  SpMat A = op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28), same pattern as lap (diagonal in it)
+  A *= -a_cn();           // (in place: an assigned -a lap would grow its own storage to twice)
   for (int i = 0; i < A.outerSize(); ++i) A.coeffRef(i, i) += 1.0;
   return A;
 }
@@ -202,6 +203,7 @@ const Vec& ProjectionFluid::p() const {
   if (p_revision_ != revision_) {
     ScopedTimer tm(prof_, k_pressure_);
     if (explicit_viscous_) p_ = phi();  // Afanasiev et al. Eqs. (23)-(24): phi is p^{n+1}
+    else if (lap_phi_st_) pressure_from_phi(op_.lap_phi, phi(), a_cn(), p_, lap_phi_st_);  // Eq. (35), by stencil
     else pressure_from_phi(operators().lap_phi, phi(), a_cn(), p_);  // Eq. (35)
     p_revision_ = revision_;
   }

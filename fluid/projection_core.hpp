@@ -38,10 +38,12 @@
 #include <vector>
 
 #include "fluid/boundary.hpp"
+#include "fluid/free_surface.hpp"
 #include "fluid/gauge.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/linear_solver.hpp"
+#include "fluid/loads.hpp"
 #include "fluid/neighbours.hpp"
 #include "fluid/operators.hpp"
 #include "fluid/products.hpp"
@@ -76,7 +78,9 @@ class ProjectionFluid : public FluidSolver {
     pairs_current();
     return pairs_;
   }
-  const Operators& operators() const;  // (lap_phi made first where the method keeps it in A_phi)
+  // (lap_phi made first where the method keeps it in A_phi; EPSPH's compact storage: the whole
+  // matrices assembled again, eulerian.hpp)
+  virtual const Operators& operators() const;
   virtual std::vector<SolverInfo> solver_info() const;
   Profile& profile() const final { return prof_; }
   double step_seconds() const override { return prof_.total() - prof_.seconds(k_pressure_); }
@@ -157,6 +161,7 @@ class ProjectionFluid : public FluidSolver {
   mutable bool phi_ops_stale_ = false;
   const RowStencil* vel_st_ = nullptr;  // stencils of the velocity / phi patterns (EPSPH)
   const RowStencil* phi_st_ = nullptr;
+  const RowStencil* lap_phi_st_ = nullptr;  // lap_phi's own (EPSPH's compact storage): p() by stencil
   std::vector<int> lap_b_rows_, gx_b_rows_, gy_b_rows_;  // rows of the image operators' B with entries
   Mat2 c_wall_, c_star_, lap_wall_;  // c^n = 2 u_b, c*, and B c^n of the Laplacian (constant per geometry)
   // the solvers of the step: Crank-Nicolson, and the approximate projection's Poisson with its gauge

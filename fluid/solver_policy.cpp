@@ -59,6 +59,21 @@ std::unique_ptr<LinearSolver> lattice_solver(const std::string& system, const st
 
 }  // namespace
 
+SystemSolver lattice_singular_solver(const std::string& system, const MatrixRows& A, long n, const Gauge& g,
+                                     SolverKind kind, const Lattice& fixed) {
+  SystemSolver r;
+  if (kind != SolverKind::Auto && kind != SolverKind::Fft) return r;
+  std::string why;
+  r.solver = make_fft_solver(system, A, n, fixed, g.dimension() > 0, &why);  // as lattice_solver
+  if (r.solver) {
+    if (kind == SolverKind::Auto) r.solver->annotate(" (auto)", 0.0);
+    r.unpinned = true;
+  } else if (kind == SolverKind::Fft) {
+    throw std::invalid_argument("solver.poisson = \"fft\" does not apply: " + why);
+  }
+  return r;
+}
+
 std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
                                                     const Lattice* fixed, Refactor refactor,
                                                     const LatticeReference& near) {

@@ -42,6 +42,7 @@
 #include <memory>
 #include <string>
 
+#include "fluid/fft_poisson.hpp"
 #include "fluid/gauge.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/linear_solver.hpp"
@@ -86,5 +87,12 @@ std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat&
 SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
                              const Lattice* fixed, Refactor refactor, const LatticeReference& near = {},
                              const LaggedPcgOptions& cg = moving_cg_options());
+
+// singular_solver's FFT lattice solver for an n x n operator given by its rows (MatrixRows: the
+// matrix need never exist), where `kind` takes it (auto, fft): that solver, or none when `kind`
+// is another or A lacks the structure (then the caller makes A for singular_solver; fft refuses
+// as singular_solver does).
+SystemSolver lattice_singular_solver(const std::string& system, const MatrixRows& A, long n, const Gauge& g,
+                                     SolverKind kind, const Lattice& fixed);
 
 }  // namespace sphib

@@ -17,7 +17,8 @@ namespace {
 // runs of cases/membrane_oscillation.toml, poiseuille.toml, cavity_re100.toml, wcsph_couette.toml and
 // membrane_oscillation_lagrangian.toml at 64^2-512^2, h_over_dx = 0.9, 1.2, 1.5, 2.0; peak minus the
 // 31.4 MB of a 16^2 run, over N n2):
-//   EPSPH, FFT solvers (a channel): exact projection 311-349 at 128^2-1024^2 (242-263 at 64^2),
+//   EPSPH, FFT solvers (a channel): exact projection (the compact storage, fluid/eulerian.hpp: its
+//     peak is the setup's, pair list and whole operators at once) 116-119 at 256^2-1024^2;
 //     approximate 165-189;
 //   EPSPH, CHOLMOD (a box, doubly periodic, or solvers chosen): the factors grow like log2 N:
 //     exact 34-51 x log2 N, approximate 11-25 x log2 N (44 and 22 keep 64^2-256^2 within 18%);
@@ -25,7 +26,7 @@ namespace {
 //   ISPH (cases/dam_break.toml at 200 x 800 to 800 x 3200, 5000-80000 fluid particles;
 //     still_tank_isph.toml at 160^2): 14-19 x log2 N, N the fluid particles (not the lattice's sites).
 // The constants are chosen for the main path's error across 64^2-1024^2 (docs/performance/memory.md).
-constexpr double kFftExact = 325, kFftApproximate = 185;
+constexpr double kFftExact = 120, kFftApproximate = 185;
 constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;
 constexpr double kIsphPerLog = 19;
@@ -101,14 +102,14 @@ MemoryEstimate estimate_memory(const Scene& s) {
   e.neighbours = lattice_neighbours(f);
   const double log2N = std::log2(std::max(2.0, static_cast<double>(e.particles)));
   const bool approximate = f.projection == Projection::Approximate ||
-                           (f.projection == Projection::Auto && f.method == "lagrangian");
-  if (f.method == "wcsph") {
+                           (f.projection == Projection::Auto && f.method == FluidMethod::Lagrangian);
+  if (f.method == FluidMethod::Wcsph) {
     e.path = "WCSPH";
     e.per_neighbour = kWcsph;
-  } else if (f.method == "isph") {
+  } else if (f.method == FluidMethod::Isph) {
     e.path = "ISPH";
     e.per_neighbour = kIsphPerLog * log2N;
-  } else if (f.method == "lagrangian") {
+  } else if (f.method == FluidMethod::Lagrangian) {
     e.path = "LPSPH";
     e.per_neighbour = kLagrangianPerLog * log2N;
   } else if (fft_solvers(f)) {
