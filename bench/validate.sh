@@ -32,6 +32,11 @@
 #                  against exact two-fluid flows, the operator's and the step's orders (build/viscosity_contrast),
 #                  and the capsule in shear at lambda = 0.2, 1, 5 (Ca = 0.05, 0.1; 64 x 32 and, Ca = 0.1,
 #                  128 x 64) to t = 10 (docs/viscosity_contrast.md)
+#   vesicle_shear  a vesicle (inextensible + bending, reduced area 0.8, cases/vesicle_shear.toml) in shear:
+#                  tank-treading angle and the tank-treading/tumbling transition against lambda (1 to 16) at
+#                  128 x 64, a wider channel (H = 4), 256 x 128, and the semi-implicit force's time-step error,
+#                  against the 2-D Keller-Skalak model (scripts/vesicle_theory.py; docs/vesicle_shear.md).
+#                  About 3 hours on one core.
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
 #   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
@@ -314,6 +319,32 @@ for s in "${sections[@]}"; do
         build/capsule_shear --ca 0.05,0.1 --lambda $l --t-end 10 --out $OUT/viscosity_contrast/capsule_64_lambda_$l
         build/capsule_shear --ca 0.1 --lambda $l --t-end 10 --nx 128 --out $OUT/viscosity_contrast/capsule_128_lambda_$l
       done ;;
+    vesicle_shear)  # (one thread per run: the two cores are shared)
+      V="env OMP_NUM_THREADS=1 build/sphib run cases/vesicle_shear.toml --quiet"  # 128 x 64, explicit force, dt = 1e-3
+      H4=(--set grid.nx=256 --set grid.ny=128 --set 'domain.x=[-4.0, 4.0]' --set 'domain.y=[-2.0, 2.0]'
+          --set 'walls.bottom=[-2.0, 0.0]' --set 'walls.top=[2.0, 0.0]')  # H = 4 (confinement 0.2), same dx
+      N256="--set grid.nx=256 --set grid.ny=128 --set membrane.nb=256"
+      D=$OUT/vesicle_shear
+      mkdir -p $D/semi_implicit
+      /usr/bin/python3 scripts/vesicle_theory.py check | tee $D/theory.txt
+      /usr/bin/python3 scripts/vesicle_theory.py angle --nu 0.8 --lam 1,2,3,4,5,6,8,12,16 | tee -a $D/theory.txt
+      for l in 1 2 3 4 5 6 8 12 16; do $V --set membrane.viscosity_ratio=$l --out $D/n128_l$l; done  # 1-6 min each
+      $V --set membrane.viscosity_ratio=16 --set time.end=40 --out $D/n128_l16_t40
+      for l in 1 3; do $V --set membrane.viscosity_ratio=$l "${H4[@]}" --out $D/H4_n128_l$l; done  # 2 and 10 min
+      $V --set membrane.viscosity_ratio=3 --set membrane.Eb=0.64 --set time.dt=5e-4 --set time.end=15 --out $D/ca0.1_n128_l3
+      for l in 1 3; do $V --set membrane.viscosity_ratio=$l $N256 --set time.dt=2.5e-4 --set time.end=10 --out $D/n256_l$l; done
+      # the semi-implicit force (membrane.semi_implicit = true): its time-step error, and the lattices
+      S="$V --set membrane.semi_implicit=true"
+      for dt in 5e-4 2.5e-4; do $S --set time.dt=$dt --set time.end=10 --out $D/semi_implicit/n128_l1_dt$dt; done  # dt = 1e-3: n128_l1
+      $V --set time.dt=5e-4 --set time.end=10 --out $D/semi_implicit/explicit_n128_l1_dt5e-4
+      for l in 1 2 3 4 5; do
+        $S --set membrane.viscosity_ratio=$l --set grid.nx=64 --set grid.ny=32 --set membrane.nb=64 --set time.dt=2e-3 \
+          --set time.end=30 --out $D/semi_implicit/n64_l$l
+        $S --set membrane.viscosity_ratio=$l --set time.end=30 --out $D/semi_implicit/n128_l$l
+      done
+      for l in 1 3; do $S --set membrane.viscosity_ratio=$l $N256 --set time.dt=5e-4 --set time.end=30 --out $D/semi_implicit/n256_l$l; done
+      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/n256_l* $D/ca0.1_* --csv $D/sweep.csv --plot $D/vesicle_shear.png | tee $D/sweep.txt
+      /usr/bin/python3 scripts/vesicle_shear.py $D/semi_implicit/* --csv $D/semi_implicit.csv | tee $D/semi_implicit.txt ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done
