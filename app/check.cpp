@@ -90,7 +90,7 @@ void report_built(const Simulation& sim, std::ostream& out) {
   const double images = figure(f, "images", NAN), neighbours = figure(f, "neighbours_per_particle", NAN);
   out << "  particles " << f.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(f.lattice().dx)
       << ", dy = " << num(f.lattice().dy) << "), images "
-      << (std::isnan(images) ? std::string("(none: ") + fp.method + ")" : num(images, 10))
+      << (std::isnan(images) ? std::string("(none: ") + to_string(fp.method) + ")" : num(images, 10))
       << (std::isnan(neighbours) ? std::string() : ", neighbours per particle " + num(neighbours)) << ", h = " << num(f.h())
       << "\n";
   if (const auto kept = f.footprint())
@@ -127,8 +127,8 @@ int check_scene(const Scene& scene, std::ostream& out, bool build) {
     for (int i = 0; i < L.size(); ++i) u0.row(i) = scene.sim.initial_velocity(L.x(i, 0), L.x(i, 1)).transpose();
   std::vector<MembraneState> membranes(scene.sim.membranes.begin(), scene.sim.membranes.end());
   MarkerInterpolation interp = scene.sim.interpolation;
-  if (interp == MarkerInterpolation::Auto) interp = fp.method == "eulerian" ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;  // (B-splines too: not the paper's pair)
-  const Picture p{fp, L.dx, L.dy, L.x, u0, membranes, paper_pair_of(fp, interp, fp.method != "eulerian")};
+  if (interp == MarkerInterpolation::Auto) interp = fp.method == FluidMethod::Eulerian ? MarkerInterpolation::DivergenceFree : MarkerInterpolation::Sph;  // (B-splines too: not the paper's pair)
+  const Picture p{fp, L.dx, L.dy, L.x, u0, membranes, paper_pair_of(fp, interp, fp.method != FluidMethod::Eulerian)};
   out << "  not built: its estimated peak, " << bytes(e.bytes) << ", is above " << bytes(kBuildBytes)
       << " (sphib check --build builds it: the factorisations, and a membrane too close to a wall, are then checked too)\n"
       << "  particles " << L.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(L.dx) << ", dy = " << num(L.dy)
@@ -237,7 +237,7 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
     out << "    convective CFL: no velocity scale (fluid at rest, no forcing)\n";
   }
   const double h = fp.h_over_dx * 0.5 * (dx + dy), nu = fp.mu / fp.rho;
-  if (fp.method == "wcsph") {
+  if (fp.method == FluidMethod::Wcsph) {
     // The solver refuses a dt above this limit (fluid/wcsph.hpp): a WARNING only for a scene too large to build here.
     const double c = wcsph_sound_speed(fp), limit = coelho_dt_limit(h, c, nu);
     const bool over = dt > limit;
@@ -245,7 +245,7 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
     out << "    " << (over ? "WARNING: " : "") << "acoustic and viscous limit (Coelho et al. Eq. 19): dt < min(0.25 h/c, "
         << "0.125 h^2/nu) = " << num(limit) << " with c = " << num(c) << (over ? ": dt exceeds it (sphib run refuses it)" : ": ok")
         << "\n";
-  } else if (fp.method == "isph" && fp.isph.viscous == "explicit") {
+  } else if (fp.method == FluidMethod::Isph && fp.isph.viscous == IsphViscous::Explicit) {
     // The explicit viscous predictor (Afanasiev et al. Eq. 22) is a forward-Euler diffusion step.
     const double limit = 0.125 * h * h / nu;
     const bool over = dt > limit;

@@ -51,7 +51,7 @@ inline double paper_seconds(bool lagrangian, int nx, double hdx) {
 // The fluid's parameters for Nx = Ny = nx and h = hdx dx.
 inline FluidParams params(const std::string& method, int nx, double hdx, bool convection = false) {
   FluidParams p;
-  p.method = method;
+  p.method = enum_value(method, kFluidMethods);
   p.domain = Domain{0.0, 1.0, 0.0, 1.0, true, false};
   p.nx = p.ny = nx;
   p.h_over_dx = hdx;

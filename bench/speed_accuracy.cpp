@@ -141,7 +141,7 @@ class Bench {
       return nlohmann::json();
     }
     const auto& f = s.sim.fluid;
-    r.method = s.method;
+    r.method = to_string(s.method);
     r.nx = f.nx;
     r.ny = f.ny;
     r.hdx = f.h_over_dx;

@@ -11,6 +11,7 @@
 
 #include "bench/common.hpp"
 #include "cases/suspension.hpp"
+#include "coupling/contact.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/spread.hpp"
 

@@ -148,7 +148,7 @@ class Bench {
                      const std::function<void(Scene&)>& attach, Run& r) {
     Scene s = load_scene((cases_ / file).string(), sets);
     if (attach) attach(s);
-    r.method = s.method;
+    r.method = to_string(s.method);
     r.nx = s.sim.fluid.nx;
     r.ny = s.sim.fluid.ny;
     r.hdx = s.sim.fluid.h_over_dx;
@@ -290,7 +290,7 @@ class Bench {
       if (o_.quick) choices.resize(2);
       for (const Choice& ch : choices) {
         FluidParams p = fp;
-        p.wcsph.eos = ch.eos;
+        p.wcsph.eos = enum_value(ch.eos, kEos);
         p.wcsph.c = ch.c;
         WcsphOptions wo;
         wo.morris_extrapolation = ch.extrapolate;

@@ -32,18 +32,11 @@
 #include <memory>
 #include <vector>
 
+#include "coupling/params.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/types.hpp"
 
 namespace sphib {
-
-struct ContactParams {
-  double strength = 0.0;  // De (0: no contact force)
-  double range = 0.0;     // r0: the force is zero at and beyond it
-  double beta = 0.0;      // the potential's steepness (1/length); 0: 2/range
-  bool walls = true;      // markers are pushed off the walls too
-  bool on() const { return strength > 0.0; }
-};
 
 // The Morse repulsion phi(r) above (0 for r >= r0).
 double morse_repulsion(const ContactParams& p, double r);

@@ -29,30 +29,10 @@
 #include <string>
 #include <vector>
 
+#include "coupling/params.hpp"
 #include "fluid/types.hpp"
 
 namespace sphib {
-
-struct MarkerUpdateParams {
-  double eps = 1e-12;  // tolerance on max_k |g_k| (a length)
-  int max_iter = 50;
-  double max_move = 0;  // > 0: a marker moving farther in one step is a blow-up (the Simulation sets dx)
-  bool extrapolate = true;  // predictor: AB2 extrapolation when U^{n-1} is known, else Eq. (58)
-  bool linearise = true;    // linearised acceptance when the interpolation gives dU/dX (above)
-  // The largest |g| the linearised acceptance takes, as a fraction of max_move (above: 1e-6 keeps
-  // the neglected quadratic terms ~1e-6 of the linear ones whatever the flow).
-  double linear_step = 1e-6;
-};
-
-struct MarkerUpdateResult {
-  int iterations = 0;
-  double residual = 0;      // max_k |g_k| at the accepted iterate (linearised: its first-order value)
-  bool linearised = false;  // a marker was accepted by the linearised residual (its U^{n+1}(X^{n+1}) linearised)
-  int interpolations = 0;   // marker velocity interpolations a marker went through (the most of any)
-};
-
-// dU/dX at each marker: dUx/dx, dUx/dy, dUy/dx, dUy/dy.
-using Jacobians = Eigen::Matrix<double, Eigen::Dynamic, 4>;
 
 // The marker velocity U^{n+1} at points X (Nb x 2) into U (Nb x 2); with dU non-null also its
 // gradient at X if the interpolation has one. Returns whether dU was filled.

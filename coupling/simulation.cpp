@@ -5,9 +5,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coupling/contact.hpp"
 #include "coupling/interpolate.hpp"
+#include "coupling/marker_update.hpp"
 #include "coupling/spread.hpp"
+#include "coupling/stiff_force.hpp"
+#include "coupling/viscosity_contrast.hpp"
 #include "fluid/factory.hpp"
+#include "fluid/neighbours.hpp"
 
 namespace sphib {
 
@@ -53,11 +58,24 @@ MembraneState::MembraneState(const MembraneSetup& s)
   }
 }
 
+MembraneState::MembraneState(MembraneState&&) noexcept = default;
+MembraneState& MembraneState::operator=(MembraneState&&) noexcept = default;
+MembraneState::~MembraneState() = default;
+
+struct Simulation::FreeSet : MarkerSet {
+  Mat2 X_n, U, U_n, U_prev;
+  MarkerWork work;
+};
+
+Simulation::~Simulation() = default;
+
 Simulation::Simulation(const SimulationParams& params)
     : prm_(params), fluid_(make_fluid(params.fluid)),
-      grid_(Eigen::Vector2d(params.fluid.domain.x0, params.fluid.domain.y0),
-            Eigen::Vector2d(params.fluid.domain.x1, params.fluid.domain.y1), params.fluid.domain.periodic_x,
-            params.fluid.domain.periodic_y, std::min(fluid_->lattice().dx, fluid_->lattice().dy)) {
+      grid_(std::make_unique<CellGrid>(
+          Eigen::Vector2d(params.fluid.domain.x0, params.fluid.domain.y0),
+          Eigen::Vector2d(params.fluid.domain.x1, params.fluid.domain.y1), params.fluid.domain.periodic_x,
+          params.fluid.domain.periodic_y, std::min(fluid_->lattice().dx, fluid_->lattice().dy))),
+      free_(std::make_unique<FreeSet>()) {
   const int N = fluid_->size();
   for (size_t k = 0; k < prm_.membranes.size(); ++k) {
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
@@ -79,11 +97,11 @@ Simulation::Simulation(const SimulationParams& params)
   if (interp_ != MarkerInterpolation::Sph && !fluid_->has_stream_function())
     throw std::invalid_argument(std::string("coupling.interpolation = \"") +
                                 (interp_ == MarkerInterpolation::BSpline ? "bspline" : "divergence_free") +
-                                "\" needs a stream function of the fluid, which method \"" + prm_.fluid.method +
+                                "\" needs a stream function of the fluid, which method \"" + to_string(prm_.fluid.method) +
                                 "\" does not provide (use \"sph\")");
   if (!mem_.empty()) {  // no membranes, no coupling
-    if (fluid_->particles_move()) grid_.build(fluid_->x());
-    else grid_.use_lattice(fluid_->lattice());  // EPSPH: index arithmetic on the fixed lattice
+    if (fluid_->particles_move()) grid_->build(fluid_->x());
+    else grid_->use_lattice(fluid_->lattice());  // EPSPH: index arithmetic on the fixed lattice
     bool free = false;
     for (const auto& s : mem_) free |= !s.fixed;
     if (free && interp_ != MarkerInterpolation::Sph) fluid_->stream_function();  // its set-up, now
@@ -94,7 +112,7 @@ Simulation::Simulation(const SimulationParams& params)
   if (contrast) {
     if (!fluid_->supports_variable_viscosity())
       throw std::invalid_argument("membrane.viscosity_ratio != 1 (a viscosity contrast) needs method \"eulerian\"; method \"" +
-                                  prm_.fluid.method + "\" has one viscosity everywhere");
+                                  std::string(to_string(prm_.fluid.method)) + "\" has one viscosity everywhere");
     std::vector<double> lambda;
     for (const auto& s : prm_.membranes) lambda.push_back(s.viscosity_ratio);
     // A ratio below 1 takes its cross term explicitly (fluid/variable_viscosity.hpp): measured stable
@@ -193,15 +211,15 @@ bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
   const FluidSolver& fluid = *fluid_;
   if (interp_ == MarkerInterpolation::DivergenceFree) {
     const StreamFunction sf = fluid.stream_function();  // once per fluid state, then cached
-    interpolate_curl(grid_, fluid.kernel(), *sf.psi, sf.mean, X, U, dU);
+    interpolate_curl(*grid_, fluid.kernel(), *sf.psi, sf.mean, X, U, dU);
     return dU != nullptr;
   }
   if (interp_ == MarkerInterpolation::BSpline) {
     const StreamFunction sf = fluid.stream_function();
-    interpolate_curl_bspline(grid_, fluid.lattice().dx, fluid.lattice().dy, *sf.psi, sf.mean, X, U, dU);
+    interpolate_curl_bspline(*grid_, fluid.lattice().dx, fluid.lattice().dy, *sf.psi, sf.mean, X, U, dU);
     return dU != nullptr;
   }
-  interpolate_velocity(grid_, fluid.kernel(), fluid.volumes(), fluid.u(), X, U);  // Eq. (63)
+  interpolate_velocity(*grid_, fluid.kernel(), fluid.volumes(), fluid.u(), X, U);  // Eq. (63)
   return false;
 }
 
@@ -235,9 +253,9 @@ double Simulation::coupling_floor_seconds(int reps) const {
   total += best_of(reps, [&] {
     for (const auto& [a, b] : spread_runs_) self.spread_run(a, b, F);  // Eq. (53)
   });
-  Mat2 X(free_.start.empty() ? 0 : free_.start.back(), 2);
-  for (size_t i = 0; i < free_.members.size(); ++i)
-    X.middleRows(free_.start[i], free_.start[i + 1] - free_.start[i]) = mem_[free_.members[i]].m.X;
+  Mat2 X(free_->start.empty() ? 0 : free_->start.back(), 2);
+  for (size_t i = 0; i < free_->members.size(); ++i)
+    X.middleRows(free_->start[i], free_->start[i + 1] - free_->start[i]) = mem_[free_->members[i]].m.X;
   if (X.rows() == 0) return total;
   if (interp_ != MarkerInterpolation::Sph) total += fluid_->stream_function_floor_seconds(reps);
   U.resize(X.rows(), 2);
@@ -273,7 +291,7 @@ void Simulation::external_force(double t) {
     F_.col(0).setConstant(prm_.body_force.x());
     F_.col(1).setConstant(prm_.body_force.y());
   }
-  if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // LPSPH, WCSPH: O(N)
+  if (fluid_->particles_move() && !mem_.empty()) grid_->build(fluid_->x());  // LPSPH, WCSPH: O(N)
 }
 
 double Simulation::interpolation_length() const {
@@ -297,7 +315,7 @@ void Simulation::spread_membrane_forces() {
 void Simulation::spread_run(int a, int b, Mat2& F) {
   if (b - a == 1) {  // one membrane: its own arrays
     const MembraneState& s = mem_[a];
-    spread_force(grid_, s.W_star, s.m.X, s.filter ? s.f_tilde : s.f, s.m.ds(), F);
+    spread_force(*grid_, s.W_star, s.m.X, s.filter ? s.f_tilde : s.f, s.m.ds(), F);
     return;
   }
   const int r0 = all_.start[a], rows = all_.start[b] - r0;
@@ -314,7 +332,7 @@ void Simulation::spread_run(int a, int b, Mat2& F) {
       all_.P(o + i, 1) = f(i, 1) * ds;
     }
   }
-  spread_point_forces(grid_, mem_[a].W_star, all_.X, all_.P, F);
+  spread_point_forces(*grid_, mem_[a].W_star, all_.X, all_.P, F);
 }
 
 void Simulation::marker_velocities_now() {
@@ -347,19 +365,19 @@ void Simulation::viscosity_now() {
 
 void Simulation::move_markers() {
   ScopedTimer t(prof_, k_markers_);
-  if (fluid_->particles_move() && !mem_.empty()) grid_.build(fluid_->x());  // the particles of u^{n+1}
+  if (fluid_->particles_move() && !mem_.empty()) grid_->build(fluid_->x());  // the particles of u^{n+1}
   // The free membranes in one set, or two when some start their predictor afresh (Eq. 58: the first
   // step, a restart without the history) and others extrapolate.
   for (bool extrapolate : {true, false}) {
-    free_.members.clear();
-    free_.start.assign(1, 0);
+    free_->members.clear();
+    free_->start.assign(1, 0);
     for (size_t k = 0; k < mem_.size(); ++k) {
       const MembraneState& s = mem_[k];
       if (s.fixed || (s.U_prev_known && prm_.markers.extrapolate) != extrapolate) continue;
-      free_.members.push_back(static_cast<int>(k));
-      free_.start.push_back(free_.start.back() + s.m.nb());
+      free_->members.push_back(static_cast<int>(k));
+      free_->start.push_back(free_->start.back() + s.m.nb());
     }
-    if (!free_.members.empty()) advance_set(free_, extrapolate);
+    if (!free_->members.empty()) advance_set(*free_, extrapolate);
   }
 }
 

@@ -4,51 +4,24 @@
 #include <functional>
 #include <vector>
 
-#include "coupling/contact.hpp"
-#include "coupling/marker_update.hpp"
-#include "coupling/stiff_force.hpp"
-#include "coupling/viscosity_contrast.hpp"
+#include <memory>
+
+#include "coupling/params.hpp"
 #include "fluid/solver.hpp"
-#include "fluid/neighbours.hpp"
 #include "membrane/force.hpp"
 
 namespace sphib {
 
-struct MembraneSetup {
-  Membrane membrane;      // markers, reference state, material (law, moduli)
-  double h_star = 0.05;   // spreading kernel's smoothing length h* (support 2h*)
-  bool fixed = false;     // markers held in place (Section 5.2.1)
-  bool semi_implicit = false;  // the stiff-force filter (coupling/stiff_force.hpp)
-  // lambda = mu_in / mu of the fluid it encloses (a viscosity contrast: coupling/viscosity_contrast.hpp;
-  // method "eulerian" only); 1: the same fluid inside and out
-  double viscosity_ratio = 1.0;
-};
-
-// How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
-// of the stream function interpolated by the SPH kernel, or by tensor cubic B-splines on the
-// lattice: a closed membrane keeps its area) or the paper's normalised SPH interpolation, Eq. (63).
-// Auto: where the fluid method has a stream function (EPSPH), divergence-free, by B-splines when a
-// membrane has bending (the kernel's curl carries a lattice-scale ripple that bending amplifies);
-// SPH otherwise.
-enum class MarkerInterpolation { Auto, DivergenceFree, BSpline, Sph };
-
-struct SimulationParams {
-  FluidParams fluid;
-  Eigen::Vector2d body_force = Eigen::Vector2d::Zero();  // per unit volume, constant in space and time
-  // Optional body force field F(x, y, t) per unit volume; replaces body_force when set.
-  std::function<Eigen::Vector2d(double, double, double)> body_force_field;
-  // Optional initial velocity u0(x, y) (default: at rest).
-  std::function<Eigen::Vector2d(double, double)> initial_velocity;
-  std::vector<MembraneSetup> membranes;
-  MarkerUpdateParams markers;
-  MarkerInterpolation interpolation = MarkerInterpolation::Auto;
-  // The short-range repulsion between membranes and off the walls (coupling/contact.hpp); off by
-  // default (strength 0), and then no part of the step.
-  ContactParams contact;
-};
+class CellGrid;           // fluid/neighbours.hpp
+class ContactForce;       // coupling/contact.hpp
+class StiffForceFilter;   // coupling/stiff_force.hpp
+class ViscosityContrast;  // coupling/viscosity_contrast.hpp
 
 struct MembraneState {
   MembraneState(const MembraneSetup& s);
+  MembraneState(MembraneState&&) noexcept;
+  MembraneState& operator=(MembraneState&&) noexcept;
+  ~MembraneState();
   Membrane m;
   double h_star;
   bool fixed;
@@ -60,7 +33,6 @@ struct MembraneState {
   Mat2 U_prev;          // u^{n-1}(X^{n-1}): the marker predictor's extrapolation
   bool U_n_known = false, U_prev_known = false;
   long U_revision = -1;  // U = u(X) of the fluid at this revision, at the current markers (-1: not known)
-  MarkerWork work;      // the marker update's workspace
   Vec T;                // tension at the markers
   MarkerUpdateResult last;
   long iterations = 0, updates = 0;  // fixed-point iterations (Eq. 59) and marker updates so far
@@ -70,6 +42,7 @@ struct MembraneState {
 class Simulation {
  public:
   explicit Simulation(const SimulationParams& params);
+  ~Simulation();
 
   void step();  // one IB time step, t_n -> t_{n+1}
 
@@ -126,7 +99,7 @@ class Simulation {
   SimulationParams prm_;
   std::unique_ptr<FluidSolver> fluid_;
   std::vector<MembraneState> mem_;
-  CellGrid grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
+  std::unique_ptr<CellGrid> grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
   Mat2 F_body_, F_;
   std::unique_ptr<ContactForce> contact_;  // nullptr: off
@@ -139,11 +112,8 @@ class Simulation {
   MarkerSet all_;              // every membrane (contact, spreading)
   std::vector<double> ds_;     // every membrane's rest spacing
   std::vector<std::pair<int, int>> spread_runs_;  // runs [a, b) of membranes with the same h*: one pass each
-  struct FreeSet : MarkerSet {  // free membranes with the same predictor (the marker update)
-    Mat2 X_n, U, U_n, U_prev;
-    MarkerWork work;
-  };
-  FreeSet free_;
+  struct FreeSet;  // free membranes with the same predictor (the marker update; simulation.cpp)
+  std::unique_ptr<FreeSet> free_;
   void spread_run(int a, int b, Mat2& F);  // F += the spreading of membranes [a, b) (one h*), Eq. (53)
   void advance_set(FreeSet& set, bool extrapolate);  // the marker update of a set (Eqs. 56-60)
   std::unique_ptr<ViscosityContrast> contrast_;  // when some viscosity_ratio differs from 1

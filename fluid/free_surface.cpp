@@ -8,17 +8,16 @@
 
 namespace sphib {
 
-bool supports_free_surface(const std::string& method) { return method == "wcsph" || method == "isph"; }
+bool supports_free_surface(FluidMethod method) { return method == FluidMethod::Wcsph || method == FluidMethod::Isph; }
 
 bool has_free_surface(const Domain& d, const FreeSurfaceParams& fs) {
   return fs.fill.shape != FluidRegion::Shape::Domain || d.any_open();
 }
 
-SurfaceDetection detection_for(const std::string& method, const Domain& d, const FreeSurfaceParams& fs) {
-  if (fs.detection == "dilts") return SurfaceDetection::Dilts;
-  if (fs.detection == "divergence") return SurfaceDetection::Divergence;
-  if (fs.detection == "none" || !has_free_surface(d, fs)) return SurfaceDetection::None;
-  return method == "isph" ? SurfaceDetection::Divergence : SurfaceDetection::Dilts;  // A Section 3.5
+SurfaceDetection detection_for(FluidMethod method, const Domain& d, const FreeSurfaceParams& fs) {
+  if (fs.detection != SurfaceDetection::Auto) return fs.detection;
+  if (!has_free_surface(d, fs)) return SurfaceDetection::None;
+  return method == FluidMethod::Isph ? SurfaceDetection::Divergence : SurfaceDetection::Dilts;  // A Section 3.5
 }
 
 namespace {
@@ -65,11 +64,11 @@ void check_inside(const FluidRegion& r, const Domain& d) {
 
 }  // namespace
 
-std::optional<ParamProblem> free_surface_problem(const std::string& method, const Domain& d, const FreeSurfaceParams& fs,
+std::optional<ParamProblem> free_surface_problem(FluidMethod method, const Domain& d, const FreeSurfaceParams& fs,
                                                  const Eigen::Vector2d& g) {
   const bool free = has_free_surface(d, fs), gravity = g.norm() != 0;
   if (!supports_free_surface(method)) {
-    const std::string none = "method \"" + method + "\" has no free surface (methods with one: wcsph, isph)";
+    const std::string none = std::string("method \"") + to_string(method) + "\" has no free surface (methods with one: wcsph, isph)";
     if (fs.fill.shape != FluidRegion::Shape::Domain) return ParamProblem{"fill.shape", "a partly filled tank: " + none};
     if (d.any_open()) return ParamProblem{"domain.open", "an open side: " + none};
     if (gravity) return ParamProblem{"fluid.gravity", none + " (a body force rho g is fluid.body_force)"};

@@ -14,52 +14,26 @@
 
 #include "fluid/lattice.hpp"
 #include "fluid/pair_search.hpp"
+#include "fluid/params.hpp"
 
 namespace sphib {
 
-// Where the fluid is at t = 0.
-struct FluidRegion {
-  enum class Shape { Domain, Block, Circle };
-  enum class Arrangement { Lattice, Rings };
-  Shape shape = Shape::Domain;
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;            // Block
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // Circle
-  double radius = 0;                                 // Circle
-  // Lattice: the sites of Eq. (68) inside the region. Rings (circles): a particle at the centre and
-  // rings k = 1..n of 6k particles at radius k dx, n = round(radius/dx - 1/2) (1 + 3n(n+1)
-  // particles: A Table 3's 721 ... 7651 are n = 15 ... 50).
-  Arrangement arrangement = Arrangement::Lattice;
-};
-
-struct FreeSurfaceParams {
-  FluidRegion fill;
-  std::string detection = "auto";  // auto (the method's choice: see detection_for) | dilts | divergence | none
-  double beta = 0.75;              // A Eq. (26): free surface where div r < 2 beta (A's best: 0.75 with h/dx = 1.1)
-  double dilts_radius = 1.0;       // Dilts: each particle's circle has radius dilts_radius h
-};
-
 // The methods that support a free surface (open sides, a partly filled tank, gravity): wcsph, isph.
-bool supports_free_surface(const std::string& method);
+bool supports_free_surface(FluidMethod method);
 
 // A partly filled tank or an open side: the fluid has a free surface.
 bool has_free_surface(const Domain& d, const FreeSurfaceParams& fs);
 
-// A refused set-up: the scene key to blame and what is wrong.
-struct ParamProblem {
-  std::string key, what;
-};
 
 // What is wrong with a free-surface set-up for `method`, if anything: a free surface (a partly filled
 // tank or an open side) or gravity for a method without free surfaces, gravity along a periodic
 // axis or towards an open side (nothing holds the fluid), beta or the Dilts radius out of range, a
 // fluid region outside the tank. Methods add their own (FluidSolver's free_surface_problem).
-std::optional<ParamProblem> free_surface_problem(const std::string& method, const Domain& d, const FreeSurfaceParams& fs,
+std::optional<ParamProblem> free_surface_problem(FluidMethod method, const Domain& d, const FreeSurfaceParams& fs,
                                                  const Eigen::Vector2d& gravity);
 
-enum class SurfaceDetection { None, Dilts, Divergence };
-// "auto": the paper's choice for the method (A Section 3.5: Dilts for SPH, Eq. 26 for ISPH), None
-// without a free surface.
-SurfaceDetection detection_for(const std::string& method, const Domain& d, const FreeSurfaceParams& fs);
+// Auto resolved: see SurfaceDetection (params.hpp).
+SurfaceDetection detection_for(FluidMethod method, const Domain& d, const FreeSurfaceParams& fs);
 
 // The initial particles: positions and the volume of each (lattice: dx dy; rings: pi dx^2 / 3, the
 // area of a ring's cell). Throws std::invalid_argument (naming fill.*) for a region outside the

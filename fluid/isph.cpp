@@ -14,14 +14,12 @@ std::optional<ParamProblem> isph_problem(const FluidParams& p) {
   if (auto e = free_surface_problem(p.method, p.domain, p.free_surface, p.gravity)) return e;
   const FreeSurfaceParams& fs = p.free_surface;
   const bool free = has_free_surface(p.domain, fs);
-  if (fs.detection == "dilts")
+  if (fs.detection == SurfaceDetection::Dilts)
     return ParamProblem{"free_surface.detection", "\"dilts\" is not available for isph (A Section 3.5: ISPH marks the "
                                                   "surface by Eq. 26, \"divergence\")"};
-  if (free && fs.detection == "none")
+  if (free && fs.detection == SurfaceDetection::None)
     return ParamProblem{"free_surface.detection", "\"none\" leaves isph without the Dirichlet rows p = 0 of its free surface "
                                                   "(A Section 3.5): the Poisson problem would have no solution"};
-  if (p.isph.viscous != "explicit" && p.isph.viscous != "crank_nicolson")
-    return ParamProblem{"isph.viscous", "\"" + p.isph.viscous + "\" is not allowed (allowed: explicit | crank_nicolson)"};
   if (p.projection == Projection::Exact)
     return ParamProblem{"fluid.projection", "\"exact\" is available for method \"eulerian\" only (isph: \"approximate\", "
                                             "A Eq. 24 with Lee's Laplacian, Eq. 17)"};
@@ -32,13 +30,9 @@ std::optional<ParamProblem> isph_problem(const FluidParams& p) {
     return ParamProblem{p.poisson_solver == SolverKind::PcgFft ? "solver.poisson" : "solver.crank_nicolson",
                         "\"pcg_fft\" does not apply to a partly filled tank (its preconditioner is the FFT solver of the "
                         "full lattice); use pcg_cholmod or a CHOLMOD factorisation"};
-  if (p.isph.scheme != "consistent" && p.isph.scheme != "paper")
-    return ParamProblem{"isph.scheme", "\"" + p.isph.scheme + "\" is not allowed (allowed: consistent | paper)"};
-  if (p.isph.shifting != "auto" && p.isph.shifting != "fickian" && p.isph.shifting != "xu" && p.isph.shifting != "none")
-    return ParamProblem{"isph.shifting", "\"" + p.isph.shifting + "\" is not allowed (allowed: auto | fickian | xu | none)"};
   if (!(p.isph.shifting_A > 0) || !std::isfinite(p.isph.shifting_A))
     return ParamProblem{"isph.shifting_A", "must be positive and finite (Lind et al. 2012: 1 to 6)"};
-  if (p.isph.viscous == "explicit" && p.cn_solver != SolverKind::Auto)
+  if (p.isph.viscous == IsphViscous::Explicit && p.cn_solver != SolverKind::Auto)
     return ParamProblem{"solver.crank_nicolson", "does not apply with isph.viscous = \"explicit\" (A Eq. 22: no "
                                                  "Crank-Nicolson system)"};
   return std::nullopt;
@@ -53,9 +47,9 @@ ParticleSet particles_of(const FluidParams& p) {
 
 ShiftingParams shifting_params(const IsphParams& p) {
   ShiftingParams s;
-  s.kind = p.shifting != "auto" ? shifting_from_name(p.shifting)
-           : p.scheme == "paper" ? Shifting::None
-                                 : Shifting::Fickian;
+  s.kind = p.shifting != Shifting::Auto   ? p.shifting
+           : p.scheme == IsphScheme::Paper ? Shifting::None
+                                           : Shifting::Fickian;
   s.A = p.shifting_A;
   return s;
 }
@@ -75,7 +69,7 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
       verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x),
       shifter_(shifting_params(params.isph)) {
   const FreeSurfaceParams& fs = prm_.free_surface;
-  explicit_viscous_ = prm_.isph.viscous == "explicit";
+  explicit_viscous_ = prm_.isph.viscous == IsphViscous::Explicit;
   accel_ = prm_.gravity;  // A Eq. (22)
   const SurfaceDetection how = detection_for(prm_.method, prm_.domain, fs);
   detect_ = how != SurfaceDetection::None;
@@ -98,7 +92,7 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
   dr_ = Mat2::Zero(size(), 2);
   auto t0 = Profile::Clock::now();
   geometry(true);
-  consistent_ = prm_.isph.scheme == "consistent";
+  consistent_ = prm_.isph.scheme == IsphScheme::Consistent;
   if (consistent_) {  // the full support's sums, then the mirror rows they set
     reference_sums();
     assemble(false);

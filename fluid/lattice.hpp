@@ -29,6 +29,10 @@ struct Domain {
 // "left", "right", "bottom", "top".
 const char* side_name(Side s);
 
+// A figure per wall, by Side (the wall loads of loads.hpp, FluidSolver::wall_forces): NaN for a side
+// without a wall.
+using WallForces = std::array<double, 4>;
+
 struct Lattice {
   Domain domain;
   int nx = 0, ny = 0;

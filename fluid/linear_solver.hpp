@@ -7,15 +7,10 @@
 #include <memory>
 #include <string>
 
+#include "fluid/params.hpp"
 #include "fluid/types.hpp"
 
 namespace sphib {
-
-// Fft: the periodic-lattice Poisson solver of fluid/fft_poisson.hpp (EPSPH only; built there, not by
-// factorize()). PcgCholmod, PcgFft: conjugate gradients for a matrix that changes every step (moving
-// particles), preconditioned by a CHOLMOD factorisation of an earlier step's matrix or by the FFT
-// solver of the fixed lattice (lagged_pcg below; made by fluid/solver_policy.hpp, not by factorize()).
-enum class SolverKind { Auto, CholmodSupernodal, CholmodSimplicial, Umfpack, Pcg, Fft, PcgCholmod, PcgFft };
 
 struct SolverInfo {
   std::string system;   // which system ("Crank-Nicolson", "Poisson")

@@ -20,12 +20,10 @@
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/pair_search.hpp"
+#include "fluid/params.hpp"
 #include "fluid/walls.hpp"
 
 namespace sphib {
-
-// By Side: int_Gamma p dGamma over the wall, NaN for a side without a wall (periodic or open).
-using WallForces = std::array<double, 4>;
 
 // A Eq. (32) over the wall particles next to the fluid, p_wall their pressures.
 WallForces wall_forces_from_particles(const Lattice& L, const VirtualWalls& w, const Vec& p_wall);
@@ -51,7 +49,6 @@ WallForces wall_shear_stress(const Lattice& L, const Mat2& u, double mu);
 //    Eq. 27) for walls at rest, p_w = sum_j (p_j + rho_j g . (x_w - x_j)) W_wj / sum_j W_wj, which
 //    holds a fluid at rest exactly where A Eq. (30) gives about a third of the pressure at the wall.
 // A wall particle with no fluid neighbour gets p_w = 0.
-enum class WallPressure { Rest, Eq30, Extrapolated };
 void wall_particle_pressure(WallPressure kind, int N, const ParticlePairs& P, const Vec& V, const Vec& p,
                             const Vec& rho, const Eigen::Vector2d& g, Vec& p_wall, Vec& workspace);
 

@@ -38,10 +38,12 @@
 #include <vector>
 
 #include "fluid/boundary.hpp"
+#include "fluid/free_surface.hpp"
 #include "fluid/gauge.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/linear_solver.hpp"
+#include "fluid/loads.hpp"
 #include "fluid/neighbours.hpp"
 #include "fluid/operators.hpp"
 #include "fluid/products.hpp"

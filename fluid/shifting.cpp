@@ -9,13 +9,6 @@
 
 namespace sphib {
 
-Shifting shifting_from_name(const std::string& name) {
-  if (name == "none") return Shifting::None;
-  if (name == "fickian") return Shifting::Fickian;
-  if (name == "xu") return Shifting::Xu;
-  throw std::invalid_argument("isph.shifting: \"" + name + "\" is not allowed (allowed: fickian | xu | none)");
-}
-
 void concentration_sums(const PairList& P, int N, double V, double V_wall, const CubicSplineKernel& W, double reach,
                         double dp, double R, const std::vector<char>* surface, ConcentrationSums& out) {
   out.grad_C.setZero(N, 2);

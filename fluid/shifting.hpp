@@ -30,12 +30,11 @@
 
 #include "fluid/kernel.hpp"
 #include "fluid/neighbours.hpp"
+#include "fluid/params.hpp"
 #include "fluid/types.hpp"
 
 namespace sphib {
 
-enum class Shifting { None, Fickian, Xu };
-Shifting shifting_from_name(const std::string& name);  // "none" | "fickian" | "xu" (std::invalid_argument)
 
 struct ShiftingParams {
   Shifting kind = Shifting::Fickian;

@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fluid/loads.hpp"
+
 namespace sphib {
 
 void positive_param(double v, const char* key) {
@@ -34,7 +36,7 @@ const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& 
 
 void FluidSolver::set_viscosity(const int*, const double*, int) {
   throw std::invalid_argument("a variable viscosity (membrane.viscosity_ratio != 1) is not available for method \"" +
-                              params().method + "\" (use method = \"eulerian\")");
+                              std::string(to_string(params().method)) + "\" (use method = \"eulerian\")");
 }
 
 WallForces FluidSolver::wall_forces() const {

@@ -12,81 +12,12 @@
 #include <utility>
 #include <vector>
 
-#include "fluid/free_surface.hpp"
 #include "fluid/kernel.hpp"
 #include "fluid/lattice.hpp"
-#include "fluid/loads.hpp"
-#include "fluid/linear_solver.hpp"
+#include "fluid/params.hpp"
 #include "fluid/profile.hpp"
 
 namespace sphib {
-
-// LPSPH (Section 3.1): particles move with Eq. (37); neighbours, images, operators and
-// factorisations are rebuilt every step.
-struct LagrangianParams {
-  int reinit_every = 0;          // > 0: put the particles back on the lattice every so many steps (Fig. 9 C-D)
-  double min_kernel_sum = 0.5;   // breakdown: a particle whose sum_j V_j W_ij falls below this stops the run
-};
-
-// Weakly compressible SPH (Morris et al. 1997; Vukcevic et al. 2012; Coelho et al.).
-struct WcsphParams {
-  std::string eos = "morris";    // morris: p = c^2 rho; tait: p = rho0 c^2 / gamma ((rho/rho0)^gamma - 1)
-  double c = 0.0;                // speed of sound (0: chosen from the expected velocity scale, see wcsph.hpp)
-  double gamma = 7.0;            // Tait exponent
-  double xsph = 0.0;             // XSPH epsilon (0: off)
-  std::string walls = "virtual"; // virtual (Morris fixed wall particles) | lennard_jones (Coelho Eq. 20)
-  double u_scale = 1.0;          // expected maximum speed, for c when c = 0
-  // Classic SPH of Afanasiev et al. (2011) ["A"] (free surfaces; wcsph.hpp):
-  std::string integrator = "leapfrog";  // leapfrog (V Eq. 22, summation density) | predictor_corrector (A Eqs. 19-21, continuity density A Eqs. 2, 14)
-  double alpha = 0.0;                   // artificial viscosity of Monaghan (1992) (0: off)
-  int smooth_every = 0;                 // density smoothing A Eq. (29) every so many steps (0: off)
-  std::string wall_pressure = "rest";   // rest (p(rho0)) | eq30 (A Eq. 30) | extrapolated (A Eq. 30 normalised + hydrostatic term)
-  double delta = 0.0;  // delta-SPH density diffusion (Antuono et al. 2010, 2012; wcsph.hpp), 0: off (0.1: theirs)
-};
-
-// ISPH with a free surface (Afanasiev, Makarchuk & Popov 2011, Sections 3.4-3.6; isph.hpp).
-struct IsphParams {
-  std::string viscous = "explicit";  // explicit (A Eq. 22) | crank_nicolson (Eq. 28 of the projection core)
-  // The Poisson CG (solver_policy.hpp, lagged_pcg): |r| <= poisson_rtol |b|, and a new preconditioner
-  // factorisation after a solve that needed more than poisson_refresh iterations (isph.cpp, make_solvers).
-  double poisson_rtol = 1e-8;
-  int poisson_refresh = 8;
-  // consistent (the default) | paper: the operators of isph.hpp's consistent scheme, or those of
-  // Afanasiev et al. as they were (with the Lennard-Jones push of the walls).
-  std::string scheme = "consistent";
-  // Particle shifting after each step (shifting.hpp): fickian (Lind et al. 2012, with the free-surface
-  // correction), xu (Xu et al. 2009) or none (A Eq. 25 alone); auto: fickian with the consistent
-  // scheme, none with the paper's.
-  std::string shifting = "auto";
-  double shifting_A = 2.0;  // Fickian: D = A h |u| dt (Lind et al. Eq. 24)
-};
-
-// The Poisson operator of the projection (Eq. 32). Exact: D G, the divergence of the gradient the
-// projection applies (Eq. 34), so that D u^{n+1} = 0 to solver precision; its grid-scale null
-// modes are fixed by fluid/gauge.hpp. Approximate: the Morris Laplacian L of the paper (Eq. 31),
-// which leaves D u^{n+1} = (dt/rho)(L - D G) phi, largest where the pressure jumps. Auto: exact for
-// EPSPH, approximate for LPSPH (which has only that).
-enum class Projection { Auto, Exact, Approximate };
-
-struct FluidParams {
-  std::string method = "eulerian";  // eulerian (EPSPH) | lagrangian (LPSPH) | wcsph | isph
-  Domain domain;
-  int nx = 32, ny = 32;
-  double h_over_dx = 1.2;  // h = h_over_dx * (dx + dy) / 2
-  double rho = 1.0, mu = 1.0;
-  double dt = 1e-3;
-  bool convection = true;  // false: Stokes flow, the convection operator is not even assembled
-  Projection projection = Projection::Auto;
-  SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
-  LagrangianParams lagrangian;
-  WcsphParams wcsph;
-  IsphParams isph;
-  // Free surfaces (free_surface.hpp; methods for which supports_free_surface holds): the fluid's
-  // initial region and surface detection, and gravity, an acceleration the method applies itself
-  // (it sets the hydrostatic initial state, A Eqs. 27-28).
-  FreeSurfaceParams free_surface;
-  Eigen::Vector2d gravity = Eigen::Vector2d::Zero();
-};
 
 // A discrete stream function of the velocity: u = U + (d psi/dy, -d psi/dx), with psi at the
 // particles and U a uniform flow (nonzero only on doubly periodic domains, where a mean flow has no

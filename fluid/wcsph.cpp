@@ -26,10 +26,6 @@ void check_params(const FluidParams& p) {
     throw std::invalid_argument("wcsph.c must be >= 0 and finite (got " + std::to_string(w.c) + ")");
   if (!(w.xsph >= 0 && w.xsph <= 1))
     throw std::invalid_argument("wcsph.xsph must be in [0, 1] (got " + std::to_string(w.xsph) + ")");
-  if (w.eos != "morris" && w.eos != "tait")
-    throw std::invalid_argument("wcsph.eos: \"" + w.eos + "\" is not allowed (allowed: morris | tait)");
-  if (w.walls != "virtual" && w.walls != "lennard_jones")
-    throw std::invalid_argument("wcsph.walls: \"" + w.walls + "\" is not allowed (allowed: virtual | lennard_jones)");
   check_afanasiev_params(p);
 }
 
@@ -66,8 +62,8 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
     : prm_(checked(params)), opt_(options), lat_(make_lattice(params.domain, params.nx, params.ny)),
       W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)), walls_(make_virtual_walls(lat_, W_.support())),
       search_(prm_.domain, W_, particle_count(params, lat_), walls_.x) {
-  eos_ = prm_.wcsph.eos == "tait" ? Eos::Tait : Eos::Morris;
-  lj_ = prm_.wcsph.walls == "lennard_jones";
+  eos_ = prm_.wcsph.eos;
+  lj_ = prm_.wcsph.walls == WcsphWalls::LennardJones;
   c_ = wcsph_sound_speed(prm_);
   dt_limit_ = coelho_dt_limit(W_.h, c_, nu());
   if (prm_.dt > dt_limit_) {
@@ -91,7 +87,7 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   rho_w_.setConstant(M, rho0_);
 
   const auto t0 = Clock::now();
-  pc_ = prm_.wcsph.integrator == "predictor_corrector";
+  pc_ = prm_.wcsph.integrator == Integrator::PredictorCorrector;
   if (pc_) {
     init_afanasiev();  // A's particles, masses, hydrostatic density; the evaluation at t = 0
     setup_.emplace_back("neighbours", seconds_since(t0));
@@ -408,7 +404,7 @@ std::vector<std::string> WcsphFluid::describe() const {
     std::ostringstream m;
     if (pc_) m << "predictor-corrector A Eqs. (19)-(21), artificial viscosity alpha = " << w.alpha
                << " (Monaghan 1992), density smoothing A Eq. (29) every " << w.smooth_every << " steps, wall pressure "
-               << w.wall_pressure << ", XSPH eps = " << w.xsph;
+               << to_string(w.wall_pressure) << ", XSPH eps = " << w.xsph;
     else m << "leapfrog V Eq. (22) (drift-kick-drift), XSPH eps = " << w.xsph;
     m << ", dt = " << prm_.dt << " (C Eq. 19 limit " << dt_limit_ << ": 0.25 h/c = " << 0.25 * W_.h / c_
       << ", 0.125 h^2/nu = " << 0.125 * W_.h * W_.h / nu() << ")";

@@ -107,7 +107,9 @@
 #include <vector>
 
 #include "fluid/kernel.hpp"
+#include "fluid/free_surface.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/loads.hpp"
 #include "fluid/pair_search.hpp"
 #include "fluid/profile.hpp"
 #include "fluid/solver.hpp"
@@ -131,7 +133,6 @@ struct WcsphOptions {
 };
 
 // Equation of state: V Eq. (20) / C Eq. (4) "morris" p = c^2 rho, or C Eq. (3) "tait".
-enum class Eos { Morris, Tait };
 inline double eos_pressure(Eos eos, double rho, double rho0, double c, double gamma) {
   if (eos == Eos::Morris) return c * c * rho;                                         // C Eq. (4)
   return rho0 * c * c / gamma * (std::pow(rho / rho0, gamma) - 1.0);                  // C Eq. (3)

@@ -14,24 +14,20 @@ namespace sphib {
 std::optional<ParamProblem> wcsph_free_surface_problem(const FluidParams& p) {
   if (auto e = free_surface_problem(p.method, p.domain, p.free_surface, p.gravity)) return e;
   const WcsphParams& w = p.wcsph;
-  if (w.integrator != "leapfrog" && w.integrator != "predictor_corrector")
-    return ParamProblem{"wcsph.integrator", "\"" + w.integrator + "\" is not allowed (allowed: leapfrog | predictor_corrector)"};
-  if (w.wall_pressure != "rest" && w.wall_pressure != "eq30" && w.wall_pressure != "extrapolated")
-    return ParamProblem{"wcsph.wall_pressure", "\"" + w.wall_pressure + "\" is not allowed (allowed: rest | eq30 | extrapolated)"};
   if (!(w.alpha >= 0) || !std::isfinite(w.alpha)) return ParamProblem{"wcsph.alpha", "must be >= 0 and finite"};
   if (w.smooth_every < 0) return ParamProblem{"wcsph.smooth_every", "must be >= 0"};
   if (!(w.delta >= 0) || !std::isfinite(w.delta)) return ParamProblem{"wcsph.delta", "must be >= 0 and finite"};
-  if (w.delta > 0 && w.integrator != "predictor_corrector")
+  if (w.delta > 0 && w.integrator != Integrator::PredictorCorrector)
     return ParamProblem{"wcsph.delta", "needs wcsph.integrator = \"predictor_corrector\" (a diffusion term of the continuity "
                                        "equation; the leapfrog's density is the summation density)"};
   const bool free = has_free_surface(p.domain, p.free_surface), gravity = p.gravity.norm() != 0;
   if (!gravity && !free) return std::nullopt;
   const std::string what = free ? "a free surface" : "gravity";
-  if (w.integrator != "predictor_corrector")
+  if (w.integrator != Integrator::PredictorCorrector)
     return ParamProblem{"wcsph.integrator", what + " needs \"predictor_corrector\" (A Eqs. 19-21 with the continuity "
                                                   "equation; the summation density of the leapfrog reads a free surface as a density deficit)"};
-  if (w.eos != "tait") return ParamProblem{"wcsph.eos", what + " needs \"tait\" (A Eq. 27: p = 0 at the rest density)"};
-  if (w.walls != "virtual") return ParamProblem{"wcsph.walls", what + " needs \"virtual\""};
+  if (w.eos != Eos::Tait) return ParamProblem{"wcsph.eos", what + " needs \"tait\" (A Eq. 27: p = 0 at the rest density)"};
+  if (w.walls != WcsphWalls::Virtual) return ParamProblem{"wcsph.walls", what + " needs \"virtual\""};
   return std::nullopt;
 }
 
@@ -40,7 +36,7 @@ void check_afanasiev_params(const FluidParams& p) {
 }
 
 int particle_count(const FluidParams& p, const Lattice& L) {
-  if (p.wcsph.integrator != "predictor_corrector") return L.size();
+  if (p.wcsph.integrator != Integrator::PredictorCorrector) return L.size();
   return static_cast<int>(fill_particles(L, p.free_surface.fill).x.rows());
 }
 
@@ -51,9 +47,7 @@ void WcsphFluid::init_afanasiev() {
   x_ = set.x;
   m_ = rho0_ * set.volume;  // the continuity equation carries the density: m = rho0 V
   B_ = rho0_ * c_ * c_ / prm_.wcsph.gamma;  // A Eq. (27): B = rho0 c^2 / gamma
-  wall_pressure_ = prm_.wcsph.wall_pressure == "eq30"           ? WallPressure::Eq30
-                   : prm_.wcsph.wall_pressure == "extrapolated" ? WallPressure::Extrapolated
-                                                                : WallPressure::Rest;
+  wall_pressure_ = prm_.wcsph.wall_pressure;
   const SurfaceDetection how = detection_for(prm_.method, prm_.domain, fs);
   surface_on_ = how != SurfaceDetection::None;
   detector_ = SurfaceDetector(how, fs.beta, fs.dilts_radius * W_.h);

@@ -104,14 +104,14 @@ MemoryEstimate estimate_memory(const Scene& s) {
   e.neighbours = lattice_neighbours(f);
   const double log2N = std::log2(std::max(2.0, static_cast<double>(e.particles)));
   const bool approximate = f.projection == Projection::Approximate ||
-                           (f.projection == Projection::Auto && f.method == "lagrangian");
-  if (f.method == "wcsph") {
+                           (f.projection == Projection::Auto && f.method == FluidMethod::Lagrangian);
+  if (f.method == FluidMethod::Wcsph) {
     e.path = "WCSPH";
     e.per_neighbour = kWcsph;
-  } else if (f.method == "isph") {
+  } else if (f.method == FluidMethod::Isph) {
     e.path = "ISPH";
     e.per_neighbour = kIsphPerLog * log2N;
-  } else if (f.method == "lagrangian") {
+  } else if (f.method == FluidMethod::Lagrangian) {
     e.path = "LPSPH";
     e.per_neighbour = kLagrangianPerLog * log2N;
   } else if (fft_solvers(f)) {

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "coupling/contact.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/footprint.hpp"

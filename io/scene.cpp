@@ -16,6 +16,7 @@
 #include <toml++/toml.h>
 
 #include "fluid/factory.hpp"
+#include "fluid/free_surface.hpp"
 #include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
@@ -116,6 +117,16 @@ class Reader {
     for (const auto& o : options)
       if (v == o) return v;
     fail(key, "\"" + v + "\" is not allowed (allowed: " + all + ")");
+  }
+  // A closed set of choices: the words of its table (fluid/params.hpp), read as its enum.
+  template <class E, std::size_t N>
+  E option(const std::string& key, E def, const EnumName<E> (&table)[N], const std::string& what) {
+    std::vector<std::string> names;
+    for (const auto& e : table) names.emplace_back(e.name);
+    const std::string v = choice(key, enum_name(def, table), names, what);
+    for (const auto& e : table)
+      if (v == e.name) return e.value;
+    fail(key, "\"" + v + "\" has no value");  // not reached: choice refused it
   }
   Eigen::Vector2d pair(const std::string& key, const Eigen::Vector2d& def, const std::string& what,
                        bool required = false) {
@@ -561,8 +572,8 @@ void read_fluid(Reader& r, Scene& s) {
       "fluid.projection", "auto", {"auto", "exact", "approximate"},
       "Poisson operator of the projection: exact (D G: the projected velocity is discretely divergence-free), "
       "approximate (the paper's Morris Laplacian, Eq. 31); auto: exact for eulerian, approximate for lagrangian and isph");
-  if (projection != "auto" && s.method == "wcsph") r.fail("fluid.projection", "does not apply to method \"wcsph\" (no projection)");
-  if (projection == "exact" && s.method == "lagrangian")
+  if (projection != "auto" && s.method == FluidMethod::Wcsph) r.fail("fluid.projection", "does not apply to method \"wcsph\" (no projection)");
+  if (projection == "exact" && s.method == FluidMethod::Lagrangian)
     r.fail("fluid.projection", "\"exact\" is available for method \"eulerian\" only (lagrangian: \"approximate\")");
   f.projection = projection == "approximate" ? Projection::Approximate
                  : projection == "exact"     ? Projection::Exact
@@ -572,21 +583,21 @@ void read_fluid(Reader& r, Scene& s) {
   f.lagrangian.min_kernel_sum = r.number("lagrangian.min_kernel_sum", 0.5, "[0, 1]",
                                          "LPSPH: stop when a particle's kernel sum sum_j V_j W_ij falls below this",
                                          false, 0.0, false, 1.0);
-  f.wcsph.eos = r.choice("wcsph.eos", "morris", {"morris", "tait"}, "WCSPH equation of state");
+  f.wcsph.eos = r.option("wcsph.eos", Eos::Morris, kEos, "WCSPH equation of state");
   f.wcsph.c = r.number("wcsph.c", 0.0, ">= 0", "WCSPH speed of sound (0: 10 u_scale, about 1% density variation)",
                        false, 0.0);
   f.wcsph.gamma = r.positive("wcsph.gamma", 7.0, "Tait exponent");
   f.wcsph.xsph = r.number("wcsph.xsph", 0.0, "[0, 1]", "XSPH epsilon (0: off)", false, 0.0, false, 1.0);
-  f.wcsph.walls = r.choice("wcsph.walls", "virtual", {"virtual", "lennard_jones"},
+  f.wcsph.walls = r.option("wcsph.walls", WcsphWalls::Virtual, kWcsphWalls,
                            "WCSPH walls: Morris virtual particles or the Lennard-Jones repulsion of Coelho et al.");
   f.wcsph.u_scale = r.positive("wcsph.u_scale", 1.0, "expected maximum speed (sets c when wcsph.c = 0)");
-  f.wcsph.integrator = r.choice("wcsph.integrator", "leapfrog", {"leapfrog", "predictor_corrector"},
+  f.wcsph.integrator = r.option("wcsph.integrator", Integrator::Leapfrog, kIntegrators,
                                 "WCSPH time stepping: leapfrog (Vukcevic Eq. 22, summation density) or predictor_corrector "
                                 "(Afanasiev et al. Eqs. 19-21, continuity density; needed for a free surface)");
   f.wcsph.alpha = r.number("wcsph.alpha", 0.0, ">= 0", "artificial viscosity alpha of Monaghan (1992) (0: off)", false, 0.0);
   f.wcsph.smooth_every = static_cast<int>(r.integer(
       "wcsph.smooth_every", 0, 0, "density smoothing (Afanasiev et al. Eq. 29) every so many steps (predictor_corrector; 0: off)"));
-  f.isph.viscous = r.choice("isph.viscous", "explicit", {"explicit", "crank_nicolson"},
+  f.isph.viscous = r.option("isph.viscous", IsphViscous::Explicit, kIsphViscous,
                             "ISPH's viscous predictor: explicit (Afanasiev et al. Eq. 22) or crank_nicolson (the "
                             "projection core's Eq. 28)");
   f.isph.poisson_rtol = r.number("isph.poisson_rtol", 1e-8, "(0, 1e-4]",
@@ -595,7 +606,7 @@ void read_fluid(Reader& r, Scene& s) {
   f.isph.poisson_refresh = static_cast<int>(r.integer(
       "isph.poisson_refresh", 8, 1, "ISPH's Poisson CG: a new preconditioner factorisation after a solve that needed more "
                                     "than this many iterations"));
-  f.wcsph.wall_pressure = r.choice("wcsph.wall_pressure", "rest", {"rest", "eq30", "extrapolated"},
+  f.wcsph.wall_pressure = r.option("wcsph.wall_pressure", WallPressure::Rest, kWallPressures,
                                    "pressure of the wall particles (predictor_corrector): rest (p(rho0)), eq30 (Afanasiev et al. "
                                    "Eq. 30), extrapolated (Eq. 30 normalised, with the hydrostatic term of Adami et al. 2012)");
 }
@@ -635,7 +646,7 @@ void read_free_surface(Reader& r, Scene& s) {
     s.sim.initial_velocity = [G](double x, double y) -> Eigen::Vector2d { return G * Eigen::Vector2d(x, y); };
   }
   FreeSurfaceParams& fs = f.free_surface;
-  fs.detection = r.choice("free_surface.detection", "auto", {"auto", "dilts", "divergence", "none"},
+  fs.detection = r.option("free_surface.detection", SurfaceDetection::Auto, kSurfaceDetections,
                           "free-surface particles (p = 0): dilts (Dilts 2000), divergence (Afanasiev et al. Eq. 26: div r < "
                           "2 beta); auto: the paper's choice for the method (wcsph: dilts, isph: divergence), none without a "
                           "free surface");
@@ -651,11 +662,11 @@ void read_free_surface(Reader& r, Scene& s) {
 // WCSPH's delta-SPH density diffusion (fluid/wcsph.hpp).
 void read_regularisation(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
-  f.isph.scheme = r.choice("isph.scheme", "consistent", {"consistent", "paper"},
+  f.isph.scheme = r.option("isph.scheme", IsphScheme::Consistent, kIsphSchemes,
                            "ISPH's operators: consistent (a fluid at rest stays at rest: the pressure gradient exact for a "
                            "linear pressure on the initial arrangement, the Poisson rows beside the free surface mirrored, "
                            "no Lennard-Jones push; fluid/isph.hpp) or paper (Afanasiev et al.'s Eqs. 13, 17 as before)");
-  f.isph.shifting = r.choice("isph.shifting", "auto", {"auto", "fickian", "xu", "none"},
+  f.isph.shifting = r.option("isph.shifting", Shifting::Auto, kShiftings,
                              "ISPH's particle shifting after each step: fickian (Lind et al. 2012, with their free-surface "
                              "correction), xu (Xu et al. 2009), none (Afanasiev et al.'s Eq. 25 alone); auto: fickian with "
                              "isph.scheme = consistent, none with paper");
@@ -706,7 +717,7 @@ void read_time_and_solvers(Reader& r, Scene& s) {
       "lattice: no lattice-scale ripple), sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
       "bspline when a membrane has bending or a law other than hookean, else divergence_free; sph for the other "
       "methods");
-  if ((interp == "divergence_free" || interp == "bspline") && s.method != "eulerian")
+  if ((interp == "divergence_free" || interp == "bspline") && s.method != FluidMethod::Eulerian)
     r.fail("coupling.interpolation", "\"" + interp + "\" needs method \"eulerian\" (the fixed lattice's stream function)");
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                         : interp == "bspline"       ? MarkerInterpolation::BSpline
@@ -929,16 +940,16 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     setup.fixed = m.fixed;
     setup.semi_implicit = m.semi_implicit;
     setup.viscosity_ratio = m.viscosity_ratio;
-    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
-      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+    if (m.viscosity_ratio != 1.0 && s.method != FluidMethod::Eulerian)
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + std::string(to_string(s.method)) +
                                         "\" has one viscosity everywhere)");
     s.sim.membranes.push_back(setup);
   }
   for (const ProgramMembrane& m : program) {
     const std::string p = "membranes[" + std::to_string(s.sim.membranes.size()) + "].";
     if (const auto [key, why] = program_membrane_problem(m, p); !key.empty()) r.fail(key, why);
-    if (m.viscosity_ratio != 1.0 && s.method != "eulerian")
-      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + s.method +
+    if (m.viscosity_ratio != 1.0 && s.method != FluidMethod::Eulerian)
+      r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + std::string(to_string(s.method)) +
                                         "\" has one viscosity everywhere)");
     const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
     s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit, m.viscosity_ratio});
@@ -960,7 +971,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   s.title = r.text("title", "", "a one-line description");
   // A new method is added here, to make_fluid and, with a free surface, to supports_free_surface
   // (fluid/free_surface.cpp).
-  s.method = r.choice("method", "eulerian", {"eulerian", "lagrangian", "wcsph", "isph"},
+  s.method = r.option("method", FluidMethod::Eulerian, kFluidMethods,
                       "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
                       "wcsph (weakly compressible SPH), isph (incompressible SPH with a free surface, Afanasiev et al. "
                       "2011)");

@@ -41,7 +41,8 @@ struct MembraneScene {
 
 // What to simulate and observe: read from a scene file (load_scene) or built in C++.
 struct Scene {
-  std::string path, title, method = "eulerian";
+  std::string path, title;
+  FluidMethod method = FluidMethod::Eulerian;
   std::string exact = "none";  // none | poiseuille | couette | cavity | membrane_equilibrium | membrane_oscillation | inclined_plane | droplet | dam_break
   bool loads = false;          // force_<wall>, load_<wall> columns (observe/loads.cpp)
   ProbeParams probes;          // pressure probes on the walls (observe/probes.cpp)

@@ -200,7 +200,7 @@ std::string membranes_cross(const std::vector<MembraneSetup>& m, const Domain& d
 std::string fill_leaves_no_surface(const FluidParams& f) {
   const FluidRegion& r = f.free_surface.fill;
   const Domain& d = f.domain;
-  if (r.shape == FluidRegion::Shape::Domain || d.any_open() || f.method != "isph") return "";
+  if (r.shape == FluidRegion::Shape::Domain || d.any_open() || f.method != FluidMethod::Isph) return "";
   // The lattice of Eq. (68): sites at x0 + (i + o) dx, o = 1/2 between walls, 0 along a periodic axis.
   const double dx = spacing_x(f), dy = spacing_y(f), ox = d.periodic_x ? 0.0 : 0.5, oy = d.periodic_y ? 0.0 : 0.5;
   const double xa = d.x0 + ox * dx, xb = d.x0 + (f.nx - 1 + ox) * dx, ya = d.y0 + oy * dy, yb = d.y0 + (f.ny - 1 + oy) * dy;

@@ -8,6 +8,7 @@
 // carry the same wall stress in plain Couette flow (a suspension's, once its flow is steady).
 #include <cmath>
 
+#include "fluid/loads.hpp"
 #include "observe/analysis.hpp"
 
 namespace sphib {

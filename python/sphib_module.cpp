@@ -617,7 +617,7 @@ void bind_scene(py::module_& m) {
            }, "What `sphib check` prints: particles, neighbours, memory, time-step estimates and warnings.")
       .def_property_readonly("path", [](const PyScene& s) { return s.path; }, "the scene file ('' when built from keys)")
       .def_property_readonly("title", [](const PyScene& s) { return s.scene.title; }, "the scene's title key")
-      .def_property_readonly("method", [](const PyScene& s) { return s.scene.method; }, "eulerian, lagrangian, wcsph or isph")
+      .def_property_readonly("method", [](const PyScene& s) { return std::string(to_string(s.scene.method)); }, "eulerian, lagrangian, wcsph or isph")
       .def_property_readonly("nx", [](const PyScene& s) { return s.scene.sim.fluid.nx; }, "grid.nx")
       .def_property_readonly("ny", [](const PyScene& s) { return s.scene.sim.fluid.ny; }, "grid.ny")
       .def_property_readonly("dx", [](const PyScene& s) { return s.scene.sim.fluid.domain.Lx() / s.scene.sim.fluid.nx; }, "lattice spacing along x")
@@ -640,7 +640,7 @@ void bind_scene(py::module_& m) {
       }, "every key, given or default, as the run records it (text)")
       .def("__repr__", [](const PyScene& s) {
         std::ostringstream o;
-        o << "<sphib.Scene " << (s.path.empty() ? s.name : s.path) << ": " << s.scene.method << ", " << s.scene.sim.fluid.nx
+        o << "<sphib.Scene " << (s.path.empty() ? s.name : s.path) << ": " << to_string(s.scene.method) << ", " << s.scene.sim.fluid.nx
           << " x " << s.scene.sim.fluid.ny << ", dt " << s.scene.sim.fluid.dt << ", end " << s.scene.t_end << ", "
           << s.scene.sim.membranes.size() << " membrane(s)>";
         return o.str();
@@ -684,7 +684,7 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("time", [](const PySim& s) { return s.get().time(); }, "t of the current state")
       .def_property_readonly("steps", [](const PySim& s) { return s.get().steps(); }, "steps taken")
       .def_property_readonly("dt", [](const PySim& s) { return s.get().fluid().params().dt; }, "the time step")
-      .def_property_readonly("method", [](const PySim& s) { return s.get().fluid().params().method; }, "eulerian, lagrangian, wcsph or isph")
+      .def_property_readonly("method", [](const PySim& s) { return std::string(to_string(s.get().fluid().params().method)); }, "eulerian, lagrangian, wcsph or isph")
       .def_property_readonly("particles_move", [](const PySim& s) { return s.get().fluid().particles_move(); }, "False on the fixed lattice (EPSPH)")
       .def_property_readonly("N", [](const PySim& s) { return s.get().fluid().size(); }, "number of particles")
       .def_property_readonly("nx", [](const PySim& s) { return s.get().fluid().lattice().nx; }, "lattice sites along x")

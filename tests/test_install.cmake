@@ -30,6 +30,23 @@ file(GLOB config ${prefix}/lib*/cmake/sphib/sphibConfig.cmake ${prefix}/lib/*/cm
 if(NOT config)
   message(FATAL_ERROR "install: no lib/cmake/sphib/sphibConfig.cmake under ${prefix}")
 endif()
+# Every installed header compiles against the installed tree alone: a public header that included a
+# private (not installed) one would fail here.
+file(GLOB_RECURSE headers RELATIVE ${prefix}/include ${prefix}/include/sphib/*.hpp)
+list(LENGTH headers n_headers)
+message(STATUS "installed headers: ${n_headers}")
+set(all_headers "")
+foreach(h ${headers})
+  string(APPEND all_headers "#include <${h}>\n")
+endforeach()
+file(WRITE ${WORK_DIR}/headers/all.cpp "${all_headers}int main() { return 0; }\n")
+file(WRITE ${WORK_DIR}/headers/CMakeLists.txt "cmake_minimum_required(VERSION 3.18)\nproject(all_headers LANGUAGES CXX)\n"
+     "set(CMAKE_CXX_STANDARD 17)\nfind_package(sphib REQUIRED)\nadd_executable(all_headers all.cpp)\n"
+     "target_link_libraries(all_headers PRIVATE sphib::sphib)\n")
+step("configure a program including every installed header" ${CMAKE_COMMAND} -S ${WORK_DIR}/headers
+     -B ${WORK_DIR}/headers/build -G ${GENERATOR} -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}"
+     "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+step("build it" ${CMAKE_COMMAND} --build ${WORK_DIR}/headers/build)
 step("configure examples/outside" ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/outside -B ${WORK_DIR}/build
      -G ${GENERATOR} -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
 step("build examples/outside" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)

@@ -241,7 +241,7 @@ TEST(MovingParticles, VerletListBuildsWhenItMust) {
 // the reach, 2h (1 - 1e-12), and 2h); tolerance 1e-12.
 TEST(MovingParticles, LpsphPatternStableBetweenBuildsAndValuesAsFresh) {
   FluidParams p;
-  p.method = "lagrangian";
+  p.method = FluidMethod::Lagrangian;
   p.domain.periodic_x = true;
   p.domain.periodic_y = false;
   p.domain.wall_velocity[Top] = Eigen::Vector2d(1.0, 0.0);
@@ -282,7 +282,7 @@ namespace {
 
 FluidParams box(bool px, int n) {
   FluidParams p;
-  p.method = "lagrangian";
+  p.method = FluidMethod::Lagrangian;
   p.domain.periodic_x = px;
   p.domain.periodic_y = false;
   p.nx = p.ny = n;
@@ -465,7 +465,7 @@ TEST(MovingParticles, SolverKindsAreRefusedWhereTheyDoNotApply) {
     EXPECT_NE(std::string(e.what()).find("solver.poisson = \"pcg_fft\" does not apply"), std::string::npos) << e.what();
   }
   FluidParams e = box(true, 12);
-  e.method = "eulerian";
+  e.method = FluidMethod::Eulerian;
   e.cn_solver = SolverKind::PcgCholmod;
   try {
     make_fluid(e);

@@ -348,7 +348,7 @@ namespace {
 SimulationParams capsule(const std::string& method, double lambda) {
   SimulationParams s;
   FluidParams& f = s.fluid;
-  f.method = method;
+  f.method = enum_value(method, kFluidMethods);
   f.domain = {-1.0, 1.0, -0.5, 0.5, true, false};
   f.domain.wall_velocity[Top] = {0.5, 0.0};
   f.domain.wall_velocity[Bottom] = {-0.5, 0.0};

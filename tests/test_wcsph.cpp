@@ -26,7 +26,7 @@ constexpr double kL = 1e-3, kNu = 1e-6, kF = 2e-4, kUmax = kF * kL * kL / (8 * k
 
 FluidParams vukcevic(int ny, double dt, bool couette = false) {
   FluidParams p;
-  p.method = "wcsph";
+  p.method = FluidMethod::Wcsph;
   const int nx = std::max((ny + 1) / 2, 10);  // the periodic length must exceed two supports (4.4 dy)
   p.domain.x0 = 0;
   p.domain.x1 = nx * kL / ny;
@@ -41,7 +41,7 @@ FluidParams vukcevic(int ny, double dt, bool couette = false) {
   p.rho = 1000;
   p.mu = 1e-3;
   p.dt = dt;
-  p.wcsph.eos = "morris";
+  p.wcsph.eos = Eos::Morris;
   p.wcsph.c = std::sqrt(5e-12);
   p.wcsph.xsph = 0.3;
   p.wcsph.u_scale = kUmax;
@@ -68,14 +68,14 @@ Mat2 body_force(const WcsphFluid& f, double Fx) {
 
 FluidParams box(int n, double h_over_dx, const std::string& eos) {
   FluidParams p;
-  p.method = "wcsph";
+  p.method = FluidMethod::Wcsph;
   p.domain.periodic_x = p.domain.periodic_y = false;
   p.nx = p.ny = n;
   p.h_over_dx = h_over_dx;
   p.rho = 1.0;
   p.mu = 0.1;
   p.dt = 1e-4;
-  p.wcsph.eos = eos;
+  p.wcsph.eos = enum_value(eos, kEos);
   p.wcsph.u_scale = 1.0;
   return p;
 }
@@ -125,7 +125,7 @@ TEST(WcsphEos, MorrisAndTait) {
   p.wcsph.c = 2.0;
   const WcsphFluid f(p);
   EXPECT_NEAR(f.p().cwiseAbs().maxCoeff(), 0.0, 1e-12);
-  p.wcsph.eos = "morris";
+  p.wcsph.eos = Eos::Morris;
   const WcsphFluid g(p);
   EXPECT_NEAR(g.p()[0], 4.0 * g.phi()[0], 1e-12);
   EXPECT_DOUBLE_EQ(g.sound_speed(), 2.0);
@@ -141,7 +141,7 @@ TEST(WcsphRest, FluidAtRestStaysAtRest) {
   for (const char* eos : {"morris", "tait"})
     for (const char* walls : {"virtual", "lennard_jones"}) {
       FluidParams p = box(20, 1.525, eos);
-      p.wcsph.walls = walls;
+      p.wcsph.walls = enum_value(walls, kWcsphWalls);
       WcsphFluid f(p);
       const Mat2 x0 = f.x();
       const Mat2 F = Mat2::Zero(f.size(), 2);
