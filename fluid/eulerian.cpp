@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <stdexcept>
 
 #include "fluid/solver_policy.hpp"
 
@@ -19,48 +20,72 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
 
   // Operators, once (Eqs. 27-34), and the rows of their patterns that are lattice translates. The
   // convection gradient is the divergence's, so Stokes flow assembles nothing more.
+  // Compact storage (exact projection, lattice solvers): every product of a step goes through the
+  // stencils, so each operator keeps only its stencil's rows (stencil_rows_only), and what only the
+  // setup reads is freed as soon as it has been read. The setup never holds the operators whole
+  // together: the phi operators are assembled first and read (the Morris Laplacian by its solver,
+  // the phi gradients by the exact projection's divergence D = -G^T), then the velocity operators;
+  // the pair list goes after them; the Morris Laplacian of odd images (lap_u.A) is reduced to its
+  // stencil's rows once the Crank-Nicolson and the markers' solvers are made, before G^T G is
+  // computed (a block of rows at a time, never whole) from the velocity gradients.
+  pairs_count_ = pairs_.size();
+  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
+  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
+  const double m = exact() ? ExactProjection::gradient_normalisation(lat_, pairs_, W_) : 0.0;
+  double factorisation = 0;
+  ExactProjection::Divergence div;
   t0 = Profile::Clock::now();
-  {
+  gauge_ = Gauge(lat_, NullSpace::Constants);
+  if (compact_) {
+    {
+      Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::LapPhi);
+      op_.lap_phi.swap(built.lap_phi);
+    }
+    const auto t1 = Profile::Clock::now();
+    make_phi_solver();
+    factorisation += seconds_since(t1);
+    lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
+    keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
+    lap_phi_st_ = &lap_phi_st_lattice_;
+    {
+      Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::GradPhi);
+      op_.grad_phix.swap(built.grad_phix);
+      op_.grad_phiy.swap(built.grad_phiy);
+    }
+    if (!same_pattern(op_.grad_phix, op_.grad_phiy))
+      throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
+    phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
+    div = ExactProjection::take_divergence(op_.grad_phix, op_.grad_phiy);  // (releases them)
+    Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::Velocity);
+    op_.lap_u.swap(built.lap_u);
+    op_.grad_ux.swap(built.grad_ux);
+    op_.grad_uy.swap(built.grad_uy);
+    pairs_ = PairList();
+  } else {
     Operators built = build_operators(pairs_, lat_, im_, W_);
     op_.swap(built);  // (not an assignment: that would copy)
+    phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
   }
   vel_st_lattice_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
-  phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
   operators_changed(&vel_st_lattice_, &phi_st_lattice_);
   conv_wall_x_ = conv_wall_y_ = Mat2::Zero(N, 2);  // the wall values' terms, once
   add_image_terms(op_.grad_ux.B, gx_b_rows_, c_wall_, conv_wall_x_);
   add_image_terms(op_.grad_uy.B, gy_b_rows_, c_wall_, conv_wall_y_);
   vel_images_ = ImageRows(vel_st_, N, {&op_.lap_u.B, &op_.grad_ux.B, &op_.grad_uy.B});
   lap_star_ = conv_old_ = Mat2::Zero(N, 2);
-  add_setup("assembly", seconds_since(t0));
+  add_setup("assembly", seconds_since(t0) - factorisation);
 
   // Factorisations, once (fluid/solver_policy.hpp). The approximate projection's Poisson operator is
   // the Morris Laplacian (Eqs. 31-32, the constants its null space); the exact projection solves the
   // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
-  // is asked for (phi()).
-  // Compact storage: every product of a step goes through the stencils, so each operator keeps only
-  // its stencil's rows (stencil_rows_only), and what only the setup reads is freed as soon as it has
-  // been read: the pair list after the assembly, the phi gradients after the exact projection's
-  // divergence (D = -G^T) is made, the Morris Laplacian after its solver (made here, while it
-  // exists, rather than when phi is first asked for).
-  pairs_count_ = pairs_.size();
-  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
-  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
-  const double m = exact() ? ExactProjection::gradient_normalisation(lat_, pairs_, W_) : 0.0;
-  if (compact_) pairs_ = PairList();
+  // is asked for (phi()); the compact storage made that one above, while the Morris Laplacian existed.
   t0 = Profile::Clock::now();
   cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
-  gauge_ = Gauge(lat_, NullSpace::Constants);
   if (compact_) {
-    make_phi_solver();
-    lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
-    keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
-    lap_phi_st_ = &lap_phi_st_lattice_;
-    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true, true);
-    release(op_.grad_phix);
-    release(op_.grad_phiy);
-    streams_->make_solvers();
+    streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true, true, &div);
+    streams_->make_markers_solver();
     keep_stencil_rows(op_.lap_u.A, vel_st_lattice_);
+    streams_->make_solvers();
     keep_stencil_rows(op_.grad_ux.A, vel_st_lattice_);
     keep_stencil_rows(op_.grad_uy.A, vel_st_lattice_);
   } else if (exact()) {
@@ -68,7 +93,7 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
   } else {
     make_phi_solver();
   }
-  add_setup("factorisation", seconds_since(t0));
+  add_setup("factorisation", seconds_since(t0) + factorisation);
   k_psi_ = prof_.phase("stream function");
   convective_ = prm_.convection;
 }

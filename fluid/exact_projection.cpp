@@ -23,7 +23,8 @@ double ExactProjection::gradient_normalisation(const Lattice& lat, const PairLis
 }
 
 ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Operators& op, double m,
-                                 const RowStencil* vel_st, SolverKind kind, bool projection, bool compact)
+                                 const RowStencil* vel_st, SolverKind kind, bool projection, bool compact,
+                                 Divergence* div)
     : lat_(lat), im_(im), op_(op), vel_st_(vel_st), kind_(kind), projection_(projection),
       compact_(compact && projection) {
   // The curl of psi_m reproduces u at long waves as G G^T / lap ~ m: psi_m is divided by m, so that
@@ -39,15 +40,12 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Ope
                                     ": a wall velocity with a normal component lets fluid through the wall; "
                                     "the exact projection (fluid.projection = \"exact\") needs impermeable walls");
     }
-    div_x_ = op_.grad_phix.transpose();
-    div_y_ = op_.grad_phiy.transpose();
-    negate(div_x_);
-    negate(div_y_);
-    div_st_ = find_row_stencil({&div_x_, &div_y_});
-    if (compact_) {
-      keep_stencil_rows(div_x_, div_st_);
-      keep_stencil_rows(div_y_, div_st_);
-    }
+    Divergence made;
+    if (!div) made = make_divergence(op_.grad_phix, op_.grad_phiy, compact_);
+    Divergence& d = div ? *div : made;
+    div_x_.swap(d.x);
+    div_y_.swap(d.y);
+    div_st_ = std::move(d.st);
     vmodes_ = VelocityModes(lat_);
     parity_.resize(lat_.size());
     for (int i = 0; i < lat_.size(); ++i) parity_[i] = static_cast<unsigned char>(2 * ((i / lat_.nx) & 1) + ((i % lat_.nx) & 1));
@@ -58,8 +56,52 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Ope
   psi_m_ = cu_ = b_m_ = Vec::Zero(N);
 }
 
+ExactProjection::Divergence ExactProjection::make_divergence(const SpMat& grad_phix, const SpMat& grad_phiy,
+                                                              bool compact) {
+  Divergence d;
+  d.x = grad_phix.transpose();
+  d.y = grad_phiy.transpose();
+  finish_divergence(d, compact);
+  return d;
+}
+
+ExactProjection::Divergence ExactProjection::take_divergence(SpMat& grad_phix, SpMat& grad_phiy) {
+  Divergence d;
+  d.x = grad_phix.transpose();
+  release(grad_phix);
+  d.y = grad_phiy.transpose();
+  release(grad_phiy);
+  finish_divergence(d, true);
+  return d;
+}
+
+void ExactProjection::finish_divergence(Divergence& d, bool compact) {
+  negate(d.x);
+  negate(d.y);
+  d.st = find_row_stencil({&d.x, &d.y});
+  if (compact) {
+    keep_stencil_rows(d.x, d.st);
+    keep_stencil_rows(d.y, d.st);
+  }
+}
+
 void ExactProjection::make_solvers() {
   if (!psi_solver_) make_psi_solver();
+}
+
+void ExactProjection::make_markers_solver() {
+  if (mpsi_solver_) return;
+  // The markers' psi_m: -lap psi_m = C^T u, lap with odd images (lap_u.A, Eq. 31): definite with a
+  // wall, the constants its null space on a doubly periodic box.
+  const Domain& d = lat_.domain;
+  mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
+  SpMat minus_lap = op_.lap_u.A;  // -lap (negated in place: an assigned -A grows its own storage)
+  negate(minus_lap);
+  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", minus_lap,
+                                   mpsi_gauge_, kind_, &lat_, Refactor::Once);
+  release(minus_lap);
+  mpsi_solver_ = std::move(m.solver);
+  mpsi_unpinned_ = m.unpinned;
 }
 
 void ExactProjection::make_psi_solver() {
@@ -124,16 +166,7 @@ void ExactProjection::make_psi_solver() {
   } else {
     mpsi_flux_ = Vec::Zero(N);
   }
-  // The markers' psi_m: -lap psi_m = C^T u, lap with odd images (lap_u.A, Eq. 31): definite with a
-  // wall, the constants its null space on a doubly periodic box.
-  mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
-  SpMat minus_lap = op_.lap_u.A;  // -lap (negated in place: an assigned -A grows its own storage)
-  negate(minus_lap);
-  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", minus_lap,
-                                   mpsi_gauge_, kind_, &lat_, Refactor::Once);
-  release(minus_lap);
-  mpsi_solver_ = std::move(m.solver);
-  mpsi_unpinned_ = m.unpinned;
+  if (!mpsi_solver_) make_markers_solver();
   if (compact_) {  // from here on read only through psi_st_
     keep_stencil_rows(psi_ty_, psi_st_);
     keep_stencil_rows(psi_tx_, psi_st_);

@@ -42,12 +42,27 @@ class ExactProjection {
   // storage, eulerian.hpp; with `projection`): the divergence and the transposed gradients keep only
   // their stencils' rows (stencil_rows_only), and the solvers are made by make_solvers(), which the
   // owner calls after freeing what it no longer needs.
+  // `div` (with `projection`): the divergence made beforehand by make_divergence from the phi
+  // gradients, taken over (they may then be freed before this is made); else it is made from op's.
+  struct Divergence {
+    SpMat x, y;  // Dx, Dy (D = -G^T), one pattern
+    RowStencil st;
+  };
   ExactProjection(const Lattice& lat, const Images& im, const Operators& op, double m, const RowStencil* vel_st,
-                  SolverKind kind, bool projection, bool compact = false);
+                  SolverKind kind, bool projection, bool compact = false, Divergence* div = nullptr);
+  // D = -G^T from the phi gradients (Gx, Gy: grad_phix, grad_phiy) and its stencil; `compact`: only
+  // the stencil's rows kept (stencil_rows_only)
+  static Divergence make_divergence(const SpMat& grad_phix, const SpMat& grad_phiy, bool compact);
+  // The same, compact, each gradient released (0 x 0) as soon as it is transposed (never both
+  // gradients and both transposes held at once)
+  static Divergence take_divergence(SpMat& grad_phix, SpMat& grad_phiy);
   // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
   // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle's pairs.
   static double gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W);
   void make_solvers();  // the normal equations' and the markers' (a compact constructor's are deferred)
+  // The markers' solver alone (make_solvers makes it too if not made yet): the only reader of the
+  // whole lap_u.A, which a compact owner may then reduce to its stencil rows before make_solvers.
+  void make_markers_solver();
 
   // The exact projection of u*, in three parts (timed apart by the caller):
   // C^T u* and the flux Q of u*: the normal equations' right-hand side (the fluid at `revision`)
@@ -74,6 +89,7 @@ class ExactProjection {
 
  private:
   void make_psi_solver();
+  static void finish_divergence(Divergence& d, bool compact);  // D = -(the transposes), its stencil
   void curl_transpose(const Mat2& u);  // cu_ = C^T u, Q_ = the least-squares flux of u
   void psi_rhs();                      // b_psi_ = cu_ - Q_ (flux term), projected
 

@@ -5,8 +5,10 @@
 
 namespace sphib {
 
-ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rule, const double* a,
-                       bool difference, bool keep_zeros) {
+namespace {
+// assemble_pairs with the coefficient of pair k given by a(k) (computed as it is read: no array of them)
+template <class Coef>
+ImageOp assemble(const PairList& P, int N, const Images& im, ImageRule rule, Coef a, bool difference, bool keep_zeros) {
   const int M = im.size();
   std::vector<Triplet> tB;
   tB.reserve(M * 8);
@@ -30,14 +32,15 @@ ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rul
     row.clear();
     for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
       const int j = P.j[k];
-      diag += a[k];  // the f_i part
+      const double ak = a(k);
+      diag += ak;  // the f_i part
       if (j < N) {
-        add(j, s_ij * a[k]);
+        add(j, s_ij * ak);
       } else {  // image: f_j = sign f_p + c_j
         const int m = j - N;
         const double sign = rule == ImageRule::Velocity ? im.v_sign[m] : 1.0;
-        add(im.parent[m], s_ij * sign * a[k]);
-        if (rule == ImageRule::Velocity) tB.emplace_back(i, m, s_ij * a[k]);
+        add(im.parent[m], s_ij * sign * ak);
+        if (rule == ImageRule::Velocity) tB.emplace_back(i, m, s_ij * ak);
       }
     }
     add(i, diag);
@@ -52,29 +55,42 @@ ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rul
   return op;
 }
 
-Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W) {
-  const int N = L.size(), K = P.size();
+}  // namespace
+
+ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rule, const double* a,
+                       bool difference, bool keep_zeros) {
+  return assemble(P, N, im, rule, [a](int k) { return a[k]; }, difference, keep_zeros);
+}
+
+Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W,
+                          OperatorSet set) {
+  const bool vel = set == OperatorSet::All || set == OperatorSet::Velocity;
+  const bool lap_phi = set == OperatorSet::All || set == OperatorSet::Phi || set == OperatorSet::LapPhi;
+  const bool grad_phi = set == OperatorSet::All || set == OperatorSet::Phi || set == OperatorSet::GradPhi;
+  const int N = L.size();
   const double V = L.volume;
-  // One coefficient array at a time, each for its two operators (velocity and scalar images)
-  std::vector<double> a(K);
+  // The coefficients computed as each operator reads them (no array of them: the assembly's peak
+  // holds the pair list and the operators alone); each the same expression, hence the same bits.
+  // Eqs. (28), (31): 2 m (mu_i+mu_j)/(rho_i+rho_j)^2 -> 2 V per unit nu
+  const auto lap = [&](int k) { return 2.0 * V * W.F(P.r[k]); };
+  // Eqs. (27), (30): V (x_i - x_j) F_ij, F = (1/r) dW/dr
+  const auto gx = [&](int k) { return V * P.rx[k] * W.F(P.r[k]); };
+  const auto gy = [&](int k) { return V * P.ry[k] * W.F(P.r[k]); };
   Operators op;  // all with one pattern per image rule, for the fused products
-  for (int k = 0; k < K; ++k) a[k] = 2.0 * V * W.F(P.r[k]);  // Eqs. (28), (31): 2 m (mu_i+mu_j)/(rho_i+rho_j)^2 -> 2 V per unit nu
-  auto put = [&](ImageOp& to, ImageRule rule, bool difference, bool keep_zeros) {
-    ImageOp t = assemble_pairs(P, N, im, rule, a.data(), difference, keep_zeros);
+  auto put = [&](ImageOp& to, auto a, bool difference) {
+    ImageOp t = assemble(P, N, im, ImageRule::Velocity, a, difference, true);
     to.swap(t);
   };
-  auto put_A = [&](SpMat& to, bool difference, bool keep_zeros) {
-    ImageOp t = assemble_pairs(P, N, im, ImageRule::Scalar, a.data(), difference, keep_zeros);
+  auto put_A = [&](SpMat& to, auto a, bool difference, bool keep_zeros) {
+    ImageOp t = assemble(P, N, im, ImageRule::Scalar, a, difference, keep_zeros);
     to.swap(t.A);
   };
-  put(op.lap_u, ImageRule::Velocity, true, true);
-  put_A(op.lap_phi, true, false);
-  for (int k = 0; k < K; ++k) a[k] = V * P.rx[k] * W.F(P.r[k]);  // Eqs. (27), (30): V (x_i - x_j) F_ij, F = (1/r) dW/dr
-  put(op.grad_ux, ImageRule::Velocity, false, true);
-  put_A(op.grad_phix, false, true);
-  for (int k = 0; k < K; ++k) a[k] = V * P.ry[k] * W.F(P.r[k]);
-  put(op.grad_uy, ImageRule::Velocity, false, true);
-  put_A(op.grad_phiy, false, true);
+  if (vel) put(op.lap_u, lap, true);
+  if (lap_phi) put_A(op.lap_phi, lap, true, false);
+  if (vel) put(op.grad_ux, gx, false);
+  if (grad_phi) put_A(op.grad_phix, gx, false, true);
+  if (vel) put(op.grad_uy, gy, false);
+  if (grad_phi) put_A(op.grad_phiy, gy, false, true);
   return op;
 }
 

@@ -57,6 +57,13 @@ ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rul
 // needed when lap_phi keeps only its stencil's rows: stencil_rows_only).
 void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p, const RowStencil* st = nullptr);
 
-Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W);
+// Which operators build_operators assembles (the others stay empty): all, the velocity operators
+// (lap_u, grad_ux, grad_uy), the phi operators (lap_phi, grad_phix, grad_phiy), or lap_phi or the
+// phi gradients alone. Each is the same, bit for bit, whichever set it is assembled with (EPSPH's
+// compact storage assembles the sets one after another, so that they are never held whole
+// together: eulerian.cpp).
+enum class OperatorSet { All, Velocity, Phi, LapPhi, GradPhi };
+Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W,
+                          OperatorSet set = OperatorSet::All);
 
 }  // namespace sphib

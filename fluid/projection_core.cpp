@@ -39,7 +39,7 @@ void ProjectionFluid::operators_changed(const RowStencil* vel_st, const RowStenc
   vel_st_ = vel_st;
   phi_st_ = phi_st;
   if (!same_pattern(op_.lap_u.A, op_.grad_ux.A) || !same_pattern(op_.grad_ux.A, op_.grad_uy.A) ||
-      !same_pattern(op_.grad_phix, op_.grad_phiy))
+      ((op_.grad_phix.size() != 0 || op_.grad_phiy.size() != 0) && !same_pattern(op_.grad_phix, op_.grad_phiy)))
     throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
   lap_b_rows_ = nonempty_rows(op_.lap_u.B);
   gx_b_rows_ = nonempty_rows(op_.grad_ux.B);

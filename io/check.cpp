@@ -67,8 +67,10 @@ void report_membranes(const Picture& p, std::ostream& out) {
 int report_memory(const Scene& scene, const MemoryEstimate& e, std::ostream& out) {
   const MachineMemory m = machine_memory();
   out << "  memory estimate: " << bytes(e.bytes) << " at the run's peak = " << bytes(e.base)
-      << " (this process and the run's fixed overhead) + " << e.particles << " particles x " << e.neighbours
-      << " neighbours x " << num(e.per_neighbour) << " bytes (" << e.path << ", measured: documentation, \"Memory\")";
+      << " (this process and the run's fixed overhead) + " << e.particles << " particles x ";
+  if (e.per_particle > 0) out << "(" << num(e.per_particle) << " bytes + ";
+  out << e.neighbours << " neighbours x " << num(e.per_neighbour) << " bytes" << (e.per_particle > 0 ? ")" : "") << " ("
+      << e.path << ", measured: documentation, \"Memory\")";
   if (e.marker_count > 0)
     out << " + " << e.marker_count << " markers: " << bytes(e.markers) << " (measured: documentation, \"Data safety\", \"Memory\")";
   out << "; machine: "

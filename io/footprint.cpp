@@ -18,15 +18,17 @@ namespace {
 // membrane_oscillation_lagrangian.toml at 64^2-512^2, h_over_dx = 0.9, 1.2, 1.5, 2.0; peak minus the
 // 31.4 MB of a 16^2 run, over N n2):
 //   EPSPH, FFT solvers (a channel): exact projection (the compact storage, fluid/eulerian.hpp: its
-//     peak is the setup's, pair list and whole operators at once) 116-119 at 256^2-1024^2;
-//     approximate 165-189;
+//     peak is the setup's, the pair list and one set of whole operators, or the velocity gradients
+//     and their transposes at G^T G; its fields, solvers and compact operators do not grow with n2)
+//     460 per particle + 58 per particle and neighbour (965, 1625 and 3146 B per particle at n2 = 8,
+//     20, 44 at 256^2; 1591 and 1579 at n2 = 20, 512^2 and 1024^2); approximate 165-189;
 //   EPSPH, CHOLMOD (a box, doubly periodic, or solvers chosen): the factors grow like log2 N:
 //     exact 34-51 x log2 N, approximate 11-25 x log2 N (44 and 22 keep 64^2-256^2 within 18%);
 //   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N);
 //   ISPH (cases/dam_break.toml at 200 x 800 to 800 x 3200, 5000-80000 fluid particles;
 //     still_tank_isph.toml at 160^2): 14-19 x log2 N, N the fluid particles (not the lattice's sites).
 // The constants are chosen for the main path's error across 64^2-1024^2 (docs/performance/memory.md).
-constexpr double kFftExact = 120, kFftApproximate = 185;
+constexpr double kFftExact = 58, kFftExactPerParticle = 460, kFftApproximate = 185;
 constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;
 constexpr double kIsphPerLog = 19;
@@ -115,12 +117,13 @@ MemoryEstimate estimate_memory(const Scene& s) {
   } else if (fft_solvers(f)) {
     e.path = std::string("EPSPH, FFT solvers, ") + (approximate ? "approximate" : "exact") + " projection";
     e.per_neighbour = approximate ? kFftApproximate : kFftExact;
+    e.per_particle = approximate ? 0.0 : kFftExactPerParticle;
   } else {
     e.path = std::string("EPSPH, sparse Cholesky factors, ") + (approximate ? "approximate" : "exact") + " projection";
     e.per_neighbour = (approximate ? kCholmodApproximatePerLog : kCholmodExactPerLog) * log2N;
   }
   e.base = resident_bytes() + kOverhead;
-  e.fluid = static_cast<double>(e.particles) * static_cast<double>(e.neighbours) * e.per_neighbour;
+  e.fluid = static_cast<double>(e.particles) * (e.per_particle + static_cast<double>(e.neighbours) * e.per_neighbour);
   for (const MembraneScene& m : s.membranes) e.marker_count += m.nb;
   e.markers = kPerMarker * static_cast<double>(e.marker_count);
   e.bytes = e.base + e.fluid + e.markers;
@@ -157,8 +160,9 @@ std::string memory_problem(const Scene& s, const MemoryEstimate& e, const Machin
   const double limit = memory_limit(s, m);
   if (!(limit > 0) || e.bytes <= limit) return "";
   std::ostringstream w;
-  w << "the run would need about " << bytes_text(e.bytes) << " (" << e.particles << " particles x " << e.neighbours
-    << " neighbours x " << bytes_text(e.per_neighbour) << ", " << e.path;
+  w << "the run would need about " << bytes_text(e.bytes) << " (" << e.particles << " particles x ";
+  if (e.per_particle > 0) w << "(" << bytes_text(e.per_particle) << " + ";
+  w << e.neighbours << " neighbours x " << bytes_text(e.per_neighbour) << (e.per_particle > 0 ? ")" : "") << ", " << e.path;
   if (e.marker_count > 0) w << ", + " << e.marker_count << " markers x " << bytes_text(kPerMarker);
   w << ", + " << bytes_text(e.base) << "), more than ";
   if (s.memory_limit_gb > 0) w << "limits.memory_gb = " << s.memory_limit_gb;

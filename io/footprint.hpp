@@ -21,12 +21,13 @@ struct Scene;
 struct MemoryEstimate {
   double bytes = 0;          // the run's peak resident memory: base + fluid
   double base = 0;           // this process now and the run's fixed overhead
-  double fluid = 0;          // N x n2 x per_neighbour
+  double fluid = 0;          // N x (per_particle + n2 x per_neighbour)
   double markers = 0;        // the membranes' markers: Nb x per_marker, summed over membranes
   long marker_count = 0;     // their Nb, summed
   long particles = 0;        // N
   long neighbours = 0;       // n2: lattice neighbours inside the support 2h (the sparsity of every operator)
   double per_neighbour = 0;  // c: bytes per particle and neighbour of the path
+  double per_particle = 0;   // a: bytes per particle whatever n2 (0 but for EPSPH's compact storage)
   std::string path;          // which calibration: the method, its solvers and projection
 };
 
