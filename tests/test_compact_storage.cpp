@@ -10,51 +10,18 @@
 #include <random>
 
 #include "fluid/eulerian.hpp"
+#include "lattice_fields.hpp"
 #include "fluid/operators.hpp"
 #include "fluid/products.hpp"
 
 using namespace sphib;
+using namespace sphib::testing;
 
 namespace {
 
-struct Box {
-  int n;
-  double h_over_dx;
-  bool px, py;
-};
 // a channel, a closed box, a doubly periodic box, a kernel too wide for stencil rows
 const Box kBoxes[] = {{48, 1.2, true, false}, {20, 1.2, false, false}, {24, 1.5, true, true}, {16, 3.0, false, false}};
 
-FluidParams params(const Box& b) {
-  FluidParams p;
-  p.domain.periodic_x = b.px;
-  p.domain.periodic_y = b.py;
-  p.nx = p.ny = b.n;
-  p.h_over_dx = b.h_over_dx;
-  p.mu = 0.1;
-  p.dt = 1e-3;
-  return p;
-}
-
-struct Random {
-  std::mt19937 gen{5};
-  std::uniform_real_distribution<double> U{-1.0, 1.0};
-  double operator()() {
-    const double v = U(gen);
-    const unsigned k = gen() % 14;
-    return k == 0 ? 0.0 : k == 1 ? -0.0 : v;
-  }
-  Mat2 mat2(int n) {
-    Mat2 m(n, 2);
-    for (int i = 0; i < n; ++i) { m(i, 0) = (*this)(); m(i, 1) = (*this)(); }
-    return m;
-  }
-};
-
-bool bitwise_equal(const double* a, const double* b, long n) { return std::memcmp(a, b, sizeof(double) * n) == 0; }
-bool bitwise_equal(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  return a.rows() == b.rows() && a.cols() == b.cols() && bitwise_equal(a.data(), b.data(), a.size());
-}
 bool same_matrix(const SpMat& A, const SpMat& B) {
   return same_pattern(A, B) && bitwise_equal(A.valuePtr(), B.valuePtr(), A.nonZeros());
 }
@@ -63,7 +30,7 @@ bool same_matrix(const SpMat& A, const SpMat& B) {
 
 TEST(CompactStorage, StencilRowsOnlyGiveTheWholeMatricesProducts) {
   for (const Box& box : kBoxes) {
-    const EulerianFluid f(params(box));
+    const EulerianFluid f(box_params(box));
     const Operators& op = f.operators();  // the whole matrices
     const int N = f.size();
     const RowStencil st = find_row_stencil({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A});
@@ -75,7 +42,7 @@ TEST(CompactStorage, StencilRowsOnlyGiveTheWholeMatricesProducts) {
       EXPECT_LT(L.nonZeros(), op.lap_u.A.nonZeros() / 3) << box.n;
     else  // no stencil: every row kept
       EXPECT_TRUE(same_matrix(L, op.lap_u.A)) << box.n;
-    Random R;
+    Random R(5);
     const Mat2 u = R.mat2(N);
     Mat2 a(N, 2), b(N, 2), c(N, 2), d(N, 2);
     apply2(op.lap_u.A, u, a, &st);
@@ -101,7 +68,7 @@ TEST(CompactStorage, StencilRowsOnlyGiveTheWholeMatricesProducts) {
 
 TEST(CompactStorage, NormalEquationsByRowBlocksEqualTheWholeProducts) {
   for (const Box& box : kBoxes) {
-    const EulerianFluid f(params(box));
+    const EulerianFluid f(box_params(box));
     const Operators& op = f.operators();
     const SpMat& Gx = op.grad_ux.A;
     const SpMat& Gy = op.grad_uy.A;
@@ -118,7 +85,7 @@ TEST(CompactStorage, NormalEquationsByRowBlocksEqualTheWholeProducts) {
 // zeros pruned where asked), written out: the compressed rows assemble_pairs makes equal it.
 TEST(CompactStorage, AssemblyEqualsTheTripletAssembly) {
   for (const Box& box : kBoxes) {
-    const EulerianFluid f(params(box));
+    const EulerianFluid f(box_params(box));
     const PairList& P = f.pairs();
     const Images& im = f.images();
     const int N = f.size(), M = im.size();
@@ -154,12 +121,12 @@ TEST(CompactStorage, AssemblyEqualsTheTripletAssembly) {
 // few steps, velocity, phi and pressure.
 TEST(CompactStorage, StepsAsTheWholeMatrices) {
   for (const Box& box : kBoxes) {
-    EulerianFluid compact(params(box)), whole(params(box));
+    EulerianFluid compact(box_params(box)), whole(box_params(box));
     whole.operators();
     EXPECT_TRUE(compact.compact_storage()) << box.n;
     EXPECT_FALSE(whole.compact_storage()) << box.n;
     const int N = compact.size();
-    Random R;
+    Random R(5);
     const Mat2 u0 = 0.1 * R.mat2(N), F = R.mat2(N);
     compact.set_velocity(u0);
     whole.set_velocity(u0);
@@ -175,13 +142,13 @@ TEST(CompactStorage, StepsAsTheWholeMatrices) {
 }
 
 TEST(CompactStorage, OffWhereASolverKeyForcesAnotherSolverOrTheProjectionIsApproximate) {
-  FluidParams p = params(kBoxes[1]);
+  FluidParams p = box_params(kBoxes[1]);
   p.cn_solver = SolverKind::CholmodSimplicial;
   EXPECT_FALSE(EulerianFluid(p).compact_storage());
-  p = params(kBoxes[1]);
+  p = box_params(kBoxes[1]);
   p.projection = Projection::Approximate;
   EXPECT_FALSE(EulerianFluid(p).compact_storage());
-  p = params(kBoxes[1]);
+  p = box_params(kBoxes[1]);
   p.poisson_solver = SolverKind::Fft;
   EXPECT_TRUE(EulerianFluid(p).compact_storage());
 }

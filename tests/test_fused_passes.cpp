@@ -9,54 +9,16 @@
 #include <random>
 
 #include "fluid/eulerian.hpp"
+#include "lattice_fields.hpp"
 #include "fluid/fused_passes.hpp"
 
 using namespace sphib;
+using namespace sphib::testing;
 
 namespace {
 
-struct Box {
-  int n;
-  double h_over_dx;
-  bool px, py;
-};
 const Box kBoxes[] = {{64, 1.2, true, false}, {20, 1.2, false, false}, {24, 1.5, true, true}, {16, 3.0, false, false}};
 
-FluidParams params(const Box& b) {
-  FluidParams p;
-  p.domain.periodic_x = b.px;
-  p.domain.periodic_y = b.py;
-  p.nx = p.ny = b.n;
-  p.h_over_dx = b.h_over_dx;
-  p.mu = 0.1;
-  p.dt = 1e-3;
-  return p;
-}
-
-// Random values in [-1, 1], with every seventh exactly +0 or -0.
-struct Random {
-  std::mt19937 gen{11};
-  std::uniform_real_distribution<double> U{-1.0, 1.0};
-  double operator()() {
-    const double v = U(gen);
-    const unsigned k = gen() % 14;
-    return k == 0 ? 0.0 : k == 1 ? -0.0 : v;
-  }
-  Mat2 mat2(int n) {
-    Mat2 m(n, 2);
-    for (int i = 0; i < n; ++i) { m(i, 0) = (*this)(); m(i, 1) = (*this)(); }
-    return m;
-  }
-  Vec vec(int n) {
-    Vec v(n);
-    for (int i = 0; i < n; ++i) v[i] = (*this)();
-    return v;
-  }
-};
-
-bool bitwise_equal(const double* a, const double* b, long n) { return std::memcmp(a, b, sizeof(double) * n) == 0; }
-bool bitwise_equal(const Mat2& a, const Mat2& b) { return bitwise_equal(a.data(), b.data(), a.size()); }
-bool bitwise_equal(const Vec& a, const Vec& b) { return bitwise_equal(a.data(), b.data(), a.size()); }
 
 }  // namespace
 
@@ -64,12 +26,12 @@ bool bitwise_equal(const Vec& a, const Vec& b) { return bitwise_equal(a.data(), 
 // (Euler) and later (AB2).
 TEST(FusedPasses, PredictorRhsEqualsTheSeparateProducts) {
   for (const Box& box : kBoxes) {
-    const EulerianFluid f(params(box));
+    const EulerianFluid f(box_params(box));
     const Operators& op = f.operators();
     const int N = f.size(), M = f.images().size();
     const RowStencil st = find_row_stencil({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A});
     const ImageRows images(&st, N, {&op.lap_u.B, &op.grad_ux.B, &op.grad_uy.B});
-    Random R;
+    Random R(11);
     const Mat2 u = R.mat2(N), F = R.mat2(N), c_star = R.mat2(M), c_wall = R.mat2(M), conv_prev = R.mat2(N);
     const std::vector<int> lb = nonempty_rows(op.lap_u.B), xb = nonempty_rows(op.grad_ux.B),
                            yb = nonempty_rows(op.grad_uy.B);
@@ -112,12 +74,12 @@ TEST(FusedPasses, PredictorRhsEqualsTheSeparateProducts) {
 // The exact projection's right-hand sides: C^T u*, the normal equations' b_psi, the markers' b_m.
 TEST(FusedPasses, CurlTransposeRhsEqualsTheSeparateProducts) {
   for (const Box& box : kBoxes) {
-    const EulerianFluid f(params(box));
+    const EulerianFluid f(box_params(box));
     const Operators& op = f.operators();
     const int N = f.size();
     const SpMat ty = op.grad_uy.A.transpose(), tx = -SpMat(op.grad_ux.A.transpose());
     const RowStencil st = find_row_stencil({&ty, &tx});
-    Random R;
+    Random R(11);
     const Mat2 u = R.mat2(N);
     const Vec flux = R.vec(N), mflux = R.vec(N);
     const double scale = 1.0093;
@@ -141,13 +103,13 @@ TEST(FusedPasses, CurlTransposeRhsEqualsTheSeparateProducts) {
 // modes, and G phi = r (u* - u^{n+1}).
 TEST(FusedPasses, CurlVelocityEqualsTheSeparateProducts) {
   for (const Box& box : kBoxes) {
-    const EulerianFluid f(params(box));
+    const EulerianFluid f(box_params(box));
     const Operators& op = f.operators();
     const Lattice& L = f.lattice();
     const int N = f.size(), M = f.images().size();
     const RowStencil st = find_row_stencil({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A});
     const ImageRows images(&st, N, {&op.grad_ux.B, &op.grad_uy.B});
-    Random R;
+    Random R(11);
     const Vec psi = R.vec(N), c1 = R.vec(M);
     const Vec by1 = op.grad_uy.B * c1, bx1 = op.grad_ux.B * c1;  // zero off the rows with image terms
     const Mat2 u_star = R.mat2(N);
