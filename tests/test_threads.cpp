@@ -1,7 +1,7 @@
 // Results do not depend on the thread count (fluid/threads.hpp): a few steps of the main scene on a
 // lattice large enough for every threaded path (>= kParallelRows particles: the fused passes by row
 // blocks, the lattice solvers by columns, row blocks and wavenumbers, the gauge's row sums, the body
-// force) give bitwise the same fields with one and two threads.
+// force, the kinetic energy's sum) give bitwise the same fields with one and two threads.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -19,6 +19,7 @@ namespace {
 struct State {
   Mat2 u, X, F;
   Vec p, phi;
+  double ke;
 };
 
 State run(const Scene& scene, int threads, int steps) {
@@ -26,7 +27,8 @@ State run(const Scene& scene, int threads, int steps) {
   EXPECT_EQ(thread_count(), threads);
   Simulation sim(scene.sim);
   for (int n = 0; n < steps; ++n) sim.step();
-  return {sim.fluid().u(), sim.membranes().at(0).m.X, sim.force(), sim.fluid().p(), sim.fluid().phi()};
+  return {sim.fluid().u(), sim.membranes().at(0).m.X, sim.force(), sim.fluid().p(), sim.fluid().phi(),
+          sim.fluid().kinetic_energy()};
 }
 
 bool same_bits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
@@ -53,6 +55,7 @@ TEST(Threads, TwoThreadsGiveTheBitsOfOne) {
     EXPECT_TRUE(same_bits(one.phi, two.phi)) << what;
     EXPECT_TRUE(same_bits(one.X, two.X)) << what;
     EXPECT_TRUE(same_bits(one.F, two.F)) << what;
+    EXPECT_EQ(one.ke, two.ke) << what;  // (a sum by fixed blocks)
     EXPECT_GT(one.u.cwiseAbs().maxCoeff(), 0.0) << what;  // the membrane has set the fluid moving
   }
 }
