@@ -101,7 +101,7 @@ class FluidSolver {
   // Its phases, set-up timings, report and floor (fluid/profile.hpp).
   Profiler& profiler() const { return *profiler_; }
 
-  int size() const { return static_cast<int>(u_.rows()); }
+  int size() const { return static_cast<int>(x().rows()); }
   double h() const { return W_.h; }
   double nu() const { return prm_.mu / prm_.rho; }
   // Changes with every change of the state (step, set_velocity, restore): callers that keep
