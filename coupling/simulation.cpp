@@ -13,6 +13,7 @@
 #include "coupling/viscosity_contrast.hpp"
 #include "fluid/factory.hpp"
 #include "fluid/neighbours.hpp"
+#include "fluid/row_stencil.hpp"  // kParallelRows
 
 namespace sphib {
 
@@ -287,9 +288,15 @@ void Simulation::external_force(double t) {
     const Mat2& x = fluid_->x();
     for (int i = 0; i < x.rows(); ++i) F_body_.row(i) = prm_.body_force_field(x(i, 0), x(i, 1), t).transpose();
     F_ = F_body_;
-  } else {  // uniform: filled, not copied (half the memory traffic)
-    F_.col(0).setConstant(prm_.body_force.x());
-    F_.col(1).setConstant(prm_.body_force.y());
+  } else {  // uniform: filled, not copied (half the memory traffic), by the threads on a large lattice
+    const int N = static_cast<int>(F_.rows());
+    const double fx = prm_.body_force.x(), fy = prm_.body_force.y();
+    double *F0 = F_.col(0).data(), *F1 = F_.col(1).data();
+#pragma omp parallel for schedule(static) if (N >= kParallelRows)
+    for (int i = 0; i < N; ++i) {
+      F0[i] = fx;
+      F1[i] = fy;
+    }
   }
   if (fluid_->particles_move() && !mem_.empty()) grid_->build(fluid_->x());  // LPSPH, WCSPH: O(N)
 }

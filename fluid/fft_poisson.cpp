@@ -1,6 +1,7 @@
 #include "fluid/fft_poisson.hpp"
 #include "fluid/profile.hpp"
 #include "fluid/products.hpp"  // kParallelRows
+#include "fluid/threads.hpp"
 
 #include <fftw3.h>
 #ifdef _OPENMP
@@ -254,7 +255,7 @@ struct XWaves {
 // the scaled copy out that a solve makes anyway.
 class RowDct {
  public:
-  RowDct(int n, int rows, bool odd) : n_(n), rows_(rows), nk_(n / 2 + 1), sigma_(odd ? -1.0 : 1.0), c_(nk_), s_(nk_) {
+  RowDct(int n, bool odd) : n_(n), nk_(n / 2 + 1), sigma_(odd ? -1.0 : 1.0), c_(nk_), s_(nk_) {
     for (int k = 0; k < nk_; ++k) {
       c_[k] = std::cos(M_PI * k / (2.0 * n));
       s_[k] = std::sin(M_PI * k / (2.0 * n));
@@ -262,20 +263,27 @@ class RowDct {
   }
   int nk() const { return nk_; }  // complex values per row of the FFT
 
-  void permute(const double* x, double* v) const {  // v = the reordered rows (DST: times (-1)^j)
-    for (int r = 0; r < rows_; ++r, x += n_, v += n_) {
+  // Each on rows r0 <= r < r1 (of the whole arrays x, v, V, y).
+  void permute(const double* x, double* v, int r0, int r1) const {  // v = the reordered rows (DST: times (-1)^j)
+    x += static_cast<std::size_t>(r0) * n_;
+    v += static_cast<std::size_t>(r0) * n_;
+    for (int r = r0; r < r1; ++r, x += n_, v += n_) {
       for (int j = 0; 2 * j < n_; ++j) v[j] = x[2 * j];
       for (int j = 0; 2 * j + 1 < n_; ++j) v[n_ - 1 - j] = sigma_ * x[2 * j + 1];
     }
   }
-  void unpermute(const double* v, double* x, double scale) const {  // x = scale times the inverse reordering
-    for (int r = 0; r < rows_; ++r, x += n_, v += n_) {
+  void unpermute(const double* v, double* x, double scale, int r0, int r1) const {  // x = scale times the inverse reordering
+    x += static_cast<std::size_t>(r0) * n_;
+    v += static_cast<std::size_t>(r0) * n_;
+    for (int r = r0; r < r1; ++r, x += n_, v += n_) {
       for (int j = 0; 2 * j < n_; ++j) x[2 * j] = scale * v[j];
       for (int j = 0; 2 * j + 1 < n_; ++j) x[2 * j + 1] = (sigma_ * scale) * v[n_ - 1 - j];
     }
   }
-  void to_real(const double* V, double* y) const {  // V = FFT(v) (re, im), y = the DCT-II
-    for (int r = 0; r < rows_; ++r, V += 2 * nk_, y += n_) {
+  void to_real(const double* V, double* y, int r0, int r1) const {  // V = FFT(v) (re, im), y = the DCT-II
+    V += static_cast<std::size_t>(r0) * 2 * nk_;
+    y += static_cast<std::size_t>(r0) * n_;
+    for (int r = r0; r < r1; ++r, V += 2 * nk_, y += n_) {
       y[0] = 2.0 * V[0];
       for (int k = 1; k < nk_; ++k) {
         const double re = V[2 * k], im = V[2 * k + 1];
@@ -284,8 +292,10 @@ class RowDct {
       }
     }
   }
-  void from_real(const double* y, double* V) const {  // V = e^{i pi k / 2n} (Y_k - i Y_{n-k}), for the c2r
-    for (int r = 0; r < rows_; ++r, V += 2 * nk_, y += n_) {
+  void from_real(const double* y, double* V, int r0, int r1) const {  // V = e^{i pi k / 2n} (Y_k - i Y_{n-k}), for the c2r
+    V += static_cast<std::size_t>(r0) * 2 * nk_;
+    y += static_cast<std::size_t>(r0) * n_;
+    for (int r = r0; r < r1; ++r, V += 2 * nk_, y += n_) {
       V[0] = y[0];
       V[1] = 0.0;
       for (int k = 1; k < nk_; ++k) {
@@ -297,7 +307,7 @@ class RowDct {
   }
 
  private:
-  int n_, rows_, nk_;
+  int n_, nk_;
   double sigma_;
   std::vector<double> c_, s_;
 };
@@ -377,16 +387,22 @@ template <int D>
 // the factors as BandedSolver::arrange_factors stores them (nk per row and band: with pairs, h's
 // rows hold (re, im) of each of nk wavenumbers, n = 2 nk; else n = nk). Rows reaching more than 4 neighbours
 // (half-bandwidths above 4: wide kernels) take the loop over d of whole-row updates (the same
-// arithmetic).
-[[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int nk,
+// arithmetic). Only the wavenumbers k0 <= k < k1 (k0 even): every wavenumber's values are computed
+// alone, so disjoint ranges may run on different threads and give the bits of the whole range.
+[[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int nk_all,
                                                                 bool pairs, const double* lrow, const double* lcol,
-                                                                const double* rdiag) {
-  const int n = pairs ? 2 * nk : nk;  // with pairs, value m of a row has factor m / 2
+                                                                const double* rdiag, int k0, int k1) {
+  const int stride = pairs ? 2 * nk_all : nk_all;  // a row of h
+  const int nk = k1 - k0, n = pairs ? 2 * nk : nk;  // with pairs, value m of a row has factor m / 2
+  h += pairs ? 2 * k0 : k0;
+  rdiag += k0;
+  lrow += k0;
+  lcol += k0;
   auto row = [&](int i, int dir, const double* f, int dmax) __attribute__((always_inline)) {
-    double* hi = h + static_cast<std::size_t>(i) * n;
-    const double* r = rdiag + static_cast<std::size_t>(i) * nk;
-    auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * n; };      // h_{i -+ d}
-    auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * nk; };  // l_d
+    double* hi = h + static_cast<std::size_t>(i) * stride;
+    const double* r = rdiag + static_cast<std::size_t>(i) * nk_all;
+    auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * stride; };      // h_{i -+ d}
+    auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * nk_all; };  // l_d
     if (dmax > 4 && pairs) {  // whole-row updates, two wavenumbers (four values) at a time
       const int k2 = nk / 2 * 2;
       for (int d = 1; d <= dmax; ++d) {
@@ -451,26 +467,27 @@ class LatticeSolver : public LinearSolver {
   virtual bool factor(long nnz, const Model& m, std::string& why) = 0;  // (nnz: A's, for info())
 
   // Columns are independent: with OpenMP and a large lattice two threads take one each (u and v of
-  // the Crank-Nicolson system), each in its own workspace (FFTW's new-array execute is thread-safe).
+  // the Crank-Nicolson system), each in its own workspace (FFTW's new-array execute is thread-safe);
+  // a single column shares its row blocks and wavenumbers among the threads (solve_shared). Every
+  // row and wavenumber is computed by the same arithmetic either way: the bits do not depend on the
+  // thread count.
   void solve(const double* B, double* X, int k) override {
     const int N = info_.n;
-    const bool par = k >= 2 && N >= kParallelRows;
-    (void)par;
+    const int nt = N >= kParallelRows ? thread_count() : 1;
+    if (k >= 2 && nt >= 2) {
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+      for (int col = 0; col < k; ++col) {
 #ifdef _OPENMP
-    const int nt = std::min(2, omp_get_max_threads());  // OMP_NUM_THREADS = 1 keeps it serial
+        Work& w = ws_[omp_get_thread_num() % 2];
 #else
-    const int nt = 1;
+        Work& w = ws_[0];
 #endif
-    (void)nt;
-#pragma omp parallel for num_threads(nt) schedule(static, 1) if (par)
-    for (int col = 0; col < k; ++col) {
-#ifdef _OPENMP
-      Work& w = ws_[omp_get_thread_num() % 2];
-#else
-      Work& w = ws_[0];
-#endif
-      solve_column(B + static_cast<std::size_t>(col) * N, X + static_cast<std::size_t>(col) * N, w);
+        solve_column(B + static_cast<std::size_t>(col) * N, X + static_cast<std::size_t>(col) * N, w);
+      }
+      return;
     }
+    for (int col = 0; col < k; ++col)
+      solve_shared(B + static_cast<std::size_t>(col) * N, X + static_cast<std::size_t>(col) * N, ws_[0], nt);
   }
 
   bool refactorize(const SpMat& A) override {
@@ -504,7 +521,7 @@ class LatticeSolver : public LinearSolver {
       if (tmp_doubles) w.tmp = fftw_alloc_real(tmp_doubles);
     }
     plan(ws_[0]);  // FFTW_ESTIMATE: the same plan, hence the same bits, in every run
-    if (!fwd_ || !inv_) {
+    if (!fwd_ || !inv_ || (rest_rows_ && (!fwd_rest_ || !inv_rest_))) {
       release();
       throw std::runtime_error("linear solver: system '" + info_.system + "': FFTW could not plan the transforms");
     }
@@ -527,18 +544,22 @@ class LatticeSolver : public LinearSolver {
     return out;
   }
   virtual void solve_column(const double* b, double* x, Work& w) const = 0;
+  // One column on nt threads (the same bits as solve_column); by default on one.
+  virtual void solve_shared(const double* b, double* x, Work& w, int /*nt*/) const { solve_column(b, x, w); }
 
   int nx_, ny_;
   bool y_periodic_;
   XKind x_;
   bool singular_;
   bool complex_ = false;  // the transforms are r2c / c2r (else r2r)
+  int rest_rows_ = 0;     // the rows of BandedSolver's last row block when shorter than the others
   fftw_plan fwd_ = nullptr, inv_ = nullptr;
+  fftw_plan fwd_rest_ = nullptr, inv_rest_ = nullptr;  // BandedSolver's last, shorter row block (when any)
 
  private:
   void release() {
-    if (fwd_) fftw_destroy_plan(fwd_);
-    if (inv_) fftw_destroy_plan(inv_);
+    for (fftw_plan* p : {&fwd_, &inv_, &fwd_rest_, &inv_rest_})
+      if (*p) fftw_destroy_plan(*p);
     for (Work& w : ws_) {
       if (w.in) fftw_free(w.in);
       if (w.out) fftw_free(w.out);
@@ -546,7 +567,7 @@ class LatticeSolver : public LinearSolver {
       if (w.tmp) fftw_free(w.tmp);
       w = Work{};
     }
-    fwd_ = inv_ = nullptr;
+    fwd_ = inv_ = fwd_rest_ = inv_rest_ = nullptr;
   }
   Work ws_[2];
 };
@@ -555,19 +576,29 @@ class LatticeSolver : public LinearSolver {
 class BandedSolver final : public LatticeSolver {
  public:
   BandedSolver(const std::string& system, const Model& m, bool singular)
-      : LatticeSolver(system, m, singular), waves_(m, true), nk_(waves_.nk), dct_(m.nx, m.ny, m.x == XKind::Odd) {
+      : LatticeSolver(system, m, singular), waves_(m, true), nk_(waves_.nk), dct_(m.nx, m.x == XKind::Odd) {
     complex_ = m.x == XKind::Periodic;
     const int n[1] = {nx_}, nc = dct_.nk();
     // Rows of n_x along x (idist n_x); the transform of row i_y, wavenumber k goes to hat[i_y nk + k],
     // so that the banded solves run over all wavenumbers at once (contiguous, vectorised). Between
-    // walls the r2c FFT of the reordered rows goes to tmp (RowDct).
+    // walls the r2c FFT of the reordered rows goes to tmp (RowDct). The rows are transformed in
+    // blocks of rb_ (one block below kParallelRows; else about an eighth of the rows, a multiple of 4
+    // so that every block starts at the plans' alignment): threads take whole blocks, and the plans
+    // are the same whatever their number.
+    rb_ = row_block(nx_, ny_);
+    blocks_ = (ny_ + rb_ - 1) / rb_;
+    rest_rows_ = ny_ % rb_;
     make_plans(static_cast<std::size_t>(complex_ ? 2 : 1) * nk_ * ny_, complex_ ? 0 : static_cast<std::size_t>(2) * nc * ny_,
                [&](Work& w) {
                  auto* c = reinterpret_cast<fftw_complex*>(complex_ ? w.hat : w.tmp);
                  const int nkc = complex_ ? nk_ : nc;
-                 fwd_ = fftw_plan_many_dft_r2c(1, n, ny_, w.in, nullptr, 1, nx_, c, nullptr, 1, nkc, FFTW_ESTIMATE);
-                 inv_ = fftw_plan_many_dft_c2r(1, n, ny_, c, nullptr, 1, nkc, w.out, nullptr, 1, nx_,
-                                               FFTW_ESTIMATE | FFTW_DESTROY_INPUT);
+                 auto plan = [&](int rows, fftw_plan& fwd, fftw_plan& inv) {
+                   fwd = fftw_plan_many_dft_r2c(1, n, rows, w.in, nullptr, 1, nx_, c, nullptr, 1, nkc, FFTW_ESTIMATE);
+                   inv = fftw_plan_many_dft_c2r(1, n, rows, c, nullptr, 1, nkc, w.out, nullptr, 1, nx_,
+                                                FFTW_ESTIMATE | FFTW_DESTROY_INPUT);
+                 };
+                 plan(rb_, fwd_, inv_);
+                 if (rest_rows_) plan(rest_rows_, fwd_rest_, inv_rest_);
                });
   }
 
@@ -694,36 +725,83 @@ class BandedSolver final : public LatticeSolver {
     }
   }
 
-  void solve_column(const double* b, double* x, Work& ws) const override {
-    const int N = info_.n;
-    if (complex_) {
-      forward(b, ws);
-      substitute<2>(ws.hat);
-      const double* out = inverse(ws, x);  // unnormalised: n_x times the inverse transform
-      const double s = 1.0 / nx_;
-      for (int i = 0; i < N; ++i) x[i] = s * out[i];
-    } else {  // DCT-II or DST-II by RowDct, its inverse 2 n_x times the inverse transform
-      auto* tmp = reinterpret_cast<fftw_complex*>(ws.tmp);
-      dct_.permute(b, ws.in);
-      fftw_execute_dft_r2c(fwd_, ws.in, tmp);
-      dct_.to_real(ws.tmp, ws.hat);
-      substitute<1>(ws.hat);
-      dct_.from_real(ws.hat, ws.tmp);
-      fftw_execute_dft_c2r(inv_, tmp, ws.out);
-      dct_.unpermute(ws.out, x, 0.5 / nx_);
+  static int row_block(int nx, int ny) {
+    if (static_cast<long>(nx) * ny < kParallelRows) return ny;
+    return std::min(ny, ((ny + 7) / 8 + 3) / 4 * 4);
+  }
+
+  void solve_column(const double* b, double* x, Work& ws) const override { solve_shared(b, x, ws, 1); }
+
+  // The forward transforms by row blocks, the banded substitutions by ranges of wavenumbers (one per
+  // thread, each an even count: substitute_bands), the inverse transforms by row blocks: one parallel
+  // region, a barrier between the phases.
+  void solve_shared(const double* b, double* x, Work& ws, int nt) const override {
+    const bool b_direct = complex_ && fftw_alignment_of(const_cast<double*>(b)) == fftw_alignment_of(ws.in);
+    const bool x_direct = complex_ && fftw_alignment_of(x) == fftw_alignment_of(ws.out);
+    (void)nt;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+#pragma omp for schedule(static)
+      for (int blk = 0; blk < blocks_; ++blk) forward_rows(b, ws, blk, b_direct);
+#ifdef _OPENMP
+      const int t = omp_get_thread_num(), T = omp_get_num_threads();
+#else
+      const int t = 0, T = 1;
+#endif
+      const int chunk = ((nk_ + T - 1) / T + 1) / 2 * 2;
+      const int k0 = std::min(nk_, t * chunk), k1 = std::min(nk_, k0 + chunk);
+      // B_k x = b for wavenumbers k0 .. k1 - 1 (B_k is real: real and imaginary parts alike): L y = b,
+      // then L' x = y, in place. By hand rather than LAPACK dpbtrs, whose Level-2 calls on bands of
+      // 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per step at 64 x 64).
+      if (k1 > k0) substitute_bands(ws.hat, ny_, w_, ldab_, nk_, complex_, lrow_.data(), lcol_.data(), rdiag_.data(), k0, k1);
+#pragma omp barrier
+#pragma omp for schedule(static)
+      for (int blk = 0; blk < blocks_; ++blk) inverse_rows(ws, x, blk, x_direct);
     }
   }
 
-  // B_k x = b for every wavenumber k (B_k is real: real and imaginary parts alike): L y = b, then
-  // L' x = y, in place (substitute_bands). By hand rather than LAPACK dpbtrs, whose Level-2 calls on
-  // bands of 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per step at 64 x 64).
-  template <int V>
-  void substitute(double* h) const {
-    substitute_bands(h, ny_, w_, ldab_, nk_, V == 2, lrow_.data(), lcol_.data(), rdiag_.data());
+  // Row block blk of b into ws.hat: the r2c FFT (from b itself when `direct`, else from a copy in
+  // ws.in), or between walls the DCT-II or DST-II by RowDct.
+  void forward_rows(const double* b, Work& ws, int blk, bool direct) const {
+    const int r0 = blk * rb_, r1 = std::min(ny_, r0 + rb_);
+    const fftw_plan fwd = r1 - r0 == rb_ ? fwd_ : fwd_rest_;
+    const std::size_t at = static_cast<std::size_t>(r0) * nx_, end = static_cast<std::size_t>(r1) * nx_;
+    if (complex_) {
+      double* in = const_cast<double*>(b) + at;  // (the forward transforms preserve their input)
+      if (!direct) {
+        std::copy(b + at, b + end, ws.in + at);
+        in = ws.in + at;
+      }
+      fftw_execute_dft_r2c(fwd, in, reinterpret_cast<fftw_complex*>(ws.hat) + static_cast<std::size_t>(r0) * nk_);
+    } else {
+      dct_.permute(b, ws.in, r0, r1);
+      fftw_execute_dft_r2c(fwd, ws.in + at, reinterpret_cast<fftw_complex*>(ws.tmp) + static_cast<std::size_t>(r0) * dct_.nk());
+      dct_.to_real(ws.tmp, ws.hat, r0, r1);
+    }
+  }
+
+  // Row block blk of x from ws.hat (destroyed): the c2r FFT (into x itself when `direct`, else into
+  // ws.out) scaled by 1 / n_x, or between walls the inverse by RowDct, its scale 1 / (2 n_x).
+  void inverse_rows(Work& ws, double* x, int blk, bool direct) const {
+    const int r0 = blk * rb_, r1 = std::min(ny_, r0 + rb_);
+    const fftw_plan inv = r1 - r0 == rb_ ? inv_ : inv_rest_;
+    const std::size_t at = static_cast<std::size_t>(r0) * nx_, end = static_cast<std::size_t>(r1) * nx_;
+    if (complex_) {
+      double* out = direct ? x : ws.out;  // unnormalised: n_x times the inverse transform
+      fftw_execute_dft_c2r(inv, reinterpret_cast<fftw_complex*>(ws.hat) + static_cast<std::size_t>(r0) * nk_, out + at);
+      const double s = 1.0 / nx_;
+      for (std::size_t i = at; i < end; ++i) x[i] = s * out[i];
+    } else {
+      auto* tmp = reinterpret_cast<fftw_complex*>(ws.tmp) + static_cast<std::size_t>(r0) * dct_.nk();
+      dct_.from_real(ws.hat, ws.tmp, r0, r1);
+      fftw_execute_dft_c2r(inv, tmp, ws.out + at);
+      dct_.unpermute(ws.out, x, 0.5 / nx_, r0, r1);
+    }
   }
 
   XWaves waves_;
   int nk_, w_ = 0, ldab_ = 1;
+  int rb_ = 1, blocks_ = 1;  // rows per block of the row transforms, and blocks
   RowDct dct_;
   std::vector<char> drop_;                   // per wavenumber: B_k singular, row 0 dropped
   std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see arrange_factors)

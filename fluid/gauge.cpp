@@ -1,6 +1,9 @@
 #include "fluid/gauge.hpp"
 
+#include <algorithm>
 #include <cstddef>
+
+#include "fluid/row_stencil.hpp"  // kParallelRows
 
 namespace sphib {
 
@@ -22,9 +25,41 @@ Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
 
 namespace {
 
-// c[sy][sx] = <f, (-1)^{sx i_x + sy i_y}> / N from the even- and odd-column sums of each row (each
-// summed along the row), the rows' sums added in row order. Four rows are summed side by side: eight
-// independent chains instead of two, the same sums (a single chain waits on each add's latency).
+// The even- and odd-column sums e[l], o[l] of rows iy + l, l < m (each summed along its row). Four
+// rows are summed side by side: eight independent chains instead of two, the same sums (a single
+// chain waits on each add's latency).
+void row_sums(const double* f, int nx, int iy, int m, double* e, double* o) {
+  const int pairs = nx / 2;  // columns 2 p and 2 p + 1; an odd nx leaves the last column to e
+  int l0 = 0;
+  for (; l0 + 4 <= m; l0 += 4) {
+    const double* r[4];
+    double es[4] = {}, os[4] = {};
+    for (int l = 0; l < 4; ++l) r[l] = f + static_cast<std::size_t>(nx) * (iy + l0 + l);
+    for (int p = 0; p < pairs; ++p)
+      for (int l = 0; l < 4; ++l) {
+        es[l] += r[l][2 * p];
+        os[l] += r[l][2 * p + 1];
+      }
+    for (int l = 0; l < 4; ++l) {
+      if (nx % 2) es[l] += r[l][nx - 1];
+      e[l0 + l] = es[l];
+      o[l0 + l] = os[l];
+    }
+  }
+  for (; l0 < m; ++l0) {
+    const double* r = f + static_cast<std::size_t>(nx) * (iy + l0);
+    double es = 0, os = 0;
+    for (int p = 0; p < pairs; ++p) { es += r[2 * p]; os += r[2 * p + 1]; }
+    if (nx % 2) es += r[nx - 1];
+    e[l0] = es;
+    o[l0] = os;
+  }
+}
+
+// c[sy][sx] = <f, (-1)^{sx i_x + sy i_y}> / N from the even- and odd-column sums of each row, the
+// rows' sums added in row order. On a large lattice the rows' sums are shared among the threads
+// (blocks of four rows, kChunk rows at a time on the stack); each is summed alone, and the sums are
+// added in row order by one thread: the bits do not depend on the thread count.
 void mode_coefficients(const double* f, int nx, int ny, double c[2][2]) {
   c[0][0] = c[0][1] = c[1][0] = c[1][1] = 0.0;
   auto add_row = [&](int iy, double e, double o) {
@@ -34,28 +69,15 @@ void mode_coefficients(const double* f, int nx, int ny, double c[2][2]) {
     c[1][0] += s * (e + o);
     c[1][1] += s * (e - o);
   };
-  const int pairs = nx / 2;  // columns 2 p and 2 p + 1; an odd nx leaves the last column to e
-  int iy = 0;
-  for (; iy + 4 <= ny; iy += 4) {
-    const double* r[4];
-    double e[4] = {}, o[4] = {};
-    for (int l = 0; l < 4; ++l) r[l] = f + static_cast<std::size_t>(nx) * (iy + l);
-    for (int p = 0; p < pairs; ++p)
-      for (int l = 0; l < 4; ++l) {
-        e[l] += r[l][2 * p];
-        o[l] += r[l][2 * p + 1];
-      }
-    for (int l = 0; l < 4; ++l) {
-      if (nx % 2) e[l] += r[l][nx - 1];
-      add_row(iy + l, e[l], o[l]);
-    }
-  }
-  for (; iy < ny; ++iy) {
-    const double* r = f + static_cast<std::size_t>(nx) * iy;
-    double e = 0, o = 0;
-    for (int p = 0; p < pairs; ++p) { e += r[2 * p]; o += r[2 * p + 1]; }
-    if (nx % 2) e += r[nx - 1];
-    add_row(iy, e, o);
+  constexpr int kChunk = 512;
+  double e[kChunk], o[kChunk];
+  const bool par = static_cast<long>(nx) * ny >= kParallelRows;
+  (void)par;
+  for (int y0 = 0; y0 < ny; y0 += kChunk) {
+    const int m = std::min(kChunk, ny - y0), quads = (m + 3) / 4;
+#pragma omp parallel for schedule(static) if (par)
+    for (int q = 0; q < quads; ++q) row_sums(f, nx, y0 + 4 * q, std::min(4, m - 4 * q), e + 4 * q, o + 4 * q);
+    for (int l = 0; l < m; ++l) add_row(y0 + l, e[l], o[l]);
   }
   const double N = static_cast<double>(nx) * ny;
   for (int a = 0; a < 2; ++a)
@@ -75,7 +97,11 @@ void row_values(const Modes& modes, const double c[2][2], double w, int iy, doub
 }
 
 // f += v[i_y mod 2][i_x mod 2] (v: the values added at even and odd i_x of even and odd rows)
+// (rows shared among the threads on a large lattice: each value is computed alone)
 [[gnu::target_clones("avx2", "default")]] void add_alternating(double* f, int nx, int ny, const double (*v)[2]) {
+  const bool par = static_cast<long>(nx) * ny >= kParallelRows;
+  (void)par;
+#pragma omp parallel for schedule(static) if (par)
   for (int iy = 0; iy < ny; ++iy) {
     const double even = v[iy & 1][0], odd = v[iy & 1][1];
     double* r = f + static_cast<std::size_t>(nx) * iy;

@@ -1,10 +1,12 @@
 #include "fluid/solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include "fluid/loads.hpp"
+#include "fluid/row_stencil.hpp"  // kParallelRows
 
 namespace sphib {
 
@@ -32,6 +34,25 @@ const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& 
       return v;
     }
   throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
+}
+
+double FluidSolver::kinetic_energy() const {
+  // sum_i |u_i|^2: below kParallelRows particles in one sum (Eigen's order); above, by the threads in
+  // kBlocks fixed blocks, each summed alone, the blocks' sums added in block order (the same bits
+  // for any thread count)
+  const long n = u_.size();
+  if (n < 2L * kParallelRows) return 0.5 * mass_ * u_.squaredNorm();
+  constexpr int kBlocks = 64;
+  const long len = (n + kBlocks - 1) / kBlocks;
+  double part[kBlocks];
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < kBlocks; ++b) {
+    const long at = std::min(n, b * len), m = std::min(n, at + len) - at;
+    part[b] = Eigen::Map<const Eigen::VectorXd>(u_.data() + at, m).squaredNorm();
+  }
+  double s = 0;
+  for (double v : part) s += v;
+  return 0.5 * mass_ * s;
 }
 
 FluidSolver::FluidSolver(const FluidParams& params, bool particles_move, Profiler* profiler)

@@ -95,7 +95,7 @@ class FluidSolver {
   const Mat2& u() const { return u_; }       // u^n
   double time() const { return t_; }
   long steps() const { return n_; }
-  double kinetic_energy() const { return 0.5 * mass_ * u_.squaredNorm(); }  // sum_i m |u_i|^2 / 2
+  double kinetic_energy() const;  // sum_i m |u_i|^2 / 2 (the same bits for any thread count)
   bool has_stream_function() const { return has_stream_function_; }
   bool supports_variable_viscosity() const { return variable_viscosity_; }
   // Its phases, set-up timings, report and floor (fluid/profile.hpp).

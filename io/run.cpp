@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "coupling/contact.hpp"
+#include "fluid/threads.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/footprint.hpp"
@@ -150,6 +151,7 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   j["setup_seconds"] = timing.setup;
   j["loop_seconds"] = timing.loop;
   j["seconds_per_step"] = timing.steps ? timing.loop / timing.steps : 0.0;
+  j["threads"] = thread_count();  // limits.threads, OMP_NUM_THREADS or the machine's cores
   const Profile* profiles[] = {&fl.profiler(), &sim.profile(), timing.run};
   for (const Profile* P : profiles)
     for (size_t k = 0; k < P->names().size(); ++k) j["profile_seconds"][P->names()[k]] = P->seconds(static_cast<int>(k));
@@ -184,7 +186,7 @@ const std::set<std::string>& run_summary_fields() {
                                        "setup_seconds", "loop_seconds", "seconds_per_step", "profile_seconds", "log",
                                        "floor_seconds_per_step", "fluid_step_over_floor", "step_over_floor",
                                        "coupling_floor_seconds_per_step", "coupling_floor_share", "step_over_whole_floor",
-                                       "coupling_share"};
+                                       "coupling_share", "threads"};
   return f;
 }
 
@@ -356,6 +358,7 @@ void publish(RunOutput& output, const nlohmann::json& summary, const Simulation&
 nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   if (const std::string why = steps_problem(scene); !why.empty()) throw SceneError(scene.path + ": time.end: " + why);
   refuse_if_too_large(scene);        // before any allocation
+  const ThreadCount threads(scene.threads);  // limits.threads, for this run (the caller's count after it)
   OutputDirectory dir(opt.out_dir);  // the lock, before anything is written
   Prepared p;
   try {

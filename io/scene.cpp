@@ -149,6 +149,17 @@ class Reader {
     }
     return record(key, v);
   }
+  // An integer >= lo whose default depends on the machine (described by `def`): 0 when not given,
+  // and then not recorded (the run's resolved values stay those of the scene, whatever the machine).
+  long machine_default(const std::string& key, long lo, const std::string& def, const std::string& what) {
+    doc(key, "integer", def, ">= " + std::to_string(lo), what);
+    const toml::node* n = use(key);
+    if (!n) return 0;
+    if (!n->is_integer()) fail(key, "must be an integer (got " + type_name(*n) + ")");
+    const std::int64_t v = n->as_integer()->get();
+    if (v < lo) fail(key, "value " + std::to_string(v) + " is out of range (allowed: >= " + std::to_string(lo) + ")");
+    return record(key, static_cast<long>(v));
+  }
   // A value read by the caller: recorded as the file gives it (TOML text), when given.
   const toml::node* raw(const std::string& key, const std::string& type, const std::string& what) {
     doc(key, type, "", "", what);
@@ -768,6 +779,11 @@ void read_output(Reader& r, Scene& s) {
                                "refuse a run whose memory estimate (sphib check) exceeds this many GB (0: the machine's "
                                "memory, MemTotal or the cgroup's limit); raise it to run anyway",
                                false, 0.0);
+  s.threads = static_cast<int>(std::min<long>(
+      r.machine_default("limits.threads", 1, "the machine's cores (or OMP_NUM_THREADS)",
+                        "threads the step's passes and lattice solves share (OpenMP; results do not depend on the count; "
+                        "the command line's --threads sets it too)"),
+      1024));
 }
 
 // Pressure probes on the walls (observe/probes.cpp): observe.probes, probe_names, probe_size,

@@ -58,6 +58,7 @@ struct Scene {
   std::vector<std::string> fields{"u", "v", "p", "phi"};
   std::string reference_dir;     // Ghia tables for the cavity
   double memory_limit_gb = 0;    // refuse a run whose memory estimate exceeds this (0: the machine's memory)
+  int threads = 0;               // threads of the step (limits.threads; 0: OMP_NUM_THREADS or the machine's cores)
   std::vector<std::pair<std::string, std::string>> resolved;  // every key = value as used (for attributes)
   std::vector<Observer> observers;                            // extra diagnostics (C++ scenes)
 };
