@@ -53,7 +53,7 @@ MembraneState::MembraneState(const MembraneSetup& s)
     : m(s.membrane), h_star(s.h_star), fixed(s.fixed), W_star(s.h_star), force(s.membrane),
       f(Mat2::Zero(s.membrane.nb(), 2)), U_n(f), U(f), X_n(s.membrane.X), T(Vec::Zero(s.membrane.nb())) {
   if (s.semi_implicit && !s.fixed) {
-    filter = std::make_unique<StiffForceFilter>(s.membrane.nb());
+    filter = std::make_unique<StiffForceFilter>(s.membrane.nb(), s.stiff_residual);
     f_tilde = f;
   }
 }

@@ -28,7 +28,7 @@ double smoothing(double q) {
 }
 }  // namespace
 
-StiffForceFilter::StiffForceFilter(int nb) : nb_(nb), nm_(nb / 2 + 1) {
+StiffForceFilter::StiffForceFilter(int nb, bool residual) : nb_(nb), nm_(nb / 2 + 1), residual_(residual) {
   hist_.assign(6 * static_cast<size_t>(nm_), std::complex<double>(0.0));
   in_ = fftw_alloc_real(4 * static_cast<size_t>(nb_));
   hat_ = fftw_alloc_complex(4 * static_cast<size_t>(nm_));
@@ -92,7 +92,7 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
     const double th = dt * std::min(1.0, dt * std::max(Kaa, Kbb) * std::max(Bn, Bt) / kStiff);
     // G: what the model U^{n+1} = A U^n + B f~ missed last step (the flow's own driving, model
     // error), smoothed; zero on modes the kernels do not resolve
-    if (s <= kResolved) {
+    if (!residual_ || s <= kResolved) {
       G[m] = G[nm_ + m] = 0.0;
     } else if (record && have_prev_) {
       G[m] += kRelax * (Un[m] - A * Up[m] - Bn * Fp[m] - G[m]);

@@ -279,7 +279,7 @@ TEST(StiffForce, RigidMotionsDoNotChangeTheForce) {
   EXPECT_GT((ft - f0).cwiseAbs().maxCoeff(), 0.1);  // measured 0.34
 }
 
-TEST(StiffForce, AMembraneHeldStillByTheFlowReceivesTheExplicitForce) {
+TEST(StiffForce, WithTheResidualAMembraneHeldStillByTheFlowReceivesTheExplicitForce) {
   // A stiff blob held still (U = 0 at every step, as a steady shape in a flow that balances its
   // force): the model U^{n+1} = A U^n + B f~ alone expects it to move, so its first f~ is the
   // backward-Euler f / (1 + dt K B), far from f (measured max |f~ - f| / max |f| = 0.31); the
@@ -295,7 +295,7 @@ TEST(StiffForce, AMembraneHeldStillByTheFlowReceivesTheExplicitForce) {
   F.compute(X, f, T);
   const Mat2 U = Mat2::Zero(nb, 2);
   const StiffFluid fl{1.0, 1.0, 1e-2, 1e-3, 1e-3};
-  StiffForceFilter filt(nb);
+  StiffForceFilter filt(nb, true), plain(nb);
   EXPECT_EQ(filt.state().size(), 0);
   const double fmax = f.cwiseAbs().maxCoeff();
   filt.apply(F, f, U, fl, ft);
@@ -304,9 +304,12 @@ TEST(StiffForce, AMembraneHeldStillByTheFlowReceivesTheExplicitForce) {
   const double e200 = (ft - f).cwiseAbs().maxCoeff() / fmax;
   for (int n = 200; n < 400; ++n) filt.apply(F, f, U, fl, ft);
   const double e400 = (ft - f).cwiseAbs().maxCoeff() / fmax;
+  Mat2 fp;
+  for (int n = 0; n < 400; ++n) plain.apply(F, f, U, fl, fp);  // without the residual: the bias stays
+  EXPECT_GT((fp - f).cwiseAbs().maxCoeff(), 0.2 * fmax);
   EXPECT_LT(e400, 1e-4);
   EXPECT_LT(e400, 0.2 * e200);  // converging geometrically, not stuck at a bias
-  StiffForceFilter copy(nb);
+  StiffForceFilter copy(nb, true);
   copy.set_state(filt.state());
   Mat2 a, b;
   filt.apply(F, f, U, fl, a);
