@@ -104,7 +104,7 @@ double median(std::vector<double> v) {
 // and method up to its first " (" or ":".
 std::string methods(const sphib::FluidSolver& f) {
   std::string m;
-  for (const std::string& line : f.describe()) {
+  for (const std::string& line : f.profiler().report().lines) {
     size_t colon = std::string::npos, n = line.find(", n = ");
     int depth = 0;
     for (size_t k = 0; k + 1 < line.size() && colon == std::string::npos; ++k) {  // the first ": " outside (...)
@@ -136,7 +136,7 @@ std::string part_r(const Options& o) {
   std::vector<double> solve_cn(n), solve_psi(n), psi_m(n), coupling(n), wall(n, 0.0);
   for (size_t s = 0; s < n; ++s) {
     coupling[s] = -sims[s]->profile().total();  // the membranes and their coupling (Simulation's phases)
-    const sphib::Profile& P = sims[s]->fluid().profile();
+    const sphib::Profile& P = sims[s]->fluid().profiler();
     solve_cn[s] = -phase_seconds(P, "solve Crank");
     solve_psi[s] = -phase_seconds(P, "solve Poisson");
     psi_m[s] = -phase_seconds(P, "stream function");
@@ -152,7 +152,7 @@ std::string part_r(const Options& o) {
     }
   const double steps = static_cast<double>(o.rounds) * o.block;
   for (size_t s = 0; s < n; ++s) {
-    const sphib::Profile& P = sims[s]->fluid().profile();
+    const sphib::Profile& P = sims[s]->fluid().profiler();
     solve_cn[s] = (solve_cn[s] + phase_seconds(P, "solve Crank")) / steps;
     solve_psi[s] = (solve_psi[s] + phase_seconds(P, "solve Poisson")) / steps;
     psi_m[s] = (psi_m[s] + phase_seconds(P, "stream function")) / steps;
@@ -160,7 +160,7 @@ std::string part_r(const Options& o) {
   }
   std::vector<double> floor(n), cfloor(n);  // the fluid step's and the coupling's floors: bare kernels, best of 20 each
   for (size_t s = 0; s < n; ++s) {
-    floor[s] = sims[s]->fluid().floor_seconds();
+    floor[s] = sims[s]->fluid().profiler().floor_seconds();
     cfloor[s] = sims[s]->coupling_floor_seconds();
   }
   const double load1 = load_average();

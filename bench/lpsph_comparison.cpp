@@ -111,7 +111,7 @@ std::string solver_name(const sphib::SolverInfo& si) {
 }
 
 void lpsph_figures(const sphib::LagrangianFluid& l, PoiseuilleRun& r) {
-  const sphib::Profile& P = l.profile();
+  const sphib::Profile& P = l.profiler();
   for (size_t k = 0; k < P.names().size(); ++k) {
     const double s = P.seconds(static_cast<int>(k));
     if (s > 0) r.phases.emplace_back(P.names()[k], 1e3 * s / r.steps);
@@ -122,7 +122,7 @@ void lpsph_figures(const sphib::LagrangianFluid& l, PoiseuilleRun& r) {
   const auto info = l.solver_info();
   r.method_cn = solver_name(info[0]);
   r.method_poisson = solver_name(info[1]);
-  for (const auto& [name, v] : l.figures()) {
+  for (const auto& [name, v] : l.profiler().report().figures) {
     if (name == "crank_nicolson_cg_iterations") r.it_cn = v;
     if (name == "poisson_cg_iterations") r.it_poisson = v;
     if (name == "crank_nicolson_preconditioner_factorisations") r.factor_cn = static_cast<long>(v);

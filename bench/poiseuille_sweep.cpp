@@ -8,7 +8,7 @@
 // For every run: rms velocity error of Eq. (69) at the final time against exact::poiseuille_u
 // (Eq. 44; the exact v is 0), wall time of the constructor (one-off: neighbour search, assembly,
 // factorisation) and of the time loop, the per-step breakdown into products / right-hand sides and
-// triangular solves (Fluid::profile()), neighbours per particle, nnz and fill of the two
+// triangular solves (the fluid's profiler()), neighbours per particle, nnz and fill of the two
 // factorisations, and the ratio of the paper's CPU time (Table 1) to ours.
 //
 //   poiseuille_sweep [--nx 16,24,...] [--h 1.2,1.525,...] [--steps N] [--out DIR]
@@ -103,9 +103,9 @@ Result run_one(int nx, double hdx, const Options& o) {
     r.dx = fluid.lattice().dx;
     r.n_images = fluid.images().size();
     r.nb_per_particle = static_cast<double>(fluid.pairs().size()) / r.n;
-    r.t_neigh = fluid.setup_seconds("neighbours");
-    r.t_asm = fluid.setup_seconds("assembly");
-    r.t_fact = fluid.setup_seconds("factorisation");
+    r.t_neigh = fluid.profiler().setup_seconds("neighbours");
+    r.t_asm = fluid.profiler().setup_seconds("assembly");
+    r.t_fact = fluid.profiler().setup_seconds("factorisation");
     r.solvers = fluid.solver_info();
     const sphib::Mat2 F = body_force(r.n);
     t0 = Clock::now();
@@ -117,7 +117,7 @@ Result run_one(int nx, double hdx, const Options& o) {
     }
     r.t_loop = seconds_since(t0);
     if (!std::isfinite(p_sink)) r.status = "non-finite pressure";
-    const sphib::Profile& P = fluid.profile();
+    const sphib::Profile& P = fluid.profiler();
     for (size_t k = 0; k < P.names().size(); ++k) {
       r.phases.push_back({P.names()[k], P.seconds(static_cast<int>(k))});
       (P.names()[k].rfind("solve", 0) == 0 ? r.t_solves : r.t_products) += r.phases.back().seconds;

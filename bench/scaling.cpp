@@ -9,7 +9,7 @@
 // Every (case, Nx, solvers) runs in a fresh process (this program re-executed with --child), so
 // that its peak memory is its own: VmHWM of /proc/self/status at the end, and ru_maxrss from
 // wait4() in the parent. The child builds the Simulation (timed: neighbour search, assembly,
-// analysis + factorisation from Fluid::setup_seconds and solver_info()), takes 3 warm-up steps,
+// analysis + factorisation from the fluid profiler's setup_seconds and solver_info()), takes 3 warm-up steps,
 // then enough steps for about --seconds of loop (at least 5), and reports the time per step and per
 // phase (Profile, warm-up subtracted).
 //
@@ -131,7 +131,7 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     j["pairs_per_particle"] = static_cast<double>(f->pairs().size()) / f->size();
     j["h_over_dx"] = f->params().h_over_dx;
     j["dt"] = f->params().dt;
-    for (const char* k : {"neighbours", "assembly", "factorisation"}) j[std::string("setup_") + k + "_s"] = f->setup_seconds(k);
+    for (const char* k : {"neighbours", "assembly", "factorisation"}) j[std::string("setup_") + k + "_s"] = f->profiler().setup_seconds(k);
     if (cn == "eigen_ldlt") {
       // The two matrices as fluid/projection.cpp builds them: A_cn = I - (nu dt / 2) lap_u (Eq. 28);
       // Poisson -lap_phi with the gauge row and column of particle 0 replaced by the identity (Eq. 32).
@@ -176,7 +176,8 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     }
     auto profile = [&]() {
       std::map<std::string, double> p;
-      for (const sphib::Profile* P : {&sim.fluid().profile(), &sim.profile()})
+      const sphib::Profile* profiles[] = {&sim.fluid().profiler(), &sim.profile()};
+      for (const sphib::Profile* P : profiles)
         for (size_t k = 0; k < P->names().size(); ++k) p[P->names()[k]] += P->seconds(static_cast<int>(k));
       return p;
     };

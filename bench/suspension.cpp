@@ -61,8 +61,8 @@ int main(int argc, char** argv) {
                 *std::max_element(ratio.begin(), ratio.end()), load0, load_average());
     // the coupling's phases, as shares of the suspension's profiled step (wall times)
     const Profile& c = susp.profile();
-    const double total = c.total() + susp.fluid().step_seconds();
-    std::printf("suspension step (wall, profiled): fluid %.1f%%", 100 * susp.fluid().step_seconds() / total);
+    const double total = c.total() + susp.fluid().profiler().step_seconds();
+    std::printf("suspension step (wall, profiled): fluid %.1f%%", 100 * susp.fluid().profiler().step_seconds() / total);
     for (size_t k = 0; k < c.names().size(); ++k) std::printf(", %s %.1f%%", c.names()[k].c_str(), 100 * c.seconds(k) / total);
     std::printf("\n");
     // The marker update's true residual: U^{n+1} interpolated again at X^{n+1} of every membrane

@@ -70,7 +70,7 @@ struct Simulation::FreeSet : MarkerSet {
 Simulation::~Simulation() = default;
 
 Simulation::Simulation(const SimulationParams& params)
-    : prm_(params), fluid_(make_fluid(params.fluid)),
+    : prm_(params), fluid_(make_fluid(params.fluid, &fluid_prof_)),
       grid_(std::make_unique<CellGrid>(
           Eigen::Vector2d(params.fluid.domain.x0, params.fluid.domain.y0),
           Eigen::Vector2d(params.fluid.domain.x1, params.fluid.domain.y1), params.fluid.domain.periodic_x,
@@ -270,7 +270,7 @@ double Simulation::coupling_floor_seconds(int reps) const {
   for (size_t i = 0; i < free_->members.size(); ++i)
     X.middleRows(free_->start[i], free_->start[i + 1] - free_->start[i]) = mem_[free_->members[i]].m.X;
   if (X.rows() == 0) return total;
-  if (interp_ != MarkerInterpolation::Sph) total += fluid_->stream_function_floor_seconds(reps);
+  if (interp_ != MarkerInterpolation::Sph) total += fluid_prof_.stream_function_floor_seconds(reps);
   U.resize(X.rows(), 2);
   total += best_of(reps, [&] { marker_velocity(X, U, prm_.markers.linearise ? &dU : nullptr); });  // one call
   return total;

@@ -70,7 +70,10 @@ class Simulation {
   const ContactForce* contact() const { return contact_.get(); }
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
-  Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid().profile()
+  Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid_profiler()
+  // The fluid method's phases, set-up timings, report and floor (fluid/profile.hpp): the
+  // simulation owns it and hands it to the method it makes.
+  const Profiler& fluid_profiler() const { return fluid_prof_; }
   // The viscosity contrast of the membranes (their indicators and m), or nullptr when every
   // viscosity_ratio is 1.
   const ViscosityContrast* viscosity_contrast() const { return contrast_.get(); }
@@ -82,7 +85,7 @@ class Simulation {
   // with dU non-null also its gradient at X where the interpolation has one (returns whether it has).
   bool marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU = nullptr) const;
   // The coupling's floor: the bare kernels one step of it cannot avoid, each timed alone on the
-  // current state, best of `reps` (as FluidSolver::floor_seconds for the fluid): the membrane
+  // current state, best of `reps` (as Profiler::floor_seconds for the fluid): the membrane
   // forces, the stiff-force filter (semi-implicit membranes), one spreading, the markers' stream
   // function solve (divergence-free interpolations) and
   // one marker-velocity interpolation (with its gradient where the marker update linearises) per
@@ -101,6 +104,7 @@ class Simulation {
   void viscosity_now();            // mu^n from the indicators of X^n (a viscosity contrast)
 
   SimulationParams prm_;
+  Profiler fluid_prof_;  // (before fluid_: outlives it)
   std::unique_ptr<FluidSolver> fluid_;
   std::vector<MembraneState> mem_;
   std::unique_ptr<CellGrid> grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)

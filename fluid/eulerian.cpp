@@ -8,7 +8,7 @@
 
 namespace sphib {
 
-EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params) {
+EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : ProjectionFluid(params, false, profiler) {
   if (prm_.projection == Projection::Auto) prm_.projection = Projection::Exact;
   const int N = lat_.size();
 
@@ -94,8 +94,12 @@ EulerianFluid::EulerianFluid(const FluidParams& params) : ProjectionFluid(params
     make_phi_solver();
   }
   add_setup("factorisation", seconds_since(t0) + factorisation);
-  k_psi_ = prof_.phase("stream function");
+  k_psi_ = prof_.on_demand_phase("stream function");
   convective_ = prm_.convection;
+  has_stream_function_ = variable_viscosity_ = true;
+  prof_.set_reporter([this](FluidReport& r) { report(r); });
+  prof_.set_floor([this](FloorTimer& t) { floor_kernels(t); });
+  prof_.set_stream_function_floor([this](FloorTimer& t) { stream_function_floor_kernels(t); });
 }
 
 void EulerianFluid::pairs_current() const {
@@ -244,7 +248,7 @@ std::vector<SolverInfo> EulerianFluid::solver_info() const {
   return v;
 }
 
-std::vector<std::string> EulerianFluid::describe() const {
+void EulerianFluid::report(FluidReport& r) const {
   std::ostringstream m;
   m << "EPSPH: " << lat_.nx << " x " << lat_.ny << " = " << size() << " fixed particles, " << im_.size()
     << " images, h = " << W_.h << " (" << prm_.h_over_dx << " (dx+dy)/2), "
@@ -254,40 +258,44 @@ std::vector<std::string> EulerianFluid::describe() const {
     << "; products: " << vel_st_lattice_.stencil_rows() << " velocity and " << phi_st_lattice_.stencil_rows()
     << " phi rows of " << size() << " applied as a lattice stencil";
   if (exact()) m << " (D = -G^T: " << streams_->divergence_stencil_rows() << " rows)";
-  std::vector<std::string> lines{m.str()};
-  for (const auto& si : solver_info()) lines.push_back(si.describe());
-  return lines;
+  r.lines = {m.str()};
+  for (const auto& si : solver_info()) r.lines.push_back(si.describe());
+
+  r.figures = {{"images", im_.size()}, {"neighbours_per_particle", static_cast<double>(pairs_count_) / size()}};
+  if (cn_->mean_iterations() > 0) r.figures.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
+  if (visc_) r.figures.emplace_back("variable_viscosity_cg_iterations", visc_->solver().mean_iterations());
+
+  auto nnz = [](const SpMat& A) { return static_cast<long>(A.nonZeros()); };
+  Footprint f;
+  f.operator_nonzeros = nnz(op_.lap_u.A) + nnz(op_.lap_u.B) + nnz(op_.grad_ux.A) + nnz(op_.grad_ux.B) +
+                        nnz(op_.grad_uy.A) + nnz(op_.grad_uy.B) + nnz(op_.lap_phi) + nnz(op_.grad_phix) +
+                        nnz(op_.grad_phiy);
+  for (const auto& si : solver_info()) {
+    f.factor_nonzeros += si.nnz_factor ? si.nnz_factor : si.nnz_used;  // an iterative solver keeps A itself
+    if (si.system == "Poisson") f.factor_nonzeros += si.nnz_A;         // kept for the residual check
+  }
+  f.pairs = static_cast<long>(pairs_.size());  // (none kept by the compact storage)
+  r.footprint = f;
 }
 
-std::vector<std::pair<std::string, double>> EulerianFluid::figures() const {
-  std::vector<std::pair<std::string, double>> f{{"images", im_.size()},
-                                                {"neighbours_per_particle", static_cast<double>(pairs_count_) / size()}};
-  if (cn_->mean_iterations() > 0) f.emplace_back("crank_nicolson_cg_iterations", cn_->mean_iterations());
-  if (visc_) f.emplace_back("variable_viscosity_cg_iterations", visc_->solver().mean_iterations());
-  return f;
-}
-
-double EulerianFluid::floor_seconds(int reps) const {
+void EulerianFluid::floor_kernels(FloorTimer& t) const {
   Mat2 a = u_, b = u_, c = u_, x = u_star_;
   Vec d(size()), f = phi_;
-  auto best = [reps](auto&& kernel) { return best_of(reps, kernel); };
-  double total = 0;
-  if (prm_.convection) total += best([&] { gradient2(op_.grad_ux.A, op_.grad_uy.A, u_, a, b, vel_st_); });
-  total += best([&] { apply2(op_.lap_u.A, u_, c, vel_st_); });
-  total += best([&] {
+  if (prm_.convection) t.kernel([&] { gradient2(op_.grad_ux.A, op_.grad_uy.A, u_, a, b, vel_st_); });
+  t.kernel([&] { apply2(op_.lap_u.A, u_, c, vel_st_); });
+  t.kernel([&] {
     x = u_star_;  // the same warm start a step gives an iterative solver
     cn_->solve(rhs_.data(), x.data(), 2);
   });
-  if (exact()) return total + streams_->floor_seconds(u_star_, a, reps);
-  total += best([&] { divergence(op_.grad_ux.A, op_.grad_uy.A, u_star_, d, vel_st_); });
-  total += best([&] { poisson_->solve(b_phi_.data(), f.data(), 1); });
-  total += best([&] { gradient(op_.grad_phix, op_.grad_phiy, phi_, a, phi_st_); });
-  return total;
+  if (exact()) return t.add(streams_->floor_seconds(u_star_, a, t.reps()));
+  t.kernel([&] { divergence(op_.grad_ux.A, op_.grad_uy.A, u_star_, d, vel_st_); });
+  t.kernel([&] { poisson_->solve(b_phi_.data(), f.data(), 1); });
+  t.kernel([&] { gradient(op_.grad_phix, op_.grad_phiy, phi_, a, phi_st_); });
 }
 
-double EulerianFluid::stream_function_floor_seconds(int reps) const {
+void EulerianFluid::stream_function_floor_kernels(FloorTimer& t) const {
   stream_function();  // its right-hand side and solver, as a step makes them
-  return streams_->markers_floor_seconds(reps);
+  t.add(streams_->markers_floor_seconds(t.reps()));
 }
 
 // EPSPH adds to the core's state the convection N^n kept for AB2 (Eq. 39) and, with the exact
@@ -308,20 +316,6 @@ void EulerianFluid::restore_extra(const NamedArrays& st) {
   if (visc_) visc_->load(st);
   phi_step_ = n_;
   if (exact()) streams_->load(st, revision_);
-}
-
-std::optional<FluidSolver::Footprint> EulerianFluid::footprint() const {
-  auto nnz = [](const SpMat& A) { return static_cast<long>(A.nonZeros()); };
-  Footprint f;
-  f.operator_nonzeros = nnz(op_.lap_u.A) + nnz(op_.lap_u.B) + nnz(op_.grad_ux.A) + nnz(op_.grad_ux.B) +
-                        nnz(op_.grad_uy.A) + nnz(op_.grad_uy.B) + nnz(op_.lap_phi) + nnz(op_.grad_phix) +
-                        nnz(op_.grad_phiy);
-  for (const auto& si : solver_info()) {
-    f.factor_nonzeros += si.nnz_factor ? si.nnz_factor : si.nnz_used;  // an iterative solver keeps A itself
-    if (si.system == "Poisson") f.factor_nonzeros += si.nnz_A;         // kept for the residual check
-  }
-  f.pairs = static_cast<long>(pairs_.size());  // (none kept by the compact storage)
-  return f;
 }
 
 }  // namespace sphib

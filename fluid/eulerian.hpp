@@ -18,10 +18,9 @@ namespace sphib {
 
 class EulerianFluid final : public ProjectionFluid {
  public:
-  explicit EulerianFluid(const FluidParams& params);
-
-  bool particles_move() const override { return false; }
-  const Mat2& x() const override { return lat_.x; }
+  // `profiler`: the run loop's (nullptr: its own), where it records its phases, set-up, report
+  // and floor.
+  explicit EulerianFluid(const FluidParams& params, Profiler* profiler = nullptr);
 
   // phi^n: the approximate projection's, or (exact projection) recovered when first asked for after
   // a step as the smooth phi~ with the same D G phi (see phi() in eulerian.cpp).
@@ -34,11 +33,9 @@ class EulerianFluid final : public ProjectionFluid {
   // The markers' stream function psi_m of u^n (exact_projection.hpp), computed on the first call
   // after a step.
   StreamFunction stream_function() const override;
-  bool has_stream_function() const override { return true; }
 
   // A variable viscosity mu m (fluid/variable_viscosity.hpp), made when some m first differs from 1:
   // until then, and whenever every m is 1 again, the constant-viscosity step, unchanged.
-  bool supports_variable_viscosity() const override { return true; }
   void set_viscosity(const int* at, const double* m, int n) override;
   const VariableViscosity* variable_viscosity() const { return visc_.get(); }
   // Its options (rtol, the form for m > 1: fluid/variable_viscosity.hpp) for the next set_viscosity
@@ -47,20 +44,17 @@ class EulerianFluid final : public ProjectionFluid {
 
   std::vector<SolverInfo> solver_info() const override;
   double cn_mean_iterations() const { return cn_->mean_iterations(); }
-  std::vector<std::string> describe() const override;
-  std::vector<std::pair<std::string, double>> figures() const override;
-  std::optional<Footprint> footprint() const override;
   // The whole operator matrices (the compact storage assembles them again when first asked for, and
   // keeps them from then on)
   const Operators& operators() const override;
   bool compact_storage() const { return compact_; }
-  // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and projection solves
-  // and the fused sparse products, on the current fields), each timed alone, best of `reps`.
-  double floor_seconds(int reps = 20) const override;
-  double stream_function_floor_seconds(int reps = 20) const override;
-  double step_seconds() const override { return ProjectionFluid::step_seconds() - prof_.seconds(k_psi_); }
-
  private:
+  // Its report to the profiler: the run-log lines, figures and footprint.
+  void report(FluidReport& r) const;
+  // The floor of a step: the bare kernels it cannot avoid (the Crank-Nicolson and projection solves
+  // and the fused sparse products, on the current fields), handed to the profiler's timer.
+  void floor_kernels(FloorTimer& t) const;
+  void stream_function_floor_kernels(FloorTimer& t) const;
   void viscous_rhs(const Mat2& F) override;  // Eqs. (28), (39)-(41) in one pass (fluid/fused_passes.hpp)
   void project() override;
   LinearSolver& predictor_solver() override { return visc_ && visc_->active() ? visc_->solver_for_step(n_, first_) : *cn_; }

@@ -15,13 +15,13 @@ std::optional<ParamProblem> free_surface_problem(const FluidParams& p) {
   return free_surface_problem(p.method, p.domain, p.free_surface, p.gravity);
 }
 
-std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params) {
+std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params, Profiler* profiler) {
   if (const auto e = free_surface_problem(params)) throw std::invalid_argument(e->key + ": " + e->what);
   switch (params.method) {
-    case FluidMethod::Eulerian: return std::make_unique<EulerianFluid>(params);
-    case FluidMethod::Lagrangian: return std::make_unique<LagrangianFluid>(params);
-    case FluidMethod::Wcsph: return std::make_unique<WcsphFluid>(params);
-    case FluidMethod::Isph: return std::make_unique<IsphFluid>(params);
+    case FluidMethod::Eulerian: return std::make_unique<EulerianFluid>(params, profiler);
+    case FluidMethod::Lagrangian: return std::make_unique<LagrangianFluid>(params, profiler);
+    case FluidMethod::Wcsph: return std::make_unique<WcsphFluid>(params, WcsphOptions{}, profiler);
+    case FluidMethod::Isph: return std::make_unique<IsphFluid>(params, profiler);
   }
   throw std::invalid_argument("method: not one of eulerian, lagrangian, wcsph, isph");
 }

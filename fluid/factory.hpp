@@ -12,7 +12,8 @@ namespace sphib {
 // method's own), as (scene key, message); nothing if all is well. make_fluid refuses the same.
 std::optional<ParamProblem> free_surface_problem(const FluidParams& params);
 
-// The solver of params.method.
-std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params);
+// The solver of params.method; it records its timings and report into `profiler` (the run loop's,
+// which must outlive it; nullptr: the method keeps its own).
+std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params, Profiler* profiler = nullptr);
 
 }  // namespace sphib

@@ -60,14 +60,15 @@ constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
 
 }  // namespace
 
-IsphFluid::IsphFluid(const FluidParams& params)
-    : IsphFluid(params, particles_of(params)) {}
+IsphFluid::IsphFluid(const FluidParams& params, Profiler* profiler)
+    : IsphFluid(params, particles_of(params), profiler) {}
 
-IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
-    : ProjectionFluid(params, static_cast<int>(set.x.rows()), set.volume), x_(set.x), x_star_(set.x),
+IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set, Profiler* profiler)
+    : ProjectionFluid(params, true, profiler, static_cast<int>(set.x.rows()), set.volume), x_star_(set.x),
       walls_(make_virtual_walls(lat_, W_.support())),
       verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support(), walls_.x),
       shifter_(shifting_params(params.isph)) {
+  x_ = set.x;
   const FreeSurfaceParams& fs = prm_.free_surface;
   explicit_viscous_ = prm_.isph.viscous == IsphViscous::Explicit;
   accel_ = prm_.gravity;  // A Eq. (22)
@@ -103,6 +104,10 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set)
   make_solvers();
   add_setup("factorisation", seconds_since(t0));
   wall_pressure();
+  prof_.set_reporter([this](FluidReport& r) {
+    r.lines = describe();
+    r.figures = figures();
+  });
 }
 
 // Morris et al. (1997), A Section 3.6: the factor beta = 1 + d_w / d_i of every pair with a wall

@@ -105,16 +105,12 @@ std::optional<ParamProblem> isph_problem(const FluidParams& params);
 
 class IsphFluid final : public ProjectionFluid {
  public:
-  explicit IsphFluid(const FluidParams& params);  // the fluid region's particles, at rest
+  // The fluid region's particles, at rest; `profiler`: the run loop's (nullptr: its own).
+  explicit IsphFluid(const FluidParams& params, Profiler* profiler = nullptr);
 
-  bool particles_move() const override { return true; }
-  const Mat2& x() const override { return x_; }  // x^n
   const std::vector<char>* surface() const override { return detect_ ? &surface_ : nullptr; }
   // A Eq. (32) over the wall particles next to the fluid, with their pressure (see the header).
   WallForces wall_forces() const override;
-  std::vector<std::string> describe() const override;
-  std::vector<std::pair<std::string, double>> figures() const override;
-
   // Puts the particles at x (N x 2) and builds the geometry there (tests).
   void set_positions(const Mat2& x);
   const VirtualWalls& walls() const { return walls_; }
@@ -126,6 +122,9 @@ class IsphFluid final : public ProjectionFluid {
   double viscous_bound() const;  // nu dt max_i |lap_ii| (the explicit predictor is stable below ~1)
 
  private:
+  // Its report to the profiler: the run-log lines and the figures.
+  std::vector<std::string> describe() const;
+  std::vector<std::pair<std::string, double>> figures() const;
   void begin_step() override;
   void viscous_rhs(const Mat2& F) override;  // explicit: u* of A Eq. (22); else the core's Eq. (28)
   void project() override;  // the core's, then the wall particles' pressure and its part of the gradient
@@ -133,7 +132,7 @@ class IsphFluid final : public ProjectionFluid {
   void velocity_offsets(const Mat2* grad_phi, Mat2& c) const override;  // the wall particles' velocities
   void extra_state(NamedArrays& st) const override;
   void restore_extra(const NamedArrays& st) override;
-  IsphFluid(const FluidParams& params, const ParticleSet& set);
+  IsphFluid(const FluidParams& params, const ParticleSet& set, Profiler* profiler);
   void geometry(bool force);     // at x_star_: the Verlet list's update, then assemble()
   void assemble(bool new_pattern);  // Morris factors, operators, systems, surface, Dirichlet rows
   void morris_factors();         // beta_ of every pair with a wall particle
@@ -151,7 +150,7 @@ class IsphFluid final : public ProjectionFluid {
   void make_solvers();
   void refactorise();            // the solvers take the step's matrices
 
-  Mat2 x_, x_star_;
+  Mat2 x_star_;  // the step's predicted positions (x^n: the base's x_)
   VirtualWalls walls_;
   VerletList verlet_;
   ParticleOperators assembly_;

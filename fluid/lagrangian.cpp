@@ -54,9 +54,10 @@ struct Rows3 {
 // steps; kBuildCost 0.5 / 2 / 8: 3.44 / 3.34 / 3.38 ms per step, a fixed 0.1 2h 3.26 ms).
 constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
 
-LagrangianFluid::LagrangianFluid(const FluidParams& params)
-    : ProjectionFluid(params), x_(lat_.x), x_star_(lat_.x),
+LagrangianFluid::LagrangianFluid(const FluidParams& params, Profiler* profiler)
+    : ProjectionFluid(params, true, profiler), x_star_(lat_.x),
       verlet_(prm_.domain, W_.support() * (1.0 - 1e-12), kSkinMin * W_.support(), kSkinMax * W_.support()) {
+  x_ = lat_.x;
   check_params(prm_);
   S_ = Vec::Zero(lat_.size());
   gauge_ = Gauge(lat_, NullSpace::Constants);  // of the Poisson operator, the Morris Laplacian
@@ -67,6 +68,10 @@ LagrangianFluid::LagrangianFluid(const FluidParams& params)
   add_setup("neighbours", s.neighbours);
   add_setup("assembly", s.assembly);
   add_setup("factorisation", s.factorisation_cn + s.factorisation_poisson);
+  prof_.set_reporter([this](FluidReport& r) {
+    r.lines = describe();
+    r.figures = figures();
+  });
 }
 
 // Breakdown (Section 5.2.2, Fig. 18): the kernel sums S_i = V (W(0) + sum_j W_ij), images included

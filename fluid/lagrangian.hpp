@@ -53,7 +53,8 @@ namespace sphib {
 
 class LagrangianFluid final : public ProjectionFluid {
  public:
-  explicit LagrangianFluid(const FluidParams& params);  // particles on the lattice (Eq. 68), at rest
+  // Particles on the lattice (Eq. 68), at rest; `profiler`: the run loop's (nullptr: its own).
+  explicit LagrangianFluid(const FluidParams& params, Profiler* profiler = nullptr);
 
   // Puts the particles at x (N x 2, wrapped into the periodic box) and rebuilds there; throws like
   // step() for a particle beyond a wall or a kernel sum below the threshold. The fields stay with
@@ -62,8 +63,7 @@ class LagrangianFluid final : public ProjectionFluid {
   // Figs. 9 C-D: the particles back onto the lattice, u, phi and grad phi interpolated by Eq. (61).
   void reinitialise();
 
-  bool particles_move() const override { return true; }
-  const Mat2& x() const override { return x_; }  // x^n
+  // x(): x^n
   // images(), pairs(), operators() (the core's): at x* of the last step (x^n before any step)
   double neighbours_per_particle() const;  // within 2h
   const VerletList& verlet() const { return verlet_; }
@@ -77,10 +77,10 @@ class LagrangianFluid final : public ProjectionFluid {
   long symbolic_reused_poisson() const { return n_reused_poisson_; }
   long reinitialisations() const { return n_reinit_; }
 
-  std::vector<std::string> describe() const override;
-  std::vector<std::pair<std::string, double>> figures() const override;
-
  private:
+  // Its report to the profiler: the run-log lines and the figures.
+  std::vector<std::string> describe() const;
+  std::vector<std::pair<std::string, double>> figures() const;
   struct RebuildSeconds { double neighbours = 0, assembly = 0, factorisation_cn = 0, factorisation_poisson = 0; };
   // Rebuilds at x* = x^n + dt u^n (a breakdown throws here, the state unchanged), then the u^n half of
   // Eq. (37).
@@ -99,7 +99,7 @@ class LagrangianFluid final : public ProjectionFluid {
   void wrap_into_domain(Mat2& x, double t) const;  // periodic wrap; a particle beyond a wall throws
   void onto_lattice();       // Eq. (61): fields to the lattice points, x_ = lattice
 
-  Mat2 x_, x_star_;  // x^n, and the step's predicted positions x* (images, pairs, operators)
+  Mat2 x_star_;  // the step's predicted positions x* (images, pairs, operators); x^n is the base's x_
   VerletList verlet_;
   ParticleOperators assembly_;
   SpMat A_cn_, A_phi_;  // the two systems of the step (Eqs. 28, 32), kept: values only while the pattern stays

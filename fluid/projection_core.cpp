@@ -4,15 +4,17 @@
 
 namespace sphib {
 
-ProjectionFluid::ProjectionFluid(const FluidParams& params) : ProjectionFluid(params, -1, 0.0) {}
+ProjectionFluid::ProjectionFluid(const FluidParams& params, bool particles_move, Profiler* profiler)
+    : ProjectionFluid(params, particles_move, profiler, -1, 0.0) {}
 
-ProjectionFluid::ProjectionFluid(const FluidParams& params, int particles, double volume)
-    : prm_(params), lat_(make_lattice(params.domain, params.nx, params.ny)),
-      W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)) {
+ProjectionFluid::ProjectionFluid(const FluidParams& params, bool particles_move, Profiler* profiler, int particles,
+                                 double volume)
+    : FluidSolver(params, particles_move, profiler), prof_(FluidSolver::profiler()) {
   check_common_params(prm_);
   const int N = particles < 0 ? lat_.size() : particles;  // (-1: the lattice's)
   volume_ = particles < 0 ? lat_.volume : volume;
   V_ = Vec::Constant(N, volume_);
+  mass_ = prm_.rho * volume_;
   u_ = u_star_ = u_star_old_ = rhs_ = conv_ = grad_phi_ = Mat2::Zero(N, 2);
   phi_ = p_ = div_ = b_phi_ = Vec::Zero(N);
   k_images_ = prof_.phase("images (Eq. 42)");
@@ -21,7 +23,7 @@ ProjectionFluid::ProjectionFluid(const FluidParams& params, int particles, doubl
   k_div_ = prof_.phase("divergence rhs (Eq. 32)");
   k_solve_poisson_ = prof_.phase("solve Poisson");
   k_project_ = prof_.phase("projection (Eq. 34)");
-  k_pressure_ = prof_.phase("pressure (Eq. 35)");
+  k_pressure_ = prof_.on_demand_phase("pressure (Eq. 35)");
 }
 
 ProjectionFluid::MovingPhases ProjectionFluid::moving_phases(const char* move, const char* neighbours,
@@ -216,19 +218,11 @@ double ProjectionFluid::max_abs_divergence() const {
   return d.cwiseAbs().maxCoeff();
 }
 
-double ProjectionFluid::kinetic_energy() const { return 0.5 * prm_.rho * volume_ * u_.squaredNorm(); }
-
 std::vector<SolverInfo> ProjectionFluid::solver_info() const {
   std::vector<SolverInfo> v;
   if (cn_) v.push_back(cn_->info());
   if (poisson_) v.push_back(poisson_->info());
   return v;
-}
-
-double ProjectionFluid::setup_seconds(const std::string& what) const {
-  for (const auto& [k, s] : setup_)
-    if (k == what) return s;
-  return 0.0;
 }
 
 NamedArrays ProjectionFluid::state() const {

@@ -57,19 +57,11 @@ class ProjectionFluid : public FluidSolver {
   void step(const Mat2& F) final;
   void set_velocity(const Mat2& u0) override;  // u^0 (also u^{-1} for AB2 and the warm start of u*)
 
-  const FluidParams& params() const final { return prm_; }
-  const Lattice& lattice() const final { return lat_; }
-  const CubicSplineKernel& kernel() const final { return W_; }
-  const Vec& volumes() const final { return V_; }
-  const Mat2& u() const final { return u_; }    // u^n
   const Vec& phi() const override { return phi_; }  // phi^n
   // p^{n-1/2} by Eq. (35) from phi() with the Laplacian of the step that made it, zero mean where
   // phi has a gauge; recovered when first asked for after a change of the state (revision()).
   const Vec& p() const final;
   const Mat2& grad_phi() const { return grad_phi_; }
-  double time() const final { return t_; }
-  long steps() const final { return n_; }
-  double kinetic_energy() const final;      // sum_i rho V |u_i|^2 / 2
   // max_i |(div u^n)_i| by Eq. (30) with the wall images of u^n (EPSPH's exact projection: its D)
   double max_abs_divergence() const override;
 
@@ -82,9 +74,6 @@ class ProjectionFluid : public FluidSolver {
   // matrices assembled again, eulerian.hpp)
   virtual const Operators& operators() const;
   virtual std::vector<SolverInfo> solver_info() const;
-  Profile& profile() const final { return prof_; }
-  double step_seconds() const override { return prof_.total() - prof_.seconds(k_pressure_); }
-  double setup_seconds(const std::string& what) const final;  // "neighbours", "assembly", "factorisation"
 
   // The state after step n: u^n, phi^n, grad phi^n (Eq. 42 needs it), the last two u* (the warm
   // start of an iterative solver), t_n, n, and what the method adds (extra_state).
@@ -92,9 +81,10 @@ class ProjectionFluid : public FluidSolver {
   void restore(const NamedArrays& state) final;
 
  protected:
-  explicit ProjectionFluid(const FluidParams& params);  // the lattice's particles (Eq. 68)
+  // The lattice's particles (Eq. 68), fixed or moving; `profiler` the run loop's (FluidSolver).
+  ProjectionFluid(const FluidParams& params, bool particles_move, Profiler* profiler);
   // N particles of volume V each (a fluid region filling part of the lattice's domain: ISPH).
-  ProjectionFluid(const FluidParams& params, int N, double V);
+  ProjectionFluid(const FluidParams& params, bool particles_move, Profiler* profiler, int N, double V);
 
   // The profile phases of the moving-particle methods (LPSPH, ISPH): the labels of the first three
   // are the method's (its equations); the two factorisation phases are named alike for both.
@@ -135,17 +125,13 @@ class ProjectionFluid : public FluidSolver {
   void project_approximate();  // Eqs. (30)-(34)
   // Eq. (30) with images whose offsets are c: d = D u + B c
   void divergence_with_images(const Mat2& u, const Mat2& c, Vec& d) const;
-  void add_setup(const std::string& what, double seconds) { setup_.emplace_back(what, seconds); }
+  void add_setup(const std::string& what, double seconds) { profiler().add_setup(what, seconds); }
   double a_cn() const { return 0.5 * nu() * prm_.dt; }  // Crank-Nicolson factor nu dt / 2 (Eq. 28)
   SpMat crank_nicolson_matrix() const;  // I - a lap (Eq. 28), the pattern of lap_u.A
   // A with the rows and columns of dirichlet_rows_ zeroed and 1 on their diagonal (in place, the
   // pattern kept): symmetric when A is, and with b = 0 on those rows phi = 0 there.
   void eliminate_dirichlet(SpMat& A);
 
-  FluidParams prm_;
-  Lattice lat_;
-  CubicSplineKernel W_;
-  Vec V_;
   double volume_;  // of every particle (V_)
   // the step's geometry (the method builds it; operators_changed() derives the rest)
   Images im_;
@@ -174,22 +160,19 @@ class ProjectionFluid : public FluidSolver {
   bool explicit_viscous_ = false;        // Afanasiev et al. Eq. (22) instead of Crank-Nicolson (no cn_)
   Eigen::Vector2d accel_ = Eigen::Vector2d::Zero();  // uniform acceleration added to u* (ISPH: gravity)
   // state and workspace
-  Mat2 u_, u_star_, u_star_old_, rhs_, conv_, grad_phi_;
+  Mat2 u_star_, u_star_old_, rhs_, conv_, grad_phi_;
   Vec div_;
   mutable Vec phi_, b_phi_;
-  double t_ = 0;
-  long n_ = 0;
   bool first_ = true;  // no N^{n-1} yet (AB2 starts with Euler)
   bool convective_ = false;  // the method discretises convection (EPSPH); moving particles carry it
   // rhs_ already holds lap_u.A u^n, apply2's bits, for this step's viscous_rhs (LPSPH computes it
   // behind the assembly); viscous_rhs clears it
   bool lap_u_ahead_ = false;
 
-  mutable Profile prof_;  // timing only: also updated by the lazily recovered pressure
+  Profiler& prof_;  // profiler(): the run loop's
   int k_images_, k_rhs_, k_solve_cn_, k_div_, k_solve_poisson_, k_project_, k_pressure_;
 
  private:
-  std::vector<std::pair<std::string, double>> setup_;
   std::vector<char> dirichlet_mask_;  // eliminate_dirichlet's workspace
   mutable Vec p_;
   mutable long p_revision_ = -1;  // the state p_ belongs to

@@ -34,6 +34,14 @@ const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& 
   throw std::runtime_error("checkpoint: no " + name + " in the fluid state");
 }
 
+FluidSolver::FluidSolver(const FluidParams& params, bool particles_move, Profiler* profiler)
+    : prm_(params), lat_(make_lattice(params.domain, params.nx, params.ny)),
+      W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)), moves_(particles_move),
+      own_profiler_(profiler ? nullptr : std::make_unique<Profiler>()),
+      profiler_(profiler ? profiler : own_profiler_.get()) {}
+
+FluidSolver::~FluidSolver() { profiler_->detach(); }  // the run loop's profiler outlives the method
+
 void FluidSolver::set_viscosity(const int*, const double*, int) {
   throw std::invalid_argument("a variable viscosity (membrane.viscosity_ratio != 1) is not available for method \"" +
                               std::string(to_string(params().method)) + "\" (use method = \"eulerian\")");

@@ -39,56 +39,37 @@ void check_common_params(const FluidParams& p);
 const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& name, Eigen::Index rows,
                                    Eigen::Index cols);
 
+// The contract. What every method has as data (parameters, lattice, kernel, positions, volumes,
+// velocity, time, step count, particle mass) the base holds and shows through plain accessors; the
+// method writes it. The physics is virtual: seven functions every method provides (step,
+// set_velocity, p, phi, max_abs_divergence, state, restore) and four optional capabilities (the
+// markers' stream function, a free surface, wall forces of its own, a variable viscosity) that a
+// method without them leaves alone. Timing and reporting go to the Profiler (fluid/profile.hpp) the
+// run loop hands over at construction.
 class FluidSolver {
  public:
-  virtual ~FluidSolver() = default;
+  virtual ~FluidSolver();
+  FluidSolver(const FluidSolver&) = delete;
+  FluidSolver& operator=(const FluidSolver&) = delete;
 
+  // --- the physics every method provides ---------------------------------------------------------
   // One step from t_n to t_{n+1}; F is the external force per unit volume at the particles (N x 2).
   // A breakdown of the method (not a bug) throws std::runtime_error saying what and where.
   virtual void step(const Mat2& F) = 0;
   virtual void set_velocity(const Mat2& u0) = 0;  // initial condition
-
-  virtual const FluidParams& params() const = 0;
-  virtual const Lattice& lattice() const = 0;  // the lattice of the domain (nx, ny, dx, dy); its sites are the particles unless a free surface fills only part of it
-  virtual const CubicSplineKernel& kernel() const = 0;
-  virtual bool particles_move() const = 0;
-  virtual const Mat2& x() const = 0;        // current particle positions, N x 2
-  virtual const Vec& volumes() const = 0;   // V_j = m_j / rho_j
-  virtual const Mat2& u() const = 0;        // u^n
   virtual const Vec& p() const = 0;         // pressure (projection methods: p^{n-1/2}, zero mean)
   virtual const Vec& phi() const = 0;       // projection methods: phi^n; WCSPH: density rho
-  virtual double time() const = 0;
-  virtual long steps() const = 0;
-  virtual double kinetic_energy() const = 0;      // sum_i m_i |u_i|^2 / 2
   virtual double max_abs_divergence() const = 0;  // max_i |(div u)_i|, Eq. (30)
+  // Everything that determines the following steps (for checkpoints), and its restoration into a
+  // solver built from the same parameters.
+  virtual NamedArrays state() const = 0;
+  virtual void restore(const NamedArrays& state) = 0;
+
+  // --- optional capabilities -----------------------------------------------------------------------
   // The stream function of u^n, for marker velocities that are divergence-free between particles
-  // (coupling/interpolate.hpp); methods without one return psi = nullptr.
+  // (coupling/interpolate.hpp); a method with one sets has_stream_function_, the others return
+  // psi = nullptr.
   virtual StreamFunction stream_function() const { return {}; }
-  virtual bool has_stream_function() const { return false; }
-
-  // Run-log lines (particles, images, neighbours, each linear system's factorisation) and
-  // figures for the summary (name, value).
-  virtual std::vector<std::string> describe() const = 0;
-  virtual std::vector<std::pair<std::string, double>> figures() const = 0;
-  virtual Profile& profile() const = 0;
-  // The wall time of its steps so far: profile()'s phases of step(), not those made on demand
-  // (the pressure for output, the markers' stream function for the coupling).
-  virtual double step_seconds() const { return profile().total(); }
-  virtual double setup_seconds(const std::string& what) const = 0;
-  // What the method keeps for the whole run (`sphib check`'s memory estimate): the non-zeros of
-  // its operator matrices and of its factors (with the matrices it keeps), its neighbour pairs.
-  // None for a method that rebuilds them every step.
-  struct Footprint {
-    long operator_nonzeros = 0, factor_nonzeros = 0, pairs = 0;
-  };
-  virtual std::optional<Footprint> footprint() const { return std::nullopt; }
-  // The floor of a step: the bare kernels it cannot avoid, each timed alone on the current fields,
-  // best of `reps` (0: the method measures none).
-  virtual double floor_seconds(int /*reps*/ = 20) const { return 0.0; }
-  // The markers' stream function's bare solve (stream_function()), timed alone the same way: part
-  // of the coupling's floor (Simulation::coupling_floor_seconds); 0 without one.
-  virtual double stream_function_floor_seconds(int /*reps*/ = 20) const { return 0.0; }
-
   // Free surfaces (free_surface.hpp): the particles the last surface detection marked (1) or not
   // (0); nullptr for a method or scene without a free surface.
   virtual const std::vector<char>* surface() const { return nullptr; }
@@ -96,28 +77,58 @@ class FluidSolver {
   // side without a wall. Default: the Shepard interpolation of p() at the wall lines (methods with
   // image walls); methods with wall particles of their own pressure sum those (A Eq. 32).
   virtual WallForces wall_forces() const;
-
   // A viscosity that varies in space, mu_i = mu m_i (a viscosity contrast between the fluid inside
   // and outside membranes: coupling/viscosity_contrast.hpp): m at the particles at[0..n), the others
-  // keeping theirs (every m is 1 at first), m > 0. Only methods for which supports_variable_viscosity
-  // holds (EPSPH: fluid/variable_viscosity.hpp); the others throw std::invalid_argument.
-  virtual bool supports_variable_viscosity() const { return false; }
+  // keeping theirs (every m is 1 at first), m > 0. Only methods that set variable_viscosity_
+  // (EPSPH: fluid/variable_viscosity.hpp); the others throw std::invalid_argument.
   virtual void set_viscosity(const int* at, const double* m, int n);
 
-  // Everything that determines the following steps (for checkpoints), and its restoration into a
-  // solver built from the same parameters: every method has both.
-  virtual NamedArrays state() const = 0;
-  virtual void restore(const NamedArrays& state) = 0;
+  // --- the data every method has (read only) -----------------------------------------------------
+  const FluidParams& params() const { return prm_; }
+  // the lattice of the domain (nx, ny, dx, dy); its sites are the particles unless they move or a
+  // free surface fills only part of it
+  const Lattice& lattice() const { return lat_; }
+  const CubicSplineKernel& kernel() const { return W_; }
+  bool particles_move() const { return moves_; }
+  const Mat2& x() const { return moves_ ? x_ : lat_.x; }  // current particle positions, N x 2
+  const Vec& volumes() const { return V_; }  // V_j = m_j / rho_j
+  const Mat2& u() const { return u_; }       // u^n
+  double time() const { return t_; }
+  long steps() const { return n_; }
+  double kinetic_energy() const { return 0.5 * mass_ * u_.squaredNorm(); }  // sum_i m |u_i|^2 / 2
+  bool has_stream_function() const { return has_stream_function_; }
+  bool supports_variable_viscosity() const { return variable_viscosity_; }
+  // Its phases, set-up timings, report and floor (fluid/profile.hpp).
+  Profiler& profiler() const { return *profiler_; }
 
   int size() const { return static_cast<int>(x().rows()); }
-  double h() const { return kernel().h; }
-  double nu() const { return params().mu / params().rho; }
+  double h() const { return W_.h; }
+  double nu() const { return prm_.mu / prm_.rho; }
   // Changes with every change of the state (step, set_velocity, restore): callers that keep
   // quantities derived from u or x (the coupling's u^n(X^n)) check it before reusing them.
   long revision() const { return revision_; }
 
  protected:
+  // The lattice of params.domain and the kernel of h = h_over_dx (dx + dy) / 2; `profiler` the run
+  // loop's (nullptr: the method keeps one of its own).
+  FluidSolver(const FluidParams& params, bool particles_move, Profiler* profiler);
+
+  FluidParams prm_;
+  Lattice lat_;
+  CubicSplineKernel W_;
+  Mat2 x_;  // positions of moving particles (fixed ones are the lattice's sites)
+  Vec V_;
+  Mat2 u_;
+  double t_ = 0;
+  long n_ = 0;
+  double mass_ = 0;  // of every particle
   long revision_ = 0;
+  bool has_stream_function_ = false, variable_viscosity_ = false;
+
+ private:
+  bool moves_;
+  std::unique_ptr<Profiler> own_profiler_;
+  Profiler* profiler_;
 };
 
 }  // namespace sphib

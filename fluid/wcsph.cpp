@@ -58,10 +58,9 @@ static const FluidParams& checked(const FluidParams& p) {
   return p;
 }
 
-WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
-    : prm_(checked(params)), opt_(options), lat_(make_lattice(params.domain, params.nx, params.ny)),
-      W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)), walls_(make_virtual_walls(lat_, W_.support())),
-      search_(prm_.domain, W_, particle_count(params, lat_), walls_.x) {
+WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options, Profiler* profiler)
+    : FluidSolver(checked(params), true, profiler), opt_(options), walls_(make_virtual_walls(lat_, W_.support())),
+      search_(prm_.domain, W_, particle_count(params, lat_), walls_.x), prof_(FluidSolver::profiler()) {
   eos_ = prm_.wcsph.eos;
   lj_ = prm_.wcsph.walls == WcsphWalls::LennardJones;
   c_ = wcsph_sound_speed(prm_);
@@ -90,14 +89,14 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   pc_ = prm_.wcsph.integrator == Integrator::PredictorCorrector;
   if (pc_) {
     init_afanasiev();  // A's particles, masses, hydrostatic density; the evaluation at t = 0
-    setup_.emplace_back("neighbours", seconds_since(t0));
+    prof_.add_setup("neighbours", seconds_since(t0));
   } else {
     N_ = lat_.size();
     x_ = lat_.x;
     u_ = u_hat_ = a_ = Mat2::Zero(N_, 2);
     rho_ = p_ = V_ = pr_ = Vec::Zero(N_);
     find_neighbours();
-    setup_.emplace_back("neighbours", seconds_since(t0));
+    prof_.add_setup("neighbours", seconds_since(t0));
     summation_density();
     xsph_velocity(u_);
   }
@@ -109,6 +108,11 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options)
   k_force_ = prof_.phase("accelerations (C Eq. 17)");
   k_xsph_ = prof_.phase("XSPH (V Eq. 21)");
   if (surface_on_) k_surface_ = prof_.phase("free surface (Dilts / A Eq. 26)");
+  mass_ = m_;
+  prof_.set_reporter([this](FluidReport& r) {
+    r.lines = describe();
+    r.figures = figures();
+  });
 }
 
 void WcsphFluid::find_neighbours() {
@@ -351,8 +355,6 @@ void WcsphFluid::step(const Mat2& F) {
   check_density();
 }
 
-double WcsphFluid::kinetic_energy() const { return 0.5 * m_ * u_.squaredNorm(); }
-
 double WcsphFluid::max_abs_divergence() const {
   // (div u)_i = sum_j (m/rho_j) (u_i + u_j) . (x_i - x_j) F_ij  (Eq. 30 form), walls carry u_w
   const int N = N_;
@@ -479,12 +481,6 @@ void WcsphFluid::restore_clock(const NamedArrays& state) {
 WallForces WcsphFluid::wall_forces() const {
   if (wall_pressure_ == WallPressure::Rest) return FluidSolver::wall_forces();  // by interpolation
   return wall_forces_from_particles(lat_, walls_, p_w_);                        // A Eq. (32)
-}
-
-double WcsphFluid::setup_seconds(const std::string& what) const {
-  for (const auto& [k, s] : setup_)
-    if (k == what) return s;
-  return 0.0;
 }
 
 }  // namespace sphib

@@ -150,29 +150,16 @@ double coelho_dt_limit(double h, double c, double nu);
 
 class WcsphFluid final : public FluidSolver {
  public:
-  explicit WcsphFluid(const FluidParams& params, const WcsphOptions& options = {});
+  // `profiler`: the run loop's (nullptr: its own).
+  explicit WcsphFluid(const FluidParams& params, const WcsphOptions& options = {}, Profiler* profiler = nullptr);
 
   void step(const Mat2& F) override;  // F: force per unit volume at the particles; a_i gets F_i / rho_i
   void set_velocity(const Mat2& u0) override;
 
-  const FluidParams& params() const override { return prm_; }
-  const Lattice& lattice() const override { return lat_; }
-  const CubicSplineKernel& kernel() const override { return W_; }
-  bool particles_move() const override { return true; }
-  const Mat2& x() const override { return x_; }           // x^n
-  const Vec& volumes() const override { return V_; }      // m / rho_i (at x^{n-1/2}, see above)
-  const Mat2& u() const override { return u_; }           // u^n
+  // x(): x^n; volumes(): m / rho_i (at x^{n-1/2}, see above); u(): u^n
   const Vec& p() const override { return p_; }            // EOS pressure (absolute for Morris)
   const Vec& phi() const override { return rho_; }        // density rho_i
-  double time() const override { return t_; }
-  long steps() const override { return n_; }
-  double kinetic_energy() const override;      // sum_i m |u_i|^2 / 2
   double max_abs_divergence() const override;  // Eq. (30) form with m/rho_j, over the last neighbours
-
-  std::vector<std::string> describe() const override;
-  std::vector<std::pair<std::string, double>> figures() const override;
-  Profile& profile() const override { return prof_; }
-  double setup_seconds(const std::string& what) const override;  // "neighbours"
   // Checkpoints: x^n, u^n, the XSPH velocity, the positions of the last evaluation (x^{n-1/2}:
   // its neighbours and densities are rebuilt from them exactly), t_n, n and the density monitor.
   NamedArrays state() const override;
@@ -191,6 +178,9 @@ class WcsphFluid final : public FluidSolver {
   WallForces wall_forces() const override;  // A Eq. (32) over the wall particles, or by interpolation (rest)
 
  private:
+  // Its report to the profiler: the run-log lines and the figures.
+  std::vector<std::string> describe() const;
+  std::vector<std::pair<std::string, double>> figures() const;
   void find_neighbours();     // pair lists at x_
   void summation_density();   // V Eq. (11), then the EOS
   void accelerations(const Mat2& F);  // a_ (and drho_ with the continuity equation)
@@ -209,10 +199,7 @@ class WcsphFluid final : public FluidSolver {
   void restore_clock(const NamedArrays& state);
   void restore_afanasiev(const NamedArrays& state);
 
-  FluidParams prm_;
   WcsphOptions opt_;
-  Lattice lat_;
-  CubicSplineKernel W_;
   Eos eos_ = Eos::Morris;
   double c_ = 0, rho0_ = 0, m_ = 0, S_ = 0, p_wall_ = 0, dt_limit_ = 0, lj_D_ = 0, lj_r0_ = 0;
   bool lj_ = false;
@@ -228,8 +215,8 @@ class WcsphFluid final : public FluidSolver {
   ParticlePairs pairs_;  // pairs closer than 2h at x_eval_, each once; j >= N: the wall particle j - N
   long nbrs_last_ = 0, nbrs_total_ = 0;  // neighbours summed over the fluid particles: last search, all
 
-  Mat2 x_, x_eval_, u_, u_hat_, a_;  // x_eval_: positions of the last neighbour search (x^{n-1/2})
-  Vec rho_, p_, V_, pr_;  // pr_ = p / rho^2
+  Mat2 x_eval_, u_hat_, a_;  // x_eval_: positions of the last neighbour search (x^{n-1/2})
+  Vec rho_, p_, pr_;  // pr_ = p / rho^2
   // walls: pressure, p/rho^2 and density of each wall particle (rest: p(rho0), rho0); A's walls:
   // the summation density of the wall particles among themselves, m (W(0) + sum_w' W_ww')
   Vec p_w_, pr_w_, rho_w_, work_w_, rho_ww_;
@@ -240,11 +227,8 @@ class WcsphFluid final : public FluidSolver {
   bool started_ = false;
   SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
   std::vector<char> surface_;
-  double t_ = 0, dvar_ = 0, dvar_max_ = 0, t_dvar_max_ = 0;
-  long n_ = 0;
-  std::vector<std::pair<std::string, double>> setup_;
-
-  mutable Profile prof_;
+  double dvar_ = 0, dvar_max_ = 0, t_dvar_max_ = 0;
+  Profiler& prof_;  // profiler(): the run loop's
   int k_drift_, k_neigh_, k_rho_, k_force_, k_xsph_, k_surface_ = -1;
 };
 

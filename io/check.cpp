@@ -26,7 +26,7 @@ std::string num(double v, int digits = 3) {
 std::string bytes(double b) { return bytes_text(b); }
 
 double figure(const FluidSolver& f, const std::string& name, double def) {
-  for (const auto& [k, v] : f.figures())
+  for (const auto& [k, v] : f.profiler().report().figures)
     if (k == name) return v;
   return def;
 }
@@ -86,14 +86,14 @@ int report_memory(const Scene& scene, const MemoryEstimate& e, std::ostream& out
 void report_built(const Simulation& sim, std::ostream& out) {
   const FluidSolver& f = sim.fluid();
   const FluidParams& fp = f.params();
-  for (const auto& line : f.describe()) out << "  " << line << "\n";
+  for (const auto& line : f.profiler().report().lines) out << "  " << line << "\n";
   const double images = figure(f, "images", NAN), neighbours = figure(f, "neighbours_per_particle", NAN);
   out << "  particles " << f.size() << " (" << fp.nx << " x " << fp.ny << ", dx = " << num(f.lattice().dx)
       << ", dy = " << num(f.lattice().dy) << "), images "
       << (std::isnan(images) ? std::string("(none: ") + to_string(fp.method) + ")" : num(images, 10))
       << (std::isnan(neighbours) ? std::string() : ", neighbours per particle " + num(neighbours)) << ", h = " << num(f.h())
       << "\n";
-  if (const auto kept = f.footprint())
+  if (const auto kept = f.profiler().report().footprint)
     out << "  kept for the run: " << kept->operator_nonzeros << " operator non-zeros, " << kept->factor_nonzeros
         << " factor non-zeros, " << kept->pairs << " pairs\n";
 }

@@ -65,7 +65,7 @@ struct Schedule {
         by_max_steps(s.max_steps > 0 && s.max_steps < std::round(s.t_end / s.sim.fluid.dt)) {}
 };
 
-// The run log's opening: the scene, the fluid's set-up (its describe() lines), the membranes and
+// The run log's opening: the scene, the fluid's set-up (its report's lines), the membranes and
 // the steps ahead.
 std::string setup_report(const Scene& scene, const Simulation& sim, double setup_seconds, const Schedule& plan,
                          const std::string& out_dir) {
@@ -74,9 +74,9 @@ std::string setup_report(const Scene& scene, const Simulation& sim, double setup
   std::ostringstream m;
   m << "sphib " << SPHIB_VERSION << ": " << (scene.title.empty() ? scene.path : scene.title) << "\n"
     << "  rho = " << fp.rho << ", mu = " << fp.mu << ", dt = " << fp.dt << "\n";
-  for (const auto& line : fl.describe()) m << "  " << line << "\n";
-  m << "  set-up " << setup_seconds << " s (neighbours " << fl.setup_seconds("neighbours") << " s, assembly "
-    << fl.setup_seconds("assembly") << " s, factorisation " << fl.setup_seconds("factorisation") << " s)";
+  for (const auto& line : fl.profiler().report().lines) m << "  " << line << "\n";
+  m << "  set-up " << setup_seconds << " s (neighbours " << fl.profiler().setup_seconds("neighbours") << " s, assembly "
+    << fl.profiler().setup_seconds("assembly") << " s, factorisation " << fl.profiler().setup_seconds("factorisation") << " s)";
   for (size_t k = 0; k < sim.membranes().size(); ++k) {
     const auto& ms = sim.membranes()[k];
     m << "\n  membrane " << k << ": Nb = " << ms.m.nb() << ", L0 = " << ms.m.L0() << ", " << describe(ms.m.mat)
@@ -150,18 +150,18 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   j["setup_seconds"] = timing.setup;
   j["loop_seconds"] = timing.loop;
   j["seconds_per_step"] = timing.steps ? timing.loop / timing.steps : 0.0;
-  const Profile* profiles[] = {&fl.profile(), &sim.profile(), timing.run};
+  const Profile* profiles[] = {&fl.profiler(), &sim.profile(), timing.run};
   for (const Profile* P : profiles)
     for (size_t k = 0; k < P->names().size(); ++k) j["profile_seconds"][P->names()[k]] = P->seconds(static_cast<int>(k));
-  for (const auto& line : fl.describe()) j["log"].push_back(line);
+  for (const auto& line : fl.profiler().report().lines) j["log"].push_back(line);
   // Step time against its floor (the fluid's bare solves and products, timed alone on the final
   // state): the fluid step (its own phases), and the whole step (the loop: fluid, membranes,
   // coupling, checks, output); with membranes, also against the fluid's and the coupling's floors
   // together (Simulation::coupling_floor_seconds), and the coupling's share of that whole floor.
-  if (const double floor = timing.steps > 0 && end.fault.empty() ? fl.floor_seconds() : 0.0; floor > 0) {
+  if (const double floor = timing.steps > 0 && end.fault.empty() ? fl.profiler().floor_seconds() : 0.0; floor > 0) {
     const double step = timing.loop / timing.steps;
     j["floor_seconds_per_step"] = floor;
-    j["fluid_step_over_floor"] = fl.step_seconds() / timing.steps / floor;
+    j["fluid_step_over_floor"] = fl.profiler().step_seconds() / timing.steps / floor;
     j["step_over_floor"] = step / floor;
     if (const double cf = sim.coupling_floor_seconds(); cf > 0) {
       j["coupling_floor_seconds_per_step"] = cf;
@@ -172,7 +172,7 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   // The membranes and their coupling (force, spreading, interpolation, marker update with the
   // markers' stream function) as a share of the whole step.
   if (!sim.membranes().empty() && timing.loop > 0) j["coupling_share"] = sim.profile().total() / timing.loop;
-  for (const auto& [k, v] : fl.figures()) j[k] = v;
+  for (const auto& [k, v] : fl.profiler().report().figures) j[k] = v;
   return j;
 }
 
@@ -192,7 +192,7 @@ const std::set<std::string>& run_summary_fields() {
 // fluid's figures (a column of another analysis is refused by Observers::add).
 void check_observer_names(const Scene& scene, const Simulation& sim) {
   std::set<std::string> taken = run_summary_fields();
-  for (const auto& [k, v] : sim.fluid().figures()) taken.insert(k);
+  for (const auto& [k, v] : sim.fluid().profiler().report().figures) taken.insert(k);
   for (const Observer& o : scene.observers) {
     if (o.name.empty()) throw SceneError(scene.path + ": an observer has an empty name");
     if (taken.count(o.name))

@@ -293,7 +293,7 @@ TEST(FftSolver, FluidStepsLikeCholmodOnEveryDomain) {
       p.cn_solver = p.poisson_solver = s ? SolverKind::CholmodSimplicial : SolverKind::Auto;
       auto f = make_fluid(p);
       if (s == 0)
-        for (const std::string& line : f->describe())  // the run log's lines: one per solver
+        for (const std::string& line : f->profiler().report().lines)  // the run log's lines: one per solver
           EXPECT_EQ(line.find("CHOLMOD"), std::string::npos) << dc.name << ": " << line;
       Mat2 u0(f->size(), 2);
       u0.col(0) = random_vector(f->size(), 5);

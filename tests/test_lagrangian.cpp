@@ -494,23 +494,23 @@ TEST(LagrangianBreakdown, KernelSumBelowThresholdStopsTheRun) {
   }
 }
 
-// Through make_fluid: method "lagrangian" is LPSPH, with moving particles; describe() reports the
-// new matrices of every step and the solvers' iterations, figures() the counts.
+// Through make_fluid: method "lagrangian" is LPSPH, with moving particles; its report's lines give the
+// new matrices of every step and the solvers' iterations, its figures the counts.
 TEST(LagrangianFluid, MadeByMethodName) {
   FluidParams p = poiseuille(16, 1.2, 1.25e-5);
   auto f = make_fluid(p);
   ASSERT_TRUE(f->particles_move());
   run(*f, 3);
   bool found = false;
-  for (const auto& line : f->describe())
+  for (const auto& line : f->profiler().report().lines)
     found = found || line.find("Poisson: 3 new matrices, conjugate gradients, ") != std::string::npos;
   EXPECT_TRUE(found);
   double refactorised = -1;
-  for (const auto& [k, v] : f->figures())
+  for (const auto& [k, v] : f->profiler().report().figures)
     if (k == "refactorised_steps") refactorised = v;
   EXPECT_EQ(refactorised, 3);
   bool iterations = false;
-  for (const auto& [k, v] : f->figures()) iterations = iterations || (k == "poisson_cg_iterations" && v >= 1);
+  for (const auto& [k, v] : f->profiler().report().figures) iterations = iterations || (k == "poisson_cg_iterations" && v >= 1);
   EXPECT_TRUE(iterations);
   try {  // a method is an enum; a misspelt name is refused where a name becomes one
     enum_value("lagrange", kFluidMethods);

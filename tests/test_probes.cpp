@@ -10,6 +10,7 @@
 
 #include "io/run.hpp"
 #include "io/scene.hpp"
+#include "helpers.hpp"
 #include "scene_refusal.hpp"
 #include "still_tank_scene.hpp"
 
@@ -24,13 +25,11 @@ struct ProbeRun {
   std::vector<double> t, col;
 };
 ProbeRun run(std::vector<std::string> sets, int steps, const std::string& col) {
-  namespace fs = std::filesystem;
   sets.insert(sets.begin(), {"method=isph", "time.dt=1e-3", "output.diagnostics_every=1",
                              "time.max_steps=" + std::to_string(steps)});
   const Scene s = parse_scene(test::kStillTank, "tank.toml", sets);
   RunOptions opt;
-  opt.out_dir = (fs::temp_directory_path() / "sphib_probes").string();
-  fs::remove_all(opt.out_dir);
+  opt.out_dir = (sphib_test::temp_dir("probes") / "run").string();  // this process's own: ctest runs the tests at once
   ProbeRun r;
   r.summary = run_scene(s, opt);
   std::ifstream in(opt.out_dir + "/diagnostics.csv");
@@ -48,7 +47,7 @@ ProbeRun run(std::vector<std::string> sets, int steps, const std::string& col) {
     r.t.push_back(v.at(ct));
     r.col.push_back(v.at(cc));
   }
-  fs::remove_all(opt.out_dir);
+  std::filesystem::remove_all(opt.out_dir);
   return r;
 }
 

@@ -197,7 +197,7 @@ TEST(WcsphDensity, VariationUnderThreePercentInVukcevicSetting) {
     EXPECT_LT(f.max_density_variation(), 0.03);
     EXPECT_LT(f.max_density_variation(), 1e-3);
     EXPECT_LT(rms_error(f, couette), couette ? 2e-4 : 3e-3);
-    for (const auto& [k, v] : f.figures()) {
+    for (const auto& [k, v] : f.profiler().report().figures) {
       if (k == "max_density_variation") {
         EXPECT_DOUBLE_EQ(v, f.max_density_variation());
       }
