@@ -428,6 +428,7 @@ TEST(MembraneKeys, TheMaterialKeysAreReadAndCheckedByName) {
            {"law = \"mooney\"\nEs = 1.0\n", "membrane.law"},
            {"law = \"skalak\"\nEs = 1.0\nC = -1\n", "membrane.C"},
            {"T0 = 1.0\nEb = -1.0\n", "membrane.Eb"},
+           {"T0 = 1.0\nstiff_residual = true\n", "membrane.stiff_residual"},  // needs semi_implicit
            {"law = \"neo_hookean\"\n", "membrane.Es"}}) {
     const std::string msg = refusal(mem + extra);
     EXPECT_NE(msg.find(key), std::string::npos) << extra << " -> " << msg;
