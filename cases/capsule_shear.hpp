@@ -19,7 +19,7 @@ struct CapsuleParams {
   double cfl = 0.0125;     // dt = cfl dx / U, U = G H / 2 the wall speed
   double t_end = 16.0;     // in units of 1/G
   double lambda = 1.0;      // viscosity ratio mu_in / mu_out (membrane.viscosity_ratio; mu = mu_out)
-  bool paper_pair = false, explicit_force = false, sheared = false;
+  bool paper_pair = false, explicit_force = false, sheared = false, stiff_residual = false;
   MarkerInterpolation interpolation = MarkerInterpolation::Auto;  // (paper_pair: Sph)
   double Es() const { return mu * G * r0 / Ca; }
   double Eb() const { return eb_hat * Es() * r0 * r0; }
@@ -51,6 +51,7 @@ inline Scene capsule_scene(const CapsuleParams& p) {
   const int nb = p.nb > 0 ? p.nb : static_cast<int>(std::lround(2 * M_PI * p.r0 / (0.5 * dx)));  // two per dx
   MembraneSetup m{make_membrane(circle(nb, 0.0, 0.0, /*radius=*/p.r0), circle_reference(p.r0), mat), h_star};
   m.semi_implicit = !p.explicit_force && (mat.Eb > 0 || p.law != "hookean");  // as the scene's default
+  m.stiff_residual = m.semi_implicit && p.stiff_residual;
   m.viscosity_ratio = p.lambda;
   s.sim.membranes.push_back(m);
   if (p.sheared) {

@@ -17,6 +17,9 @@ struct MembraneSetup {
   // lambda = mu_in / mu of the fluid it encloses (a viscosity contrast: coupling/viscosity_contrast.hpp;
   // method "eulerian" only); 1: the same fluid inside and out
   double viscosity_ratio = 1.0;
+  // the stiff-force filter predicts U^{n+1} with its model's measured residual (accurate steady
+  // states at large steps; less stable on stiff stretching: coupling/stiff_force.hpp)
+  bool stiff_residual = false;
 };
 
 // How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl

@@ -54,7 +54,7 @@ MembraneState::MembraneState(const MembraneSetup& s)
     : m(s.membrane), h_star(s.h_star), fixed(s.fixed), W_star(s.h_star), force(s.membrane),
       f(Mat2::Zero(s.membrane.nb(), 2)), U_n(f), U(f), X_n(s.membrane.X), T(Vec::Zero(s.membrane.nb())) {
   if (s.semi_implicit && !s.fixed) {
-    filter = std::make_unique<StiffForceFilter>(s.membrane.nb());
+    filter = std::make_unique<StiffForceFilter>(s.membrane.nb(), s.stiff_residual);
     f_tilde = f;
   }
 }
@@ -176,6 +176,18 @@ void Simulation::set_markers(size_t k, const Mat2& X) {
   else mem_[k].force.compute(mem_[k].m.X, mem_[k].f, mem_[k].T);
 }
 
+Eigen::MatrixXd Simulation::stiff_filter_state(size_t k) const {
+  return mem_.at(k).filter ? mem_[k].filter->state() : Eigen::MatrixXd();
+}
+
+void Simulation::set_stiff_filter_state(size_t k, const Eigen::MatrixXd& s) {
+  if (mem_.at(k).filter) {
+    mem_[k].filter->set_state(s);
+  } else if (s.size() > 0) {
+    throw std::invalid_argument("membrane " + std::to_string(k) + " has a stiff-force filter state but is not semi-implicit");
+  }
+}
+
 void Simulation::set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next) {
   if (k >= mem_.size() || U_n.rows() != mem_[k].m.X.rows() || (U_next && U_next->rows() != U_n.rows()))
     throw std::invalid_argument("membrane " + std::to_string(k) + ": marker velocities do not match the scene");
@@ -246,7 +258,8 @@ double Simulation::coupling_floor_seconds(int reps) const {
     const FluidParams& p = fluid_->params();
     total += best_of(reps, [&] {
       for (const auto& s : mem_)
-        if (s.filter) s.filter->apply(s.force, s.f, s.U_n, {p.rho, p.mu, p.dt, s.h_star, interpolation_length()}, ft);
+        if (s.filter)
+          s.filter->apply(s.force, s.f, s.U_n, {p.rho, p.mu, p.dt, s.h_star, interpolation_length()}, ft, false);
     });
   }
   // one spreading, as step() makes it: one pass over each run of membranes sharing h*

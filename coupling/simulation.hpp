@@ -58,6 +58,10 @@ class Simulation {
   void set_marker_history(size_t k, const Mat2& U_n, const Mat2* U_next = nullptr);
   // U^{n+1}(X^{n+1}) of membrane k as the last marker update left it for the next step, or nullptr.
   const Mat2* next_marker_velocity(size_t k) const;
+  // Restart: the stiff-force filter's history of membrane k (StiffForceFilter::state; empty when it
+  // has none or the membrane is not semi-implicit) and its restoration.
+  Eigen::MatrixXd stiff_filter_state(size_t k) const;
+  void set_stiff_filter_state(size_t k, const Eigen::MatrixXd& s);
   // f and T of every membrane at its current markers (Eqs. 47-50), with the contact force added to f
   // when it is on, as membranes()[k].f and .T show them at all times: the constructor, set_markers
   // and the end of step() call it, and step() spreads the f it left (f^n at X^n).

@@ -11,6 +11,12 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // dt K B below which a mode leans towards the explicit force: theta = min(1, dt K B / kStiff).
 constexpr double kStiff = 0.1;
+// The model's residual G (the velocity it missed last step) is smoothed over steps with weight kRelax
+// and used only on modes the kernels resolve well (the bound of their attenuation above kResolved),
+// where B is close to the fluid's response rather than a loose bound. Both chosen by measurement
+// (docs/membranes.md, "Accuracy"): larger weights or a lower threshold diverge on some of the scenes
+// measured there.
+constexpr double kRelax = 0.2, kResolved = 0.9;
 using C = std::complex<double>;
 
 // An upper bound of the cubic-spline kernel's 2-D Fourier transform at q = k h: within 1.25x of
@@ -22,7 +28,8 @@ double smoothing(double q) {
 }
 }  // namespace
 
-StiffForceFilter::StiffForceFilter(int nb) : nb_(nb), nm_(nb / 2 + 1) {
+StiffForceFilter::StiffForceFilter(int nb, bool residual) : nb_(nb), nm_(nb / 2 + 1), residual_(residual) {
+  hist_.assign(6 * static_cast<size_t>(nm_), std::complex<double>(0.0));
   in_ = fftw_alloc_real(4 * static_cast<size_t>(nb_));
   hat_ = fftw_alloc_complex(4 * static_cast<size_t>(nm_));
   if (!in_ || !hat_) throw std::bad_alloc();
@@ -40,7 +47,7 @@ StiffForceFilter::~StiffForceFilter() {
 }
 
 void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Mat2& U, const StiffFluid& fl,
-                             Mat2& f_tilde) {
+                             Mat2& f_tilde, bool record) {
   const KnotGeometry& g = force.geometry();
   const MembraneStiffness st = force.stiffness();
   const int n = nb_;
@@ -66,6 +73,9 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
   const double Et = st.Et / (R * R), Tp = std::max(st.T_mean, 0.0) / (R * R), Eb = st.Eb / (R * R * R * R);
   const double layer = std::sqrt(kPi * nu * dt);
   const C i(0.0, 1.0);
+  C* Up = hist_.data();  // U^{n-1} (normal modes, then tangential), f~^{n-1}, G
+  C* Fp = Up + 2 * nm_;
+  C* G = Up + 4 * nm_;
   for (int m = 0; m < nm_; ++m) {
     const double mm = static_cast<double>(m), k = mm / R, m2 = mm * mm;
     // K (per unit length, on (a, b) = inward normal, tangential); no coupling at the Nyquist mode
@@ -80,14 +90,30 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
     const double A = 1.0 / (1.0 + 2.0 * nu * k * k * dt);
     // theta: implicit where the mode is stiff, fading to the explicit f^n where dt K B << kStiff
     const double th = dt * std::min(1.0, dt * std::max(Kaa, Kbb) * std::max(Bn, Bt) / kStiff);
-    // r = f - theta dt K A U;  M = I + theta dt K B;  f~ = M^{-1} r
-    const C ra = Fn[m] - th * A * (Kaa * Un[m] + Kab * Ut[m]);
-    const C rb = Ft[m] - th * A * (Kba * Un[m] + Kbb * Ut[m]);
+    // G: what the model U^{n+1} = A U^n + B f~ missed last step (the flow's own driving, model
+    // error), smoothed; zero on modes the kernels do not resolve
+    if (!residual_ || s <= kResolved) {
+      G[m] = G[nm_ + m] = 0.0;
+    } else if (record && have_prev_) {
+      G[m] += kRelax * (Un[m] - A * Up[m] - Bn * Fp[m] - G[m]);
+      G[nm_ + m] += kRelax * (Ut[m] - A * Up[nm_ + m] - Bt * Fp[nm_ + m] - G[nm_ + m]);
+    }
+    // r = f - theta dt K (A U + G);  M = I + theta dt K B;  f~ = M^{-1} r
+    const C pa = A * Un[m] + G[m], pb = A * Ut[m] + G[nm_ + m];
+    const C ra = Fn[m] - th * (Kaa * pa + Kab * pb);
+    const C rb = Ft[m] - th * (Kba * pa + Kbb * pb);
     const C Maa = 1.0 + th * Kaa * Bn, Mab = th * Kab * Bt, Mba = th * Kba * Bn, Mbb = 1.0 + th * Kbb * Bt;
     const C det = Maa * Mbb - Mab * Mba;
     Fn[m] = (Mbb * ra - Mab * rb) / det;
     Ft[m] = (Maa * rb - Mba * ra) / det;
+    if (record) {
+      Up[m] = Un[m];
+      Up[nm_ + m] = Ut[m];
+      Fp[m] = Fn[m];
+      Fp[nm_ + m] = Ft[m];
+    }
   }
+  if (record) have_prev_ = true;
   fftw_execute(inv_);  // f~_n, f~_t into in_[0, 2n), times n (FFTW's unnormalised transforms)
   f_tilde.resize(n, 2);
   const double inv_n = 1.0 / n;
@@ -108,5 +134,29 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
   }
 }
 
+Eigen::MatrixXd StiffForceFilter::state() const {
+  if (!have_prev_) return {};
+  Eigen::MatrixXd s(nm_, 12);
+  for (int m = 0; m < nm_; ++m)
+    for (int j = 0; j < 6; ++j) {
+      s(m, 2 * j) = hist_[j * nm_ + m].real();
+      s(m, 2 * j + 1) = hist_[j * nm_ + m].imag();
+    }
+  return s;
+}
+
+void StiffForceFilter::set_state(const Eigen::MatrixXd& s) {
+  if (s.size() == 0) {
+    have_prev_ = false;
+    std::fill(hist_.begin(), hist_.end(), C(0.0));
+    return;
+  }
+  if (s.rows() != nm_ || s.cols() != 12)
+    throw std::invalid_argument("stiff-force filter state: " + std::to_string(s.rows()) + " x " +
+                                std::to_string(s.cols()) + ", expected " + std::to_string(nm_) + " x 12");
+  for (int m = 0; m < nm_; ++m)
+    for (int j = 0; j < 6; ++j) hist_[j * nm_ + m] = C(s(m, 2 * j), s(m, 2 * j + 1));
+  have_prev_ = true;
+}
 
 }  // namespace sphib

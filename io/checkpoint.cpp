@@ -182,7 +182,8 @@ double checkpoint_bytes(const Simulation& sim, const std::vector<std::pair<std::
                         const Observers* observers) {
   double b = 0;
   for (const auto& [k, v] : sim.fluid().state()) b += 8.0 * v.size() + 4096;
-  for (const auto& m : sim.membranes()) b += 48.0 * m.m.X.rows() + 12288;  // X, U^n, U^{n+1}
+  for (const auto& m : sim.membranes())  // X, U^n, U^{n+1}; the stiff-force filter's history (12 reals by mode)
+    b += 48.0 * m.m.X.rows() + 12288 + (m.filter ? 48.0 * m.m.X.rows() + 4096 : 0.0);
   for (const auto& [k, v] : scene) b += 128.0 + k.size() + v.size();
   if (observers) b += 8.0 * observers->series().rows.size() * observers->columns().size() + 65536;
   return b;
@@ -208,6 +209,15 @@ void write_state(hid_t f, const Simulation& sim, const std::vector<std::pair<std
       write_matrix(vg.id, std::to_string(k), sim.membranes()[k].U_n, path);
       // the next step's U^n(X^n), as the last marker update left it (linearised: not an interpolation)
       if (const Mat2* U = sim.next_marker_velocity(k)) write_matrix(vg.id, std::to_string(k) + "_next", *U, path);
+    }
+  }
+  bool filters = false;  // the stiff-force filters' history (U^{n-1}, f~^{n-1}, G by mode)
+  for (size_t k = 0; k < sim.membranes().size(); ++k) filters |= sim.stiff_filter_state(k).size() > 0;
+  if (filters) {
+    H sg{H5Gcreate2(f, "stiff_filter", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+    for (size_t k = 0; k < sim.membranes().size(); ++k) {
+      const Eigen::MatrixXd s = sim.stiff_filter_state(k);
+      if (s.size() > 0) write_matrix(sg.id, std::to_string(k), s, path);
     }
   }
 }
@@ -415,6 +425,17 @@ Checkpoint read_checkpoint(const std::string& path) {
       }
     }
   }
+  c.stiff_filter.resize(c.markers.size());
+  if (H5Lexists(f.id, "stiff_filter", H5P_DEFAULT) > 0) {
+    H sg{H5Gopen2(f.id, "stiff_filter", H5P_DEFAULT), H5Gclose};
+    for (size_t k = 0; k < c.markers.size(); ++k) {
+      const std::string name = std::to_string(k);
+      if (H5Lexists(sg.id, name.c_str(), H5P_DEFAULT) > 0) {
+        c.stiff_filter[k] = read_matrix(sg.id, name, path);
+        require_finite(c.stiff_filter[k], "stiff_filter/" + name, path);
+      }
+    }
+  }
   if (H5Lexists(f.id, "run", H5P_DEFAULT) > 0) read_run(f.id, c, path);
   return c;
 }
@@ -438,6 +459,7 @@ void restore_checkpoint(const Checkpoint& c, const std::string& path,
       if (c.marker_velocities[k].rows() > 0)
         sim.set_marker_history(k, c.marker_velocities[k],
                                c.marker_velocities_next[k].rows() > 0 ? &c.marker_velocities_next[k] : nullptr);
+    for (size_t k = 0; k < c.stiff_filter.size(); ++k) sim.set_stiff_filter_state(k, c.stiff_filter[k]);
   } catch (const std::exception& e) {  // sizes that do not fit the scene's lattice or membranes
     refuse(path, e.what());
   }

@@ -36,6 +36,7 @@ struct Checkpoint {
   std::vector<Mat2> markers;                                // X of each membrane
   std::vector<Mat2> marker_velocities;  // U^n(X^n) of each free membrane (the predictor's history), or empty
   std::vector<Mat2> marker_velocities_next;  // U^{n+1}(X^{n+1}) as the marker update left it, or empty
+  std::vector<Eigen::MatrixXd> stiff_filter;  // the stiff-force filter's history per membrane, or empty
   std::string run_id;                   // the run the state belongs to (its output files carry it too)
   nlohmann::json analyses;              // Observers::state()
   Series series;                        // the diagnostics series up to the checkpoint

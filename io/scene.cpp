@@ -484,6 +484,12 @@ void read_material(Reader& r, const std::string& p, MembraneScene& m) {
   m.semi_implicit = r.boolean(p + "semi_implicit", m.Eb > 0.0 || !hookean,
                               "take the membrane's stiff modes semi-implicitly (coupling/stiff_force.hpp), so stiff "
                               "membranes run at the step the flow needs (default: with bending or a law other than hookean)");
+  m.stiff_residual = r.boolean(p + "stiff_residual", false,
+                               "the semi-implicit force predicts the membrane's next velocity with the measured residual "
+                               "of its model (steady shapes as accurate as the explicit force's at large steps; less "
+                               "stable on stiff stretching laws; docs/membranes.md)");
+  if (!r.documenting && m.stiff_residual && !m.semi_implicit)
+    r.fail(p + "stiff_residual", "refines the semi-implicit force: set semi_implicit = true too");
 }
 
 void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
@@ -955,6 +961,7 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     setup.h_star = m.h_star > 0 ? m.h_star : m.h_star_over_h * h;
     setup.fixed = m.fixed;
     setup.semi_implicit = m.semi_implicit;
+    setup.stiff_residual = m.stiff_residual;
     setup.viscosity_ratio = m.viscosity_ratio;
     if (m.viscosity_ratio != 1.0 && s.method != FluidMethod::Eulerian)
       r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + std::string(to_string(s.method)) +

@@ -31,6 +31,7 @@ struct MembraneScene {
   bool spontaneous = false;        // kappa0 given: uniform spontaneous curvature
   double kappa0 = 0.0;
   bool semi_implicit = false;      // the stiff-force filter (coupling/stiff_force.hpp)
+  bool stiff_residual = false;     // ... with its model's residual (MembraneSetup::stiff_residual)
   int nb = 128;
   double h_star = 0.0;  // absolute h*; 0: use h_star_over_h * h
   double h_star_over_h = 1.4;
