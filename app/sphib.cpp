@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   run->add_option("--set", sets, "override a scene value: key=value (dotted key, e.g. grid.nx=32)");
   run->add_flag("--quiet", quiet, "no run log");
   std::string threads;  // as --set limits.threads=N (the scene's reader checks it and names the key)
-  run->add_option("--threads", threads, "threads of the step (limits.threads; default: the machine's cores)");
+  run->add_option("--threads", threads, "threads of the step (limits.threads; default: the cores not busy with other work)");
   std::string restart;
   auto* restart_option = run->add_option(
       "--restart", restart,
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
       ->required();
   sweep->add_option("--out", sw.out, "output directory: DIR/run_NNN, DIR/sweep.csv, DIR/sweep.md")->required();
   sweep->add_flag("--quiet", quiet, "no line per run");
-  sweep->add_option("--threads", threads, "threads of every run's step (limits.threads; default: the machine's cores)");
+  sweep->add_option("--threads", threads, "threads of every run's step (limits.threads; default: the cores not busy with other work)");
 
   auto* keys = app.add_subcommand("keys", "list every scene key with its type, default and meaning");
   bool keys_json = false;

@@ -9,6 +9,12 @@ namespace sphib {
 // The threads a parallel pass started now would use (1 without OpenMP).
 int thread_count();
 
+// The count a run takes when none is given: OMP_NUM_THREADS when set, else the machine's cores less
+// the tasks running now besides this process (/proc/loadavg's fourth field), at least 1. A thread
+// that waits for a busy core holds up the others at every pass (two threads on one free core ran
+// 5-100x slower than one), so a busy machine gets fewer threads; the results are the same.
+int default_thread_count();
+
 // Sets the count for the passes started on this thread while it lives (n >= 1; 0 leaves it as it
 // is), then restores the count before it.
 class ThreadCount {

@@ -151,7 +151,7 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   j["setup_seconds"] = timing.setup;
   j["loop_seconds"] = timing.loop;
   j["seconds_per_step"] = timing.steps ? timing.loop / timing.steps : 0.0;
-  j["threads"] = thread_count();  // limits.threads, OMP_NUM_THREADS or the machine's cores
+  j["threads"] = thread_count();  // limits.threads, OMP_NUM_THREADS or the machine's idle cores
   const Profile* profiles[] = {&fl.profiler(), &sim.profile(), timing.run};
   for (const Profile* P : profiles)
     for (size_t k = 0; k < P->names().size(); ++k) j["profile_seconds"][P->names()[k]] = P->seconds(static_cast<int>(k));
@@ -358,7 +358,8 @@ void publish(RunOutput& output, const nlohmann::json& summary, const Simulation&
 nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   if (const std::string why = steps_problem(scene); !why.empty()) throw SceneError(scene.path + ": time.end: " + why);
   refuse_if_too_large(scene);        // before any allocation
-  const ThreadCount threads(scene.threads);  // limits.threads, for this run (the caller's count after it)
+  // limits.threads, else the idle cores (fluid/threads.hpp), for this run (the caller's count after it)
+  const ThreadCount threads(scene.threads > 0 ? scene.threads : default_thread_count());
   OutputDirectory dir(opt.out_dir);  // the lock, before anything is written
   Prepared p;
   try {

@@ -786,7 +786,7 @@ void read_output(Reader& r, Scene& s) {
                                "memory, MemTotal or the cgroup's limit); raise it to run anyway",
                                false, 0.0);
   s.threads = static_cast<int>(std::min<long>(
-      r.machine_default("limits.threads", 1, "the machine's cores (or OMP_NUM_THREADS)",
+      r.machine_default("limits.threads", 1, "OMP_NUM_THREADS, else the cores not busy at the start",
                         "threads the step's passes and lattice solves share (OpenMP; results do not depend on the count; "
                         "the command line's --threads sets it too)"),
       1024));
