@@ -23,7 +23,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "fluid/profile.hpp"  // seconds_since
+#include "fluid/common/profile.hpp"  // seconds_since
 #include "io/atomic_file.hpp"
 
 namespace sphib::bench {

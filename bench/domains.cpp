@@ -21,7 +21,7 @@
 //
 // Part T, the transforms alone: FFTW's r2c + c2r FFT of 64 rows of 64 (the channel's x transform)
 // against FFTW's own DCT-II + DCT-III and DST-II + DST-III (REDFT10/01, RODFT10/01) of the same rows,
-// all FFTW_ESTIMATE, best of 20 repetitions of 200 calls: why fluid/fft_poisson.cpp computes the DCT
+// all FFTW_ESTIMATE, best of 20 repetitions of 200 calls: why fluid/algebra/fft_poisson.cpp computes the DCT
 // and DST by the r2c FFT of reordered rows (RowDct) instead.
 //
 // Part N, scaling: the membrane job on each domain kind at Nx = Ny = --nx (Nb = 2 Nx), each in a fresh

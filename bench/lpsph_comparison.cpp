@@ -1,5 +1,5 @@
-// Benchmark (not a test): LPSPH (moving particles, fluid/lagrangian.hpp) against EPSPH (fixed
-// particles, fluid/eulerian.hpp), issue 5, after Sections 3.1, 5.1 and 5.2 of Noutcheuwa & Owens
+// Benchmark (not a test): LPSPH (moving particles, fluid/moving/lagrangian.hpp) against EPSPH (fixed
+// particles, fluid/eulerian/eulerian.hpp), issue 5, after Sections 3.1, 5.1 and 5.2 of Noutcheuwa & Owens
 // (2012). Three parts, each printed, with a CSV and a section of DIR/lpsph_comparison.md:
 //
 // poiseuille  Start-up planar Poiseuille (Section 5.1, Tables 1-2): Re = 0.0125 (rho = 1,
@@ -38,7 +38,7 @@
 #include "bench/poiseuille.hpp"
 #include "coupling/simulation.hpp"
 #include "fluid/factory.hpp"
-#include "fluid/lagrangian.hpp"
+#include "fluid/moving/lagrangian.hpp"
 #include "io/scene.hpp"
 #include "membrane/geometry.hpp"
 
@@ -185,7 +185,7 @@ std::string poiseuille_csv(const std::vector<PoiseuillePair>& rs) {
   return o.str();
 }
 
-// The LPSPH step, phase by phase (ms per step, the profile of fluid/lagrangian.hpp), one column per run.
+// The LPSPH step, phase by phase (ms per step, the profile of fluid/moving/lagrangian.hpp), one column per run.
 std::string breakdown_md(const std::vector<PoiseuillePair>& rs) {
   std::vector<std::string> names;
   for (const auto& r : rs)

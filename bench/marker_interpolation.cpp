@@ -10,7 +10,7 @@
 
 #include "coupling/interpolate.hpp"
 #include "fluid/factory.hpp"
-#include "fluid/solver.hpp"
+#include "fluid/core/solver.hpp"
 
 using namespace sphib;
 

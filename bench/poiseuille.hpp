@@ -9,8 +9,8 @@
 #include <cmath>
 #include <vector>
 
-#include "fluid/exact.hpp"
-#include "fluid/solver.hpp"
+#include "fluid/common/exact.hpp"
+#include "fluid/core/solver.hpp"
 
 namespace sphib::bench::poiseuille {
 

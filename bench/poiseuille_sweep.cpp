@@ -1,5 +1,5 @@
 // Benchmark (not a test): the start-up planar Poiseuille sweep behind Figs. 4 and 7 and Table 1 of
-// Noutcheuwa & Owens (2012), Section 5.1, with the EPSPH solver of fluid/eulerian.hpp.
+// Noutcheuwa & Owens (2012), Section 5.1, with the EPSPH solver of fluid/eulerian/eulerian.hpp.
 //
 // The problem is bench/poiseuille.hpp's (Stokes by default; --convection switches the AB2
 // convection term of Eq. 39 back on), over Nx = Ny in {16, 24, 32, 48, 64} x h/dx in
@@ -27,7 +27,7 @@
 
 #include "bench/common.hpp"
 #include "bench/poiseuille.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 
 namespace {
 

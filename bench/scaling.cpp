@@ -16,7 +16,7 @@
 // Part S compares, on the same matrices (the same scene and size, so the same operators), CHOLMOD
 // supernodal against simplicial for both systems, Jacobi-PCG for Crank-Nicolson
 // (solver.crank_nicolson = "pcg", Poisson by CHOLMOD simplicial), the FFT-in-x + banded-Cholesky
-// solver of fluid/fft_poisson.hpp for both (`fft`, what `auto` picks on these channels), and Eigen's
+// solver of fluid/algebra/fft_poisson.hpp for both (`fft`, what `auto` picks on these channels), and Eigen's
 // own SimplicialLDLT (AMD ordering) on both matrices rebuilt from the fluid's operators as
 // fluid/projection.cpp builds them:
 // factorisation time, factor size, memory and the time per solve (CHOLMOD and PCG: in the running
@@ -46,7 +46,7 @@
 
 #include "bench/common.hpp"
 #include "coupling/simulation.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "io/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -389,9 +389,9 @@ struct Bench {
          "(single-threaded CHOLMOD/BLAS), a fresh process per row; wall times on a 2-core machine shared with "
          "other jobs (expect ±20-50%; the loop's CPU time is in the CSV). Peak memory = VmHWM of the child "
          "(the process before building anything: " << (scale.empty() ? std::string("–") : fix(jnum(scale[0], "rss_start_kb") / 1024.0, 1))
-      << " MB). `auto` picks the FFT-in-x solver (fluid/fft_poisson.hpp) on these channels; where CHOLMOD is "
+      << " MB). `auto` picks the FFT-in-x solver (fluid/algebra/fft_poisson.hpp) on these channels; where CHOLMOD is "
          "picked instead, its factorisation time includes a discarded simplicial factorisation (`factorize`, "
-         "fluid/linear_solver.cpp, factorises simplicial to learn nnz(L) and, above 8e5, again supernodal); part S "
+         "fluid/algebra/linear_solver.cpp, factorises simplicial to learn nnz(L) and, above 8e5, again supernodal); part S "
          "below times each kind alone. The FFT solver's nnz(L) is its banded factors' storage.\n\n";
     for (const std::string& c : o.cases) m << size_md(c);
     if (!compare.empty()) m << solvers_md();

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One thread against two (limits.threads: the fused passes by row blocks, the lattice solvers by
-# columns, row blocks and wavenumbers, fluid/threads.hpp): time per step of the oscillating
+# columns, row blocks and wavenumbers, fluid/common/threads.hpp): time per step of the oscillating
 # membrane (h = 1.2 dx, Nb = 2 Nx, dt = 1e-4) and the start-up Poiseuille flow (h = 1.525 dx),
 # Nx = Ny = 64 .. 1024, each a fresh `sphib run` of a fixed number of steps, the one- and two-thread
 # runs of a size one after the other. Prints the load before and after and a Markdown table with the

@@ -1,5 +1,5 @@
 #pragma once
-// The exact and manufactured problems of the variable-viscosity step (fluid/variable_viscosity.hpp),
+// The exact and manufactured problems of the variable-viscosity step (fluid/eulerian/variable_viscosity.hpp),
 // as bench/viscosity_contrast prints them and tests/test_viscosity_contrast.cpp holds them:
 //  - two layers of viscosity lambda mu and mu in a Couette channel, the exact piecewise-linear
 //    profile, the discrete steady state found in one step;
@@ -13,7 +13,7 @@
 #include <Eigen/Dense>
 
 #include "coupling/viscosity_contrast.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "membrane/shapes.hpp"
 
 namespace sphib::bench::viscosity {
@@ -261,7 +261,7 @@ inline double circle_error(int n, double lambda, bool central = true, long* step
   return (f.u() - U).cwiseAbs().maxCoeff() / umax;
 }
 
-// The explicit cross term of m < 1 (fluid/variable_viscosity.hpp): a circle of radius 0.3 with
+// The explicit cross term of m < 1 (fluid/eulerian/variable_viscosity.hpp): a circle of radius 0.3 with
 // viscosity lambda < 1 in the doubly periodic unit box, n = 32, mu = 1, dt such that
 // nu (1 - lambda) dt / dx^2 = number, from the manufactured flow plus 1e-3 noise, no forcing: the
 // step at which max |u| passes 1e3 (a blow-up), or -1 when 1000 steps stay below it.

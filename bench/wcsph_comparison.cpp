@@ -1,5 +1,5 @@
-// Benchmark (not a test): weakly compressible SPH (fluid/wcsph.hpp) against EPSPH
-// (fluid/eulerian.hpp) on the problems of Vukcevic, Werner & Degiuli (2012) ["V"] and
+// Benchmark (not a test): weakly compressible SPH (fluid/moving/wcsph.hpp) against EPSPH
+// (fluid/eulerian/eulerian.hpp) on the problems of Vukcevic, Werner & Degiuli (2012) ["V"] and
 // Coelho, Oliveira, Brasil & Maruzewski ["C"] (issue 8):
 //
 //  A  the constructed Stokes solution of C Section 4 (Eqs. 23-24) in the unit square, both methods:
@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "bench/common.hpp"
-#include "fluid/exact.hpp"
-#include "fluid/wcsph.hpp"
+#include "fluid/common/exact.hpp"
+#include "fluid/moving/wcsph.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 

@@ -33,8 +33,8 @@
 #include <vector>
 
 #include "coupling/params.hpp"
-#include "fluid/lattice.hpp"
-#include "fluid/types.hpp"
+#include "fluid/common/lattice.hpp"
+#include "fluid/common/types.hpp"
 
 namespace sphib {
 

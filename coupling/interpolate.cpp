@@ -1,7 +1,7 @@
 #include "coupling/interpolate.hpp"
 
 #include "coupling/neighbourhood.hpp"
-#include "fluid/interpolation.hpp"
+#include "fluid/common/interpolation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +18,7 @@ namespace {
 }
 }  // namespace
 
-// Eq. (63) (normalised) or Eq. (60), by fluid/interpolation.hpp
+// Eq. (63) (normalised) or Eq. (60), by fluid/common/interpolation.hpp
 void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, double V, const Mat2& u,
                           const Mat2& X, Mat2& U, bool normalised) {
   interpolate_normalised<2>(grid, W, UniformVolume{V}, u, X, U, normalised, "interpolation: marker");

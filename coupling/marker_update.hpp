@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "coupling/params.hpp"
-#include "fluid/types.hpp"
+#include "fluid/common/types.hpp"
 
 namespace sphib {
 

@@ -4,8 +4,8 @@
 // without a branch per point), then taken two at a time by the kernel's branch-free two-lane form
 // (CubicSplineKernel::W_F2). A marker's 20-50 points fall on either side of q = 1 in no predictable
 // order, which made the branches of a per-point loop its largest cost.
-#include "fluid/kernel.hpp"
-#include "fluid/neighbours.hpp"
+#include "fluid/common/kernel.hpp"
+#include "fluid/common/neighbours.hpp"
 
 namespace sphib {
 

@@ -1,10 +1,10 @@
 #pragma once
 // An immersed-boundary simulation's parameters, as a program sets them (public): the fluid
-// (fluid/params.hpp), the membranes and how each is coupled, the marker update, the contact force.
+// (fluid/common/params.hpp), the membranes and how each is coupled, the marker update, the contact force.
 #include <functional>
 #include <vector>
 
-#include "fluid/params.hpp"
+#include "fluid/common/params.hpp"
 #include "membrane/membrane.hpp"
 
 namespace sphib {

@@ -12,8 +12,8 @@
 #include "coupling/stiff_force.hpp"
 #include "coupling/viscosity_contrast.hpp"
 #include "fluid/factory.hpp"
-#include "fluid/neighbours.hpp"
-#include "fluid/row_stencil.hpp"  // kParallelRows
+#include "fluid/common/neighbours.hpp"
+#include "fluid/algebra/row_stencil.hpp"  // kParallelRows
 
 namespace sphib {
 
@@ -116,7 +116,7 @@ Simulation::Simulation(const SimulationParams& params)
                                   std::string(to_string(prm_.fluid.method)) + "\" has one viscosity everywhere");
     std::vector<double> lambda;
     for (const auto& s : prm_.membranes) lambda.push_back(s.viscosity_ratio);
-    // A ratio below 1 takes its cross term explicitly (fluid/variable_viscosity.hpp): measured stable
+    // A ratio below 1 takes its cross term explicitly (fluid/eulerian/variable_viscosity.hpp): measured stable
     // for nu (1 - lambda) dt / dx^2 <= 0.5 across a sharp interface (a circle at lambda = 0.01, 0.1 in
     // a periodic box blows up at 0.6; lambda = 0.5 is stable at 0.7)
     const double lo = *std::min_element(lambda.begin(), lambda.end()), dx = std::min(fluid_->lattice().dx, fluid_->lattice().dy);
@@ -423,7 +423,7 @@ void Simulation::advance_set(FreeSet& set, bool extrapolate) {
     const int i = static_cast<int>(std::upper_bound(set.start.begin(), set.start.end(), e.marker) - set.start.begin()) - 1;
     throw std::runtime_error("membrane " + std::to_string(set.members[i]) + ": " + e.head +
                              std::to_string(e.marker - set.start[i]) + e.tail);
-  } catch (const std::runtime_error& e) {  // (the SPH interpolation's, fluid/interpolation.hpp: markers numbered across the set)
+  } catch (const std::runtime_error& e) {  // (the SPH interpolation's, fluid/common/interpolation.hpp: markers numbered across the set)
     throw std::runtime_error((M == 1 ? "membrane " + std::to_string(set.members[0]) : std::string("membranes")) + ": " + e.what());
   }
   for (int i = 0; i < M; ++i) {

@@ -7,12 +7,12 @@
 #include <memory>
 
 #include "coupling/params.hpp"
-#include "fluid/solver.hpp"
+#include "fluid/core/solver.hpp"
 #include "membrane/force.hpp"
 
 namespace sphib {
 
-class CellGrid;           // fluid/neighbours.hpp
+class CellGrid;           // fluid/common/neighbours.hpp
 class ContactForce;       // coupling/contact.hpp
 class StiffForceFilter;   // coupling/stiff_force.hpp
 class ViscosityContrast;  // coupling/viscosity_contrast.hpp
@@ -71,7 +71,7 @@ class Simulation {
   double time() const { return fluid_->time(); }
   long steps() const { return fluid_->steps(); }
   Profile& profile() { return prof_; }  // coupling phases; the fluid's are in fluid_profiler()
-  // The fluid method's phases, set-up timings, report and floor (fluid/profile.hpp): the
+  // The fluid method's phases, set-up timings, report and floor (fluid/common/profile.hpp): the
   // simulation owns it and hands it to the method it makes.
   const Profiler& fluid_profiler() const { return fluid_prof_; }
   // The viscosity contrast of the membranes (their indicators and m), or nullptr when every

@@ -2,8 +2,8 @@
 // Membrane force -> fluid force field, Eq. (53):  F_i = sum_k f_k W(x_i - X_k, h*) ds,
 // with f_k the force density per unit rest arclength and ds = L0 / Nb the rest marker spacing.
 // The kernel radius h* is the membrane's own, independent of the fluid's h.
-#include "fluid/kernel.hpp"
-#include "fluid/neighbours.hpp"
+#include "fluid/common/kernel.hpp"
+#include "fluid/common/neighbours.hpp"
 
 namespace sphib {
 

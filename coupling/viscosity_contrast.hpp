@@ -3,7 +3,7 @@
 // fluid's, outside every membrane), through the indicator I_k of each membrane's enclosed region
 // at the fluid's particles:
 //   mu(x_i) = mu m_i,   m_i = 1 + sum_k (lambda_k - 1) I_k(x_i),
-// the viscosity the fluid's variable-viscosity step takes (fluid/variable_viscosity.hpp).
+// the viscosity the fluid's variable-viscosity step takes (fluid/eulerian/variable_viscosity.hpp).
 //
 // The indicator is the exact fraction of each particle's lattice cell (dx x dy about x_i, the cells
 // of Eq. 68 tile the domain) that lies inside the polygon through the markers: sum_i I_i dx dy is the
@@ -18,9 +18,9 @@
 // the fluid, so its operator is updated only near the membranes (O(band)).
 #include <vector>
 
-#include "fluid/lattice.hpp"
-#include "fluid/solver.hpp"
-#include "fluid/types.hpp"
+#include "fluid/common/lattice.hpp"
+#include "fluid/core/solver.hpp"
+#include "fluid/common/types.hpp"
 
 namespace sphib {
 

@@ -2,10 +2,10 @@
 
 #include <stdexcept>
 
-#include "fluid/eulerian.hpp"
-#include "fluid/isph.hpp"
-#include "fluid/lagrangian.hpp"
-#include "fluid/wcsph.hpp"
+#include "fluid/eulerian/eulerian.hpp"
+#include "fluid/moving/isph.hpp"
+#include "fluid/moving/lagrangian.hpp"
+#include "fluid/moving/wcsph.hpp"
 
 namespace sphib {
 

@@ -4,7 +4,7 @@
 #include <memory>
 #include <optional>
 
-#include "fluid/solver.hpp"
+#include "fluid/core/solver.hpp"
 
 namespace sphib {
 

@@ -8,8 +8,8 @@
 
 #include "io/footprint.hpp"
 #include "io/scene_checks.hpp"
-#include "fluid/free_surface.hpp"
-#include "fluid/wcsph.hpp"
+#include "fluid/common/free_surface.hpp"
+#include "fluid/moving/wcsph.hpp"
 #include "membrane/force.hpp"
 #include "membrane/geometry.hpp"
 
@@ -238,7 +238,7 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   }
   const double h = fp.h_over_dx * 0.5 * (dx + dy), nu = fp.mu / fp.rho;
   if (fp.method == FluidMethod::Wcsph) {
-    // The solver refuses a dt above this limit (fluid/wcsph.hpp): a WARNING only for a scene too large to build here.
+    // The solver refuses a dt above this limit (fluid/moving/wcsph.hpp): a WARNING only for a scene too large to build here.
     const double c = wcsph_sound_speed(fp), limit = coelho_dt_limit(h, c, nu);
     const bool over = dt > limit;
     warnings += over;

@@ -17,7 +17,7 @@ namespace {
 // runs of cases/membrane_oscillation.toml, poiseuille.toml, cavity_re100.toml, wcsph_couette.toml and
 // membrane_oscillation_lagrangian.toml at 64^2-512^2, h_over_dx = 0.9, 1.2, 1.5, 2.0; peak minus the
 // 31.4 MB of a 16^2 run, over N n2):
-//   EPSPH, FFT solvers (a channel): exact projection (the compact storage, fluid/eulerian.hpp: its
+//   EPSPH, FFT solvers (a channel): exact projection (the compact storage, fluid/eulerian/eulerian.hpp: its
 //     peak is the setup's, the pair list and one set of whole operators, or the velocity gradients
 //     and their transposes at G^T G; its fields, solvers and compact operators do not grow with n2)
 //     460 per particle + 58 per particle and neighbour (965, 1625 and 3146 B per particle at n2 = 8,
@@ -78,7 +78,7 @@ long particle_count(const FluidParams& f) {
   return static_cast<long>(std::ceil(std::min(1.0, area / (d.Lx() * d.Ly())) * lattice));
 }
 
-// EPSPH's systems go to the lattice solvers of fluid/fft_poisson.hpp on every domain kind (channel,
+// EPSPH's systems go to the lattice solvers of fluid/algebra/fft_poisson.hpp on every domain kind (channel,
 // closed box, doubly periodic) unless a solver key asks for another.
 bool fft_solvers(const FluidParams& f) {
   auto fft_or_auto = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };

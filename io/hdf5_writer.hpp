@@ -34,8 +34,8 @@
 #include <utility>
 #include <vector>
 
-#include "fluid/lattice.hpp"
-#include "fluid/types.hpp"
+#include "fluid/common/lattice.hpp"
+#include "fluid/common/types.hpp"
 #include "io/atomic_file.hpp"
 
 namespace sphib {

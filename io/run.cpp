@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "coupling/contact.hpp"
-#include "fluid/threads.hpp"
+#include "fluid/common/threads.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/footprint.hpp"
@@ -358,7 +358,7 @@ void publish(RunOutput& output, const nlohmann::json& summary, const Simulation&
 nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   if (const std::string why = steps_problem(scene); !why.empty()) throw SceneError(scene.path + ": time.end: " + why);
   refuse_if_too_large(scene);        // before any allocation
-  // limits.threads, else the idle cores (fluid/threads.hpp), for this run (the caller's count after it)
+  // limits.threads, else the idle cores (fluid/common/threads.hpp), for this run (the caller's count after it)
   const ThreadCount threads(scene.threads > 0 ? scene.threads : default_thread_count());
   OutputDirectory dir(opt.out_dir);  // the lock, before anything is written
   Prepared p;

@@ -16,7 +16,7 @@
 #include <toml++/toml.h>
 
 #include "fluid/factory.hpp"
-#include "fluid/free_surface.hpp"
+#include "fluid/common/free_surface.hpp"
 #include "io/digest.hpp"
 #include "io/scene_checks.hpp"
 #include "membrane/shapes.hpp"
@@ -118,7 +118,7 @@ class Reader {
       if (v == o) return v;
     fail(key, "\"" + v + "\" is not allowed (allowed: " + all + ")");
   }
-  // A closed set of choices: the words of its table (fluid/params.hpp), read as its enum.
+  // A closed set of choices: the words of its table (fluid/common/params.hpp), read as its enum.
   template <class E, std::size_t N>
   E option(const std::string& key, E def, const EnumName<E> (&table)[N], const std::string& what) {
     std::vector<std::string> names;
@@ -628,7 +628,7 @@ void read_fluid(Reader& r, Scene& s) {
                                    "Eq. 30), extrapolated (Eq. 30 normalised, with the hydrostatic term of Adami et al. 2012)");
 }
 
-// The fluid's initial region and its free surface (fluid/free_surface.hpp).
+// The fluid's initial region and its free surface (fluid/common/free_surface.hpp).
 void read_free_surface(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
   FluidRegion& fill = f.free_surface.fill;
@@ -675,14 +675,14 @@ void read_free_surface(Reader& r, Scene& s) {
                              false, 0.0, true, 1.0);
 }
 
-// The free-surface methods' regularisation (issue 29): ISPH's particle shifting (fluid/shifting.hpp),
-// WCSPH's delta-SPH density diffusion (fluid/wcsph.hpp).
+// The free-surface methods' regularisation (issue 29): ISPH's particle shifting (fluid/moving/shifting.hpp),
+// WCSPH's delta-SPH density diffusion (fluid/moving/wcsph.hpp).
 void read_regularisation(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
   f.isph.scheme = r.option("isph.scheme", IsphScheme::Consistent, kIsphSchemes,
                            "ISPH's operators: consistent (a fluid at rest stays at rest: the pressure gradient exact for a "
                            "linear pressure on the initial arrangement, the Poisson rows beside the free surface mirrored, "
-                           "no Lennard-Jones push; fluid/isph.hpp) or paper (Afanasiev et al.'s Eqs. 13, 17 as before)");
+                           "no Lennard-Jones push; fluid/moving/isph.hpp) or paper (Afanasiev et al.'s Eqs. 13, 17 as before)");
   f.isph.shifting = r.option("isph.shifting", Shifting::Auto, kShiftings,
                              "ISPH's particle shifting after each step: fickian (Lind et al. 2012, with their free-surface "
                              "correction), xu (Xu et al. 2009), none (Afanasiev et al.'s Eq. 25 alone); auto: fickian with "
@@ -993,7 +993,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   s.path = name;
   s.title = r.text("title", "", "a one-line description");
   // A new method is added here, to make_fluid and, with a free surface, to supports_free_surface
-  // (fluid/free_surface.cpp).
+  // (fluid/common/free_surface.cpp).
   s.method = r.option("method", FluidMethod::Eulerian, kFluidMethods,
                       "fluid solver: eulerian (EPSPH, fixed particles), lagrangian (LPSPH, moving particles), "
                       "wcsph (weakly compressible SPH), isph (incompressible SPH with a free surface, Afanasiev et al. "

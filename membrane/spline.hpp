@@ -6,7 +6,7 @@
 
 namespace sphib {
 
-// The same aliases as fluid/types.hpp (membrane/ must not include fluid/); identical alias
+// The same aliases as fluid/common/types.hpp (membrane/ must not include fluid/); identical alias
 // redeclarations are legal C++, so both headers may appear in one translation unit.
 using Vec = Eigen::VectorXd;
 using Mat2 = Eigen::Matrix<double, Eigen::Dynamic, 2>;

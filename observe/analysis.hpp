@@ -90,7 +90,7 @@ std::unique_ptr<Analysis> wall_loads(const Simulation& sim);
 // droplet.cpp: the elliptic drop of Afanasiev et al. Section 6.3: droplet_a, its semi-axis along x
 // measured as (I_xx / I_yy)^(1/4) from the particles' centred second moments (exact for the affine
 // flow of Eq. 40 from any initial set with I_xx = I_yy), against droplet_a_exact (RK4 of Eq. 42,
-// fluid/exact.hpp); droplet_axis_error = |a - a_exact| / a_exact at t = t_error (0.8, Table 3), and
+// fluid/common/exact.hpp); droplet_axis_error = |a - a_exact| / a_exact at t = t_error (0.8, Table 3), and
 // droplet_axis_error_extent the same for a measured as the largest |x - x_c| over the outermost
 // particle's initial radius.
 std::unique_ptr<Analysis> droplet_axis(const Simulation& sim, double t_error = 0.8);

@@ -2,7 +2,7 @@
 // solution of Eq. (42) and the relative error at t = 0.8 (Table 3).
 #include <cmath>
 
-#include "fluid/exact.hpp"
+#include "fluid/common/exact.hpp"
 #include "observe/analysis.hpp"
 
 namespace sphib {

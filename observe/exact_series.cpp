@@ -1,4 +1,4 @@
-// The unidirectional start-up flows against their exact series (fluid/exact.hpp): Eq. (69)'s rms
+// The unidirectional start-up flows against their exact series (fluid/common/exact.hpp): Eq. (69)'s rms
 // over the particles of |u_ex - u| (rms_error), and the relative error of the profile
 // (profile_error), sqrt(sum_i |u_ex - u_i|^2 / sum_i u_ex^2), the measure we take for the "numerical
 // error" of Afanasiev et al. (2011), Tables 1-2 (the paper does not define it); the summary adds its
@@ -11,7 +11,7 @@
 #include <cmath>
 #include <map>
 
-#include "fluid/exact.hpp"
+#include "fluid/common/exact.hpp"
 #include "observe/analysis.hpp"
 
 namespace sphib {

@@ -1,14 +1,14 @@
 // Hydrodynamic loads on the walls, Afanasiev et al. (2011) Section 4: force_<wall> = int p dGamma
 // and load_<wall> = int [p(t) - p(0)] dGamma (Eq. 31), from the fluid method's wall pressure
-// (FluidSolver::wall_forces, fluid/loads.hpp: Eq. 32 over wall particles, or the pressure at the
+// (FluidSolver::wall_forces, fluid/common/loads.hpp: Eq. 32 over wall particles, or the pressure at the
 // wall line for image walls). On the fixed lattice also the tangential load: shear_<wall>, the
-// fluid's shear stress at the wall (fluid/loads.hpp, wall_shear_stress), and for a box sheared by
+// fluid's shear stress at the wall (fluid/common/loads.hpp, wall_shear_stress), and for a box sheared by
 // its bottom and top walls the effective viscosity mu_eff = (shear_bottom + shear_top) / (2 G),
 // G = (U_top - U_bottom) / (y1 - y0) the walls' shear rate: the viscosity of the fluid that would
 // carry the same wall stress in plain Couette flow (a suspension's, once its flow is steady).
 #include <cmath>
 
-#include "fluid/loads.hpp"
+#include "fluid/common/loads.hpp"
 #include "observe/analysis.hpp"
 
 namespace sphib {

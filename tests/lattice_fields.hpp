@@ -5,8 +5,8 @@
 #include <cstring>
 #include <random>
 
-#include "fluid/params.hpp"
-#include "fluid/types.hpp"
+#include "fluid/common/params.hpp"
+#include "fluid/common/types.hpp"
 
 namespace sphib::testing {
 

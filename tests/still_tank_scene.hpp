@@ -11,7 +11,7 @@
 #include <string>
 
 #include "coupling/simulation.hpp"
-#include "fluid/solver.hpp"
+#include "fluid/core/solver.hpp"
 
 namespace sphib::test {
 

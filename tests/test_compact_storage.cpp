@@ -9,10 +9,10 @@
 #include <cstring>
 #include <random>
 
-#include "fluid/eulerian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "lattice_fields.hpp"
-#include "fluid/operators.hpp"
-#include "fluid/products.hpp"
+#include "fluid/algebra/operators.hpp"
+#include "fluid/algebra/products.hpp"
 
 using namespace sphib;
 using namespace sphib::testing;

@@ -1,4 +1,4 @@
-// The fast lattice solvers (fluid/fft_poisson.hpp) on every domain kind and every system EPSPH
+// The fast lattice solvers (fluid/algebra/fft_poisson.hpp) on every domain kind and every system EPSPH
 // builds, against CHOLMOD on the same matrices. Tolerances are measured values (Release build) with
 // a margin, stated beside each test.
 #include <gtest/gtest.h>
@@ -9,16 +9,16 @@
 #include <string>
 #include <vector>
 
-#include "fluid/boundary.hpp"
+#include "fluid/common/boundary.hpp"
 #include "fluid/factory.hpp"
-#include "fluid/fft_poisson.hpp"
-#include "fluid/gauge.hpp"
-#include "fluid/kernel.hpp"
-#include "fluid/lattice.hpp"
-#include "fluid/neighbours.hpp"
-#include "fluid/operators.hpp"
-#include "fluid/solver.hpp"
-#include "fluid/threads.hpp"
+#include "fluid/algebra/fft_poisson.hpp"
+#include "fluid/algebra/gauge.hpp"
+#include "fluid/common/kernel.hpp"
+#include "fluid/common/lattice.hpp"
+#include "fluid/common/neighbours.hpp"
+#include "fluid/algebra/operators.hpp"
+#include "fluid/core/solver.hpp"
+#include "fluid/common/threads.hpp"
 
 using namespace sphib;
 

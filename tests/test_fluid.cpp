@@ -13,12 +13,12 @@
 #include <utility>
 #include <vector>
 
-#include "fluid/exact.hpp"
-#include "fluid/fft_poisson.hpp"
-#include "fluid/kernel.hpp"
-#include "fluid/linear_solver.hpp"
-#include "fluid/products.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/common/exact.hpp"
+#include "fluid/algebra/fft_poisson.hpp"
+#include "fluid/common/kernel.hpp"
+#include "fluid/algebra/linear_solver.hpp"
+#include "fluid/algebra/products.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 
 using namespace sphib;
 
@@ -283,7 +283,7 @@ TEST(Operators, LaplacianOfQuadraticsInInterior) {
   }
 }
 
-// The lattice stencil of the fused products (fluid/products.hpp): the rows it applies as a stencil
+// The lattice stencil of the fused products (fluid/algebra/products.hpp): the rows it applies as a stencil
 // give the same bits as the row-by-row products, and those equal Eigen's products to round-off
 // (measured: identical, relative difference 0 in all four cases; tolerance 1e-15 relative).
 // Coverage: the interior rows and, in classes, the rows along walls (contiguous blocks) and along
@@ -611,7 +611,7 @@ TEST(Solver, TwoRightHandSidesEqualTwoSolves) {
   }
 }
 
-// The periodic-lattice Poisson solver (fluid/fft_poisson.hpp) on -lap phi of a channel (periodic x,
+// The periodic-lattice Poisson solver (fluid/algebra/fft_poisson.hpp) on -lap phi of a channel (periodic x,
 // walls in y): for random right-hand sides of zero mean it leaves a residual at round-off and
 // agrees with CHOLMOD on the pinned system up to the constant. Measured: residual 5.7e-16 .. 1.6e-15,
 // difference 7e-15 .. 5.5e-14 of max |phi| (16 x 16, 24 x 20; h/dx 1.2, 2.25). Tolerances 1e-12, 1e-11.

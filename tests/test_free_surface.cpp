@@ -1,5 +1,5 @@
-// Free surfaces and loads (fluid/free_surface.hpp, fluid/loads.hpp, the classic SPH of Afanasiev,
-// Makarchuk & Popov 2011 ["A"] in fluid/wcsph_afanasiev.cpp): surface detection on a known block,
+// Free surfaces and loads (fluid/common/free_surface.hpp, fluid/common/loads.hpp, the classic SPH of Afanasiev,
+// Makarchuk & Popov 2011 ["A"] in fluid/moving/wcsph_afanasiev.cpp): surface detection on a known block,
 // the hydrostatic start, the loads of a still tank, the droplet's RK4 reference, refusals, a
 // particle leaving the tank, checkpoints and a dam-break smoke run. Tolerances are measured values
 // (Release build) with a margin, stated beside each test.
@@ -9,10 +9,10 @@
 #include <filesystem>
 #include <string>
 
-#include "fluid/exact.hpp"
-#include "fluid/free_surface.hpp"
-#include "fluid/loads.hpp"
-#include "fluid/wcsph.hpp"
+#include "fluid/common/exact.hpp"
+#include "fluid/common/free_surface.hpp"
+#include "fluid/common/loads.hpp"
+#include "fluid/moving/wcsph.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "observe/analysis.hpp"

@@ -1,4 +1,4 @@
-// The fused passes of EPSPH's step (fluid/fused_passes.hpp) against the separate products and
+// The fused passes of EPSPH's step (fluid/eulerian/fused_passes.hpp) against the separate products and
 // loops they replace (the step's code before the fusion, written out here): equal bit for bit, on
 // a channel, a closed box, a doubly periodic box and a lattice whose kernel is too wide for stencil
 // rows, with and without the lattice stencils (the rows from the compressed arrays). The inputs
@@ -8,9 +8,9 @@
 
 #include <random>
 
-#include "fluid/eulerian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "lattice_fields.hpp"
-#include "fluid/fused_passes.hpp"
+#include "fluid/eulerian/fused_passes.hpp"
 
 using namespace sphib;
 using namespace sphib::testing;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "fluid/lattice.hpp"
+#include "fluid/common/lattice.hpp"
 #include "io/csv_writer.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/summary.hpp"

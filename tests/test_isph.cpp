@@ -1,4 +1,4 @@
-// ISPH with a free surface (fluid/isph.hpp, Afanasiev, Makarchuk & Popov 2011 ["A"], Sections
+// ISPH with a free surface (fluid/moving/isph.hpp, Afanasiev, Makarchuk & Popov 2011 ["A"], Sections
 // 3.3-3.6): a still tank, a short start-up Poiseuille flow against Eq. (36), the surface of A Eq. (26)
 // on a block, checkpoints, refusals and a particle leaving the tank. Tolerances are measured values
 // (Release build) with a margin, stated beside each test.
@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <string>
 
-#include "fluid/isph.hpp"
+#include "fluid/moving/isph.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "scene_refusal.hpp"

@@ -1,4 +1,4 @@
-// LPSPH (fluid/lagrangian.hpp): moving particles, Eq. (37). Cell-list neighbours against brute force,
+// LPSPH (fluid/moving/lagrangian.hpp): moving particles, Eq. (37). Cell-list neighbours against brute force,
 // the assembly against build_operators, the refactorisation with a kept symbolic analysis, Poiseuille
 // against EPSPH, particles staying in the domain, the reinitialisation's order (Eq. 61) and the
 // breakdown diagnostic (Section 5.2.2). Every tolerance is a measured value (Release build, stated
@@ -16,10 +16,10 @@
 #include <tuple>
 #include <vector>
 
-#include "fluid/exact.hpp"
+#include "fluid/common/exact.hpp"
 #include "fluid/factory.hpp"
-#include "fluid/lagrangian.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/moving/lagrangian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 

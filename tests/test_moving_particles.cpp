@@ -1,6 +1,6 @@
-// The moving-particle infrastructure of LPSPH (and ISPH): the Verlet list (fluid/neighbours.hpp), the
-// kernel of the assembly pass (fluid/particle_operators.hpp) and the lagged preconditioned CG with its
-// policy (fluid/linear_solver.hpp, fluid/solver_policy.hpp). Every tolerance is a measured value
+// The moving-particle infrastructure of LPSPH (and ISPH): the Verlet list (fluid/common/neighbours.hpp), the
+// kernel of the assembly pass (fluid/moving/particle_operators.hpp) and the lagged preconditioned CG with its
+// policy (fluid/algebra/linear_solver.hpp, fluid/algebra/solver_policy.hpp). Every tolerance is a measured value
 // (Release build, stated beside the test) with a margin.
 #include <gtest/gtest.h>
 
@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "fluid/factory.hpp"
-#include "fluid/lagrangian.hpp"
-#include "fluid/particle_operators.hpp"
-#include "fluid/products.hpp"
-#include "fluid/solver_policy.hpp"
+#include "fluid/moving/lagrangian.hpp"
+#include "fluid/moving/particle_operators.hpp"
+#include "fluid/algebra/products.hpp"
+#include "fluid/algebra/solver_policy.hpp"
 #include "io/scene.hpp"
 
 using namespace sphib;
@@ -404,7 +404,7 @@ TEST(MovingParticles, LatticePreconditionerGivesWayToALaggedFactorFarFromTheLatt
   EXPECT_NE(s->info().method.find("lagged CHOLMOD"), std::string::npos) << s->info().method;
 }
 
-// start_product (LPSPH computes A X0 behind the assembly, fluid/lagrangian.cpp): a lagged PCG given
+// start_product (LPSPH computes A X0 behind the assembly, fluid/moving/lagrangian.cpp): a lagged PCG given
 // A X0 for its start X0, made as its own product makes it (two columns: apply2; one: Eigen's A x),
 // returns the bits of its own solve; a wrong A X0 is taken when X0 is the start (so the check can fail) and
 // ignored when it is not, as is a hint for another matrix object.

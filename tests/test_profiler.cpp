@@ -1,5 +1,5 @@
-// The fluid contract's data and the Profiler the run loop hands to a method (fluid/solver.hpp,
-// fluid/profile.hpp): every method records its phases, set-up, report and floor there; the base
+// The fluid contract's data and the Profiler the run loop hands to a method (fluid/core/solver.hpp,
+// fluid/common/profile.hpp): every method records its phases, set-up, report and floor there; the base
 // class computes the kinetic energy from the particle mass; a profiler outlives its method.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <string>
 
 #include "fluid/factory.hpp"
-#include "fluid/profile.hpp"
-#include "fluid/solver.hpp"
+#include "fluid/common/profile.hpp"
+#include "fluid/core/solver.hpp"
 
 using namespace sphib;
 

@@ -1,5 +1,5 @@
 // The conservative pair (issue 12): the exact projection (Poisson operator G^T G = -D G, its
-// null modes fixed by fluid/gauge.hpp) and divergence-free marker velocities (the curl of the
+// null modes fixed by fluid/algebra/gauge.hpp) and divergence-free marker velocities (the curl of the
 // interpolated stream function). Every tolerance is a measured value (Release build, stated
 // beside the test) with a margin; round-off checks say so.
 #include <gtest/gtest.h>
@@ -11,8 +11,8 @@
 #include "coupling/interpolate.hpp"
 #include "coupling/marker_update.hpp"
 #include "coupling/simulation.hpp"
-#include "fluid/gauge.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/algebra/gauge.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "membrane/geometry.hpp"
 #include "membrane/force.hpp"
 #include "membrane/shapes.hpp"

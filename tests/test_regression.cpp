@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "fluid/eulerian.hpp"
-#include "fluid/exact.hpp"
-#include "fluid/walls.hpp"
+#include "fluid/eulerian/eulerian.hpp"
+#include "fluid/common/exact.hpp"
+#include "fluid/common/walls.hpp"
 #include "helpers.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"

@@ -1,4 +1,4 @@
-// Particle shifting (fluid/shifting.hpp: Lind et al. 2012's Fickian shifting with the free-surface
+// Particle shifting (fluid/moving/shifting.hpp: Lind et al. 2012's Fickian shifting with the free-surface
 // correction, Xu et al. 2009's): the shifts on lattices with a known disorder, the surface's
 // tangential shifts, and the velocity carried to the shifted place. Tolerances are stated beside
 // each test.
@@ -6,9 +6,9 @@
 
 #include <cmath>
 
-#include "fluid/lattice.hpp"
-#include "fluid/neighbours.hpp"
-#include "fluid/shifting.hpp"
+#include "fluid/common/lattice.hpp"
+#include "fluid/common/neighbours.hpp"
+#include "fluid/moving/shifting.hpp"
 
 using namespace sphib;
 

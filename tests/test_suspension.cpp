@@ -2,7 +2,7 @@
 // give bit for bit what they give membrane by membrane), the contact force (coupling/contact.hpp:
 // equal and opposite, zero beyond its range, growing as membranes approach, found by its cell list
 // as by brute force), two capsules brought together by a shear flow kept apart, the random placement
-// (membrane/packing.hpp), the walls' shear stress (fluid/loads.hpp) and the [contact] scene keys.
+// (membrane/packing.hpp), the walls' shear stress (fluid/common/loads.hpp) and the [contact] scene keys.
 // Every tolerance is a measured value with a margin, stated beside it; round-off checks say so.
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 #include "coupling/interpolate.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/spread.hpp"
-#include "fluid/loads.hpp"
+#include "fluid/common/loads.hpp"
 #include "helpers.hpp"
 #include "io/run.hpp"
 #include "io/scene_checks.hpp"

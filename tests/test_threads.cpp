@@ -1,4 +1,4 @@
-// Results do not depend on the thread count (fluid/threads.hpp): a few steps of the main scene on a
+// Results do not depend on the thread count (fluid/common/threads.hpp): a few steps of the main scene on a
 // lattice large enough for every threaded path (>= kParallelRows particles: the fused passes by row
 // blocks, the lattice solvers by columns, row blocks and wavenumbers, the gauge's row sums, the body
 // force, the kinetic energy's sum) give bitwise the same fields with one and two threads.
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "coupling/simulation.hpp"
-#include "fluid/row_stencil.hpp"
-#include "fluid/threads.hpp"
+#include "fluid/algebra/row_stencil.hpp"
+#include "fluid/common/threads.hpp"
 #include "io/scene.hpp"
 
 using namespace sphib;

@@ -1,5 +1,5 @@
 // Viscosity contrast (issue 24, item 4): the membranes' indicator (coupling/viscosity_contrast.hpp),
-// the variable-viscosity step of EPSPH (fluid/variable_viscosity.hpp), the scene key
+// the variable-viscosity step of EPSPH (fluid/eulerian/variable_viscosity.hpp), the scene key
 // membrane.viscosity_ratio and its refusal by the other methods. Tolerances are measured values
 // (Release build) with the margins stated beside them.
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include "bench/viscosity_contrast.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/viscosity_contrast.hpp"
-#include "fluid/eulerian.hpp"
+#include "fluid/eulerian/eulerian.hpp"
 #include "io/run.hpp"
 #include "io/scene.hpp"
 #include "helpers.hpp"
@@ -351,7 +351,7 @@ TEST(ViscosityContrast, ViscousOperatorConvergesSecondOrderOnAManufacturedField)
 // damps every mode). Measured max |u - u_ref| (bench/viscosity_contrast, table 4):
 //   m >= 1: 6.162e-4, 1.530e-4, 3.775e-5;  m < 1: 3.843e-4, 9.624e-5, 2.401e-5: orders 2.00-2.02
 // (then 2.04, 2.12 and 2.02, 2.07 at dt/8, dt/16). Without the projection's commutator term
-// (a V_m (dt/rho) grad phi^n, fluid/variable_viscosity.hpp) the order fell to 1 once the O(dt^2)
+// (a V_m (dt/rho) grad phi^n, fluid/eulerian/variable_viscosity.hpp) the order fell to 1 once the O(dt^2)
 // error per step of the pressure (here from the discretisation error of the forcing) dominated
 // (measured with the gradient form of the cross term: 2.08e-5, 6.8e-6, 3.5e-6 at dt/4, dt/8, dt/16).
 // Tolerance: 1.1x the error at dt = 0.05, every order above 1.9.

@@ -1,4 +1,4 @@
-// Weakly compressible SPH (fluid/wcsph.hpp): summation density, equations of state, rest, the
+// Weakly compressible SPH (fluid/moving/wcsph.hpp): summation density, equations of state, rest, the
 // start-up Poiseuille and Couette flows of Vukcevic et al. (2012) and the time-step limit of
 // Coelho et al. Eq. (19). Tolerances are measured values (Release build, stated beside each test)
 // with a margin; round-off checks say so.
@@ -10,10 +10,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "fluid/exact.hpp"
+#include "fluid/common/exact.hpp"
 #include "fluid/factory.hpp"
-#include "fluid/solver.hpp"
-#include "fluid/wcsph.hpp"
+#include "fluid/core/solver.hpp"
+#include "fluid/moving/wcsph.hpp"
 
 using namespace sphib;
 

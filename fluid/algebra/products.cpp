@@ -1,0 +1,334 @@
+#include "fluid/algebra/products.hpp"
+
+#include "fluid/algebra/stencil_kernels.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace sphib {
+
+bool same_pattern(const SpMat& A, const SpMat& B) {
+  if (A.rows() != B.rows() || A.nonZeros() != B.nonZeros() || !A.isCompressed() || !B.isCompressed()) return false;
+  return std::equal(A.outerIndexPtr(), A.outerIndexPtr() + A.rows() + 1, B.outerIndexPtr()) &&
+         std::equal(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros(), B.innerIndexPtr());
+}
+
+std::vector<int> nonempty_rows(const SpMat& B) {
+  std::vector<int> rows;
+  for (int i = 0; i < B.outerSize(); ++i)
+    if (B.outerIndexPtr()[i + 1] > B.outerIndexPtr()[i] || (!B.isCompressed() && B.innerNonZeroPtr()[i] > 0))
+      rows.push_back(i);
+  return rows;
+}
+
+namespace {
+template <bool Add>
+void image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y) {
+  for (int i : rows) {
+    double s = 0;
+    for (SpMat::InnerIterator it(B, i); it; ++it) s += it.value() * c[it.col()];
+    y[i] = Add ? y[i] + s : s;
+  }
+}
+}  // namespace
+
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y) {
+  image_terms<true>(B, rows, c, y);
+}
+
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y) {
+  image_terms<true>(B, rows, c.data(), y.data());
+  image_terms<true>(B, rows, c.data() + c.rows(), y.data() + y.rows());
+}
+
+void set_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y) {
+  image_terms<false>(B, rows, c.data(), y.data());
+  image_terms<false>(B, rows, c.data() + c.rows(), y.data() + y.rows());
+}
+
+int RowStencil::stencil_rows() const {
+  int m = 0;
+  for (const auto& b : blocks) m += b.count;
+  return m;
+}
+
+namespace {
+
+using stencil::kBlock;
+
+// Row i as a translate: its column offsets and the bits of its coefficients in every operator.
+bool same_row(const std::vector<const SpMat*>& ops, int i, int ref) {
+  const SpMat& A = *ops[0];
+  const int *o = A.outerIndexPtr(), *c = A.innerIndexPtr();
+  const int len = o[i + 1] - o[i];
+  if (len != o[ref + 1] - o[ref]) return false;
+  for (int k = 0; k < len; ++k)
+    if (c[o[i] + k] - i != c[o[ref] + k] - ref) return false;
+  for (const SpMat* B : ops)
+    if (std::memcmp(B->valuePtr() + o[i], B->valuePtr() + o[ref], sizeof(double) * len) != 0) return false;
+  return true;
+}
+
+std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i) {
+  const SpMat& A = *ops[0];
+  const int *o = A.outerIndexPtr(), *c = A.innerIndexPtr();
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over offsets and coefficient bits
+  auto mix = [&](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  for (int k = o[i]; k < o[i + 1]; ++k) {
+    mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[k] - i)));
+    for (const SpMat* B : ops) {
+      std::uint64_t bits;
+      std::memcpy(&bits, B->valuePtr() + k, sizeof bits);
+      mix(bits);
+    }
+  }
+  return h;
+}
+
+// The rows of one class (ascending) as blocks: runs of rows a constant stride apart (1 along a
+// wall, the lattice's row length along a seam), at most kBlock rows each.
+void add_blocks(int cls, const std::vector<int>& rows, std::vector<RowStencil::Block>& blocks) {
+  const int n = static_cast<int>(rows.size());
+  for (int k = 0; k < n;) {
+    const int stride = k + 1 < n ? rows[k + 1] - rows[k] : 1;
+    int m = 1;
+    while (k + m < n && m < kBlock && rows[k + m] - rows[k + m - 1] == stride) ++m;
+    blocks.push_back({cls, rows[k], m, m > 1 ? stride : 1});
+    k += m;
+  }
+}
+
+// The kernels, compiled twice (SSE2 and AVX2, chosen at load time; no FMA, so both give the same
+// bits): y = A x for two columns; the four derivatives; the divergence; a scalar's gradient. Each
+// accumulates a block and stores it (`sum`: the divergence, out = acc_0 + acc_1).
+using Cls = RowStencil::Class;
+using Blk = RowStencil::Block;
+
+[[gnu::always_inline]] inline void store_sum(const double (*acc)[kBlock], double* const* out, int b, int m, int st) {
+  for (int t = 0; t < m; ++t) out[0][b + t * st] = acc[0][t] + acc[1][t];
+}
+[[gnu::target_clones("avx2", "default")]] void block_apply2(const Cls& cl, const Blk& k, const double* const* w,
+                                                           const double* const* in, double* const* out) {
+  double acc[2][kBlock];
+  stencil::accumulate_block<2, 1, false>(cl, k, w, in, acc);
+  stencil::store<2>(acc, out, k.begin, k.count, k.stride);
+}
+[[gnu::target_clones("avx2", "default")]] void block_apply1(const Cls& cl, const Blk& k, const double* const* w,
+                                                           const double* const* in, double* const* out) {
+  double acc[1][kBlock];
+  stencil::accumulate_block<1, 1, false>(cl, k, w, in, acc);
+  stencil::store<1>(acc, out, k.begin, k.count, k.stride);
+}
+[[gnu::target_clones("avx2", "default")]] void block_gradient2(const Cls& cl, const Blk& k, const double* const* w,
+                                                              const double* const* in, double* const* out) {
+  double acc[4][kBlock];
+  stencil::accumulate_block<2, 2, false>(cl, k, w, in, acc);
+  stencil::store<4>(acc, out, k.begin, k.count, k.stride);
+}
+[[gnu::target_clones("avx2", "default")]] void block_divergence(const Cls& cl, const Blk& k, const double* const* w,
+                                                               const double* const* in, double* const* out) {
+  double acc[2][kBlock];
+  stencil::accumulate_block<2, 2, true>(cl, k, w, in, acc);
+  store_sum(acc, out, k.begin, k.count, k.stride);
+}
+[[gnu::target_clones("avx2", "default")]] void block_gradient(const Cls& cl, const Blk& k, const double* const* w,
+                                                             const double* const* in, double* const* out) {
+  double acc[2][kBlock];
+  stencil::accumulate_block<1, 2, false>(cl, k, w, in, acc);
+  stencil::store<2>(acc, out, k.begin, k.count, k.stride);
+}
+
+// One product through stencil::pass: `kernel` for the blocks, the same store for the other rows
+// (Diag: the divergence's sum).
+template <int NI, int NW, bool Diag, class Kernel>
+void product(const SpMat& A, const double* const* val, const double* const* in, double* const* out,
+             const RowStencil* st, Kernel kernel) {
+  stencil::pass<NI, NW, Diag>(
+      A, val, in, st, [&](const Cls& cl, const Blk& k, const double* const* w) { kernel(cl, k, w, in, out); },
+      [&](const double (*acc)[kBlock], int b, int m, int stride) {
+        if (Diag) store_sum(acc, out, b, m, stride);
+        else stencil::store<NI * NW>(acc, out, b, m, stride);
+      });
+}
+
+}  // namespace
+
+RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
+  const std::vector<const SpMat*> ops(list);
+  RowStencil st;
+  if (ops.empty()) return st;
+  const SpMat& A = *ops[0];
+  for (const SpMat* B : ops)
+    if (!same_pattern(A, *B)) throw std::logic_error("find_row_stencil: the operators do not share one pattern");
+  const int n = static_cast<int>(A.rows());
+  // Rows grouped by their hash (offsets and coefficients; collisions are caught by same_row below),
+  // the most common first.
+  std::vector<std::uint64_t> h(n);
+  std::unordered_map<std::uint64_t, int> count;
+  for (int i = 0; i < n; ++i) ++count[h[i] = row_hash(ops, i)];
+  std::uint64_t best = 0;
+  int most = 0;
+  for (int i = 0; i < n; ++i)
+    if (count[h[i]] > most) { most = count[h[i]]; best = h[i]; }
+  if (most < std::max(2, n / 4)) {  // not a lattice operator worth a stencil: every row plain
+    for (int i = 0; i < n; ++i) st.rest.push_back(i);
+    return st;
+  }
+  std::unordered_map<std::uint64_t, int> cls;  // hash -> class
+  std::vector<std::vector<int>> members;
+  std::vector<char> plain(n, 1);
+  auto class_of = [&](int i) {
+    auto [it, fresh] = cls.emplace(h[i], static_cast<int>(st.classes.size()));
+    if (fresh) {
+      RowStencil::Class c;
+      c.ref = i;
+      for (int k = A.outerIndexPtr()[i]; k < A.outerIndexPtr()[i + 1]; ++k) c.offset.push_back(A.innerIndexPtr()[k] - i);
+      st.classes.push_back(std::move(c));
+      members.emplace_back();
+    }
+    return it->second;
+  };
+  for (int i = 0; i < n; ++i)
+    if (h[i] == best) { class_of(i); break; }  // class 0: the most common row
+  for (int i = 0; i < n; ++i) {
+    if (count[h[i]] < kMinClassRows) continue;
+    const int k = class_of(i);
+    if (same_row(ops, i, st.classes[k].ref)) { members[k].push_back(i); plain[i] = 0; }
+  }
+  for (int k = 0; k < static_cast<int>(members.size()); ++k) {
+    if (static_cast<int>(members[k].size()) < kMinClassRows)
+      for (int i : members[k]) plain[i] = 1;
+    else
+      add_blocks(k, members[k], st.blocks);
+  }
+  std::sort(st.blocks.begin(), st.blocks.end(), [](const Blk& a, const Blk& b) { return a.begin < b.begin; });
+  for (int i = 0; i < n; ++i)
+    if (plain[i]) st.rest.push_back(i);
+  return st;
+}
+
+void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st) { apply2(A, x.data(), y.data(), st); }
+
+void apply2(const SpMat& A, const double* x, double* y, const RowStencil* st) {
+  const int n = static_cast<int>(A.rows());
+  const double* val[1] = {A.valuePtr()};
+  const double* in[2] = {x, x + n};
+  double* out[2] = {y, y + n};
+  product<2, 1, false>(A, val, in, out, st, block_apply2);
+}
+
+void apply1(const SpMat& A, const double* x, double* y, const RowStencil* st) {
+  const double* val[1] = {A.valuePtr()};
+  const double* in[1] = {x};
+  double* out[1] = {y};
+  product<1, 1, false>(A, val, in, out, st, block_apply1);
+}
+
+SpMat stencil_rows_only(const SpMat& A, const RowStencil& st) {
+  const int n = static_cast<int>(A.rows());
+  std::vector<char> keep(n, st.classes.empty() ? 1 : 0);  // no classes: every row is plain
+  for (const auto& c : st.classes) keep[c.ref] = 1;
+  for (int i : st.rest) keep[i] = 1;
+  const int* o = A.outerIndexPtr();
+  long nnz = 0;
+  for (int i = 0; i < n; ++i)
+    if (keep[i]) nnz += o[i + 1] - o[i];
+  SpMat R(A.rows(), A.cols());
+  R.reserve(nnz);
+  for (int i = 0; i < n; ++i) {
+    R.startVec(i);
+    if (keep[i])
+      for (int k = o[i]; k < o[i + 1]; ++k) R.insertBack(i, A.innerIndexPtr()[k]) = A.valuePtr()[k];  // zeros kept
+  }
+  R.finalize();
+  return R;
+}
+
+void keep_stencil_rows(SpMat& A, const RowStencil& st) {
+  SpMat R = stencil_rows_only(A, st);
+  A.swap(R);
+}
+
+void release(SpMat& A) {
+  SpMat empty;
+  A.swap(empty);
+}
+
+void negate(SpMat& A) {
+  double* v = A.valuePtr();
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k) v[k] = -v[k];
+}
+
+SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                              int r0, int m) {
+  const SpMat a2 = s2 * A2.middleRows(r0, m);
+  return SpMat(SpMat(SpMat(A1.middleRows(r0, m)) * B1) + SpMat(a2 * B2));
+}
+
+SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2, int block) {
+  const int n = static_cast<int>(A1.rows());
+  if (block <= 0) block = product_block(n);
+  auto rows = [&](int r0, int m) { return rows_of_sum_of_products(A1, B1, s2, A2, B2, r0, m); };
+  SpMat R(A1.rows(), B1.cols());
+  {  // room for n rows as long as the longest of the middle block's (on a lattice the interior rows
+     // are the longest: walls and seams only fold columns onto others)
+    const int r0 = std::max(0, std::min(n / 2, n - block)), m = std::min(block, n - r0);
+    const SpMat P = rows(r0, m);
+    long longest = 0;
+    for (int i = 0; i < m; ++i) longest = std::max<long>(longest, P.outerIndexPtr()[i + 1] - P.outerIndexPtr()[i]);
+    R.reserve(longest * n);
+  }
+  for (int r0 = 0; r0 < n; r0 += block) {
+    const int m = std::min(block, n - r0);
+    const SpMat P = rows(r0, m);
+    auto& data = R.data();  // grow by half at least, should a block not fit (insertBack grows by one)
+    if (data.size() + P.nonZeros() > data.allocatedSize()) data.reserve(std::max<long>(P.nonZeros(), data.size() / 2));
+    for (int i = 0; i < m; ++i) {
+      R.startVec(r0 + i);
+      for (int k = P.outerIndexPtr()[i]; k < P.outerIndexPtr()[i + 1]; ++k)
+        R.insertBack(r0 + i, P.innerIndexPtr()[k]) = P.valuePtr()[k];
+    }
+  }
+  R.finalize();
+  return R;
+}
+
+void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& dy, const RowStencil* st) {
+  const int n = static_cast<int>(Gx.rows());
+  const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
+  const double* in[2] = {u.data(), u.data() + u.rows()};
+  double* out[4] = {dx.data(), dx.data() + n, dy.data(), dy.data() + n};  // d/dx of u, v; d/dy of u, v
+  product<2, 2, false>(Gx, val, in, out, st, block_gradient2);
+}
+
+void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const RowStencil* st) {
+  const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
+  const double* in[2] = {u.data(), u.data() + u.rows()};
+  double* out[1] = {d.data()};
+  product<2, 2, true>(Gx, val, in, out, st, block_divergence);  // d = Gx u_x + Gy u_y
+}
+
+void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st) {
+  const int n = static_cast<int>(Gx.rows());
+  const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
+  const double* in[1] = {f.data()};
+  double* out[2] = {g.data(), g.data() + n};
+  product<1, 2, false>(Gx, val, in, out, st, block_gradient);
+}
+
+void gradient_rows(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const std::vector<int>& rows) {
+  const int n = static_cast<int>(Gx.rows());
+  const double* val[2] = {Gx.valuePtr(), Gy.valuePtr()};
+  const double* in[1] = {f.data()};
+  double* out[2] = {g.data(), g.data() + n};
+  for (int i : rows) {  // as product's plain rows
+    double acc[2][kBlock];
+    stencil::accumulate_row<1, 2, false>(Gx.outerIndexPtr(), Gx.innerIndexPtr(), val, in, acc, i);
+    stencil::store<2>(acc, out, i, 1, 1);
+  }
+}
+
+}  // namespace sphib

@@ -1,0 +1,78 @@
+#pragma once
+// Sparse products of a time step, fused: operators assembled from one pair list share one
+// sparsity pattern (operators.cpp keeps explicit zeros for that), so one pass over the pattern
+// serves several operators and both velocity components. Results equal the separate Eigen
+// products term by term (same summation order).
+//
+// On the fixed lattice most rows of an operator are translates of one another: away from walls
+// and periodic seams row i has the columns i + o_s and, bit for bit, the coefficients of a
+// reference row; along a wall (or a seam) the rows at one distance from it are translates of one
+// another too. A RowStencil lists those classes of rows; the products then apply them as stencils
+// (the coefficients of the class's reference row, no column indices, loads that vectorise) and only
+// the remaining rows (corners) from the compressed arrays. The summation order of every row is
+// unchanged, so the results are bitwise those of the plain products.
+#include <array>
+#include <initializer_list>
+#include <vector>
+
+#include "fluid/algebra/row_stencil.hpp"
+#include "fluid/common/types.hpp"
+
+namespace sphib {
+
+// The rows that are translates of one another in every operator of `ops` (one pattern, checked),
+// grouped by class. Operators whose most common row is shared by fewer than a quarter of the rows
+// get no stencil; classes of fewer than kMinClassRows rows stay with the compressed rows.
+constexpr int kMinClassRows = 4;
+RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
+
+// Fused products over operators of one sparsity pattern: each reads the pattern once. `st`, when
+// given, must come from find_row_stencil over these operators (or a superset of them). With
+// OpenMP and at least kParallelRows rows, the rows are shared among the threads (OMP_NUM_THREADS);
+// every row is computed by one thread in its own order, so the bits do not depend on the count.
+//   y = A x for both columns of x
+void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st = nullptr);
+void apply2(const SpMat& A, const double* x, double* y, const RowStencil* st = nullptr);  // n x 2, column-major
+//   dx = Gx u, dy = Gy u for both columns of u (the four derivatives of a velocity field)
+void gradient2(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Mat2& dx, Mat2& dy, const RowStencil* st = nullptr);
+//   d = Gx u_x + Gy u_y (the divergence, Eq. 30)
+void divergence(const SpMat& Gx, const SpMat& Gy, const Mat2& u, Vec& d, const RowStencil* st = nullptr);
+//   g = (Gx f, Gy f) (a scalar's gradient, Eq. 27)
+void gradient(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const RowStencil* st = nullptr);
+//   the same in the rows `rows` of g only (the other rows untouched), the same bits as gradient()
+void gradient_rows(const SpMat& Gx, const SpMat& Gy, const Vec& f, Mat2& g, const std::vector<int>& rows);
+//   y = A x for one column (the pressure's Laplacian, Eq. 35)
+void apply1(const SpMat& A, const double* x, double* y, const RowStencil* st = nullptr);
+bool same_pattern(const SpMat& A, const SpMat& B);
+
+// A with only the rows the products above read when given `st` (find_row_stencil over A and its
+// partners): its classes' reference rows and its `rest` rows, every other row empty. The products
+// with `st` then give the same bits as with A, from about (classes + rest) rows of storage instead
+// of N (EPSPH's compact storage, eulerian.hpp); any other use of the result sees empty rows.
+SpMat stencil_rows_only(const SpMat& A, const RowStencil& st);
+// A = stencil_rows_only(A, st), A's whole storage released (an assignment would keep its capacity)
+void keep_stencil_rows(SpMat& A, const RowStencil& st);
+// A's storage released (A 0 x 0)
+void release(SpMat& A);
+
+// A1 B1 + s2 A2 B2 (s2 = +1 or -1, exact), computed `block` rows at a time: bit for bit the
+// entries of the whole products and their sum (each row of a product is summed alone, in the order
+// of its row of A1 or A2), without the two whole products held at once.
+SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                      int block = 0);  // 0: product_block(rows)
+// Its rows r0 .. r0 + m - 1 alone (an m-row matrix), and the default block of an n-row product
+SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
+                              int r0, int m);
+inline int product_block(int n) { return n / 64 > 1024 ? n / 64 : 1024; }
+// A = -A in place, exactly (no new storage: an assignment of -A would grow its own)
+void negate(SpMat& A);
+
+// Image terms: an image operator B (N x M) has entries only in the rows near walls. y += B c
+// over those rows (`rows` = nonempty_rows(B)); c is M x 2 (both columns) or one column.
+std::vector<int> nonempty_rows(const SpMat& B);
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
+void add_image_terms(const SpMat& B, const std::vector<int>& rows, const double* c, double* y);
+// y = B c over those rows, the same sums (the other rows of y untouched: zero in the fused passes)
+void set_image_terms(const SpMat& B, const std::vector<int>& rows, const Mat2& c, Mat2& y);
+
+}  // namespace sphib

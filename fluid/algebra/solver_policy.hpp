@@ -1,0 +1,98 @@
+#pragma once
+// Which solver each linear system of a projection method gets: ONE policy for EPSPH, LPSPH and
+// ISPH (solver.crank_nicolson / solver.poisson = "auto"; another value forces that solver).
+//
+//   Crank-Nicolson (Eq. 28): on a fixed lattice the FFT lattice solver where the matrix has its
+//     structure (fluid/algebra/fft_poisson.hpp); else warm-started Jacobi-PCG when the Gershgorin bound
+//     b = 2 a max|lap_ii| <= 0.5 (the eigenvalues of I - a lap lie in [1, 1 + b]: condition number
+//     <= 1.5, 4-6 iterations to round-off, each a pass over A, cheaper than two triangular solves;
+//     measured iterations per step: b = 0.015: 4.0 (oscillating membrane), 0.15: 5.4; 0.78: 8.2
+//     (equilibrium membrane), 0.93: 14 (Poiseuille)); else CHOLMOD.
+//   Poisson (Eq. 32) and the stream functions: the FFT lattice solver on the singular operator
+//     itself (its own gauge: no pin in the right-hand side) where it applies; else CHOLMOD on the
+//     operator pinned by its gauge (fluid/algebra/gauge.hpp).
+//   CHOLMOD: simplicial or supernodal by the size of the factor, at 8e5 non-zeros in L for a
+//     matrix factorised once (the solves dominate) and 1.5e5 for one factorised every step (the
+//     numeric factorisation dominates). Measured here (one core), ms simplicial / supernodal per
+//     factorisation: nnz(L) = 1.2e4: 0.45/0.93; 9.4e4: 4.4/8.5; 1.5e5: 10.3/9.9; 2.9e5: 24.3/19.5;
+//     5.9e5: 56.5/35.1; per solve: README, "Solvers, chosen automatically".
+//
+// Moving particles (Refactor::EveryStep: LPSPH, ISPH) change the matrices a little every step, and
+// refactorising them every step was 80% of an LPSPH step. There (solver.* = "pcg_fft" or
+// "pcg_cholmod" force one): conjugate gradients warm-started from the last solution(s) and
+// preconditioned by a solver of a nearby matrix (linear_solver.hpp, lagged_pcg), to
+// |r| <= 1e-14 |b| (as the Jacobi-PCG) or a backward error of 1e-14:
+//   pcg_fft      the FFT solver of the same system on the fixed lattice the particles started on
+//                (`near`; where make_fft_solver applies): no factorisation at all while the
+//                particles stay near their lattice points; should they drift far (a solve needing
+//                more than 8 iterations), the preconditioner becomes a lagged CHOLMOD factor;
+//   pcg_cholmod  a CHOLMOD factorisation of an earlier step's matrix, refactorised (symbolic analysis
+//                kept while the pattern stays) when a solve needs more than 8 iterations. Measured
+//                on a closed box (64^2 vortex, dt = 5e-4, Poisson): refreshing above 4 / 6 / 8 / 12 /
+//                16 iterations took 4.3 / 5.5 / 6.6 / 8.4 / 10.1 iterations per solve and 74 / 13 /
+//                5 / 2 / 2 factorisations in 200 steps; with a factorisation costing ~25
+//                iterations, 6-12 are equally cheap.
+//   auto, Crank-Nicolson: pcg_fft where it applies (Poiseuille 24^2, b = 0.13: 1.0 iterations per
+//     solve, 0.14 ms against Jacobi-PCG's 3.5 iterations, 0.26 ms); else Jacobi-PCG while the
+//     Gershgorin bound b <= 40 (closed box 64^2: b = 4.7: 17 iterations, 3.2 ms per step against
+//     pcg_cholmod's 4.5 iterations, 6.7 ms; b = 19: 37 iterations, 5.5 ms against 6.3, 7.7 ms;
+//     equal, by the sqrt(b) growth of the Jacobi iterations, near b = 40); else pcg_cholmod.
+//   auto, Poisson: pcg_fft where it applies, else pcg_cholmod; both take the singular operator
+//     itself (its gauge inside: linear_solver.hpp), so the system is unpinned.
+#include <memory>
+#include <string>
+
+#include "fluid/algebra/fft_poisson.hpp"
+#include "fluid/algebra/gauge.hpp"
+#include "fluid/common/lattice.hpp"
+#include "fluid/algebra/linear_solver.hpp"
+
+namespace sphib {
+
+// The lagged CG of the moving particles (see above): rtol 1e-14, refreshed above 8 iterations.
+inline LaggedPcgOptions moving_cg_options() {
+  LaggedPcgOptions o;
+  o.rtol = 1e-14;
+  o.refresh_iterations = 8;
+  return o;
+}
+
+// A matrix factorised once for the whole run (EPSPH), or again every step (moving particles:
+// LinearSolver::refactorize, the symbolic analysis kept while the pattern stays).
+enum class Refactor { Once, EveryStep };
+
+// The fixed lattice the moving particles started on and the system's matrix there (the FFT
+// preconditioner's), or nothing.
+struct LatticeReference {
+  const Lattice* lattice = nullptr;
+  const SpMat* A = nullptr;
+};
+
+struct SystemSolver {
+  std::unique_ptr<LinearSolver> solver;
+  bool unpinned = false;  // it takes the singular operator itself: no pin in the right-hand side
+};
+
+// The Crank-Nicolson matrix A = I - a lap. `fixed`: the lattice when the particles never move (the
+// FFT solver needs it), else nullptr. The solver's log line says what was chosen and why.
+std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
+                                                    const Lattice* fixed, Refactor refactor,
+                                                    const LatticeReference& near = {});
+
+// A symmetric positive semi-definite operator A whose null space is that of gauge g. With
+// Refactor::EveryStep and a direct solver the pinned matrix keeps A's pattern (refactorize with
+// g.pinned(A, false)); an unpinned solver (FFT, the preconditioned CG) is refactorised with A itself.
+// `cg`: the lagged CG's tolerance and refresh rule (default rtol 1e-14, 8 iterations; ISPH sets its
+// own: isph.cpp, make_solvers).
+SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
+                             const Lattice* fixed, Refactor refactor, const LatticeReference& near = {},
+                             const LaggedPcgOptions& cg = moving_cg_options());
+
+// singular_solver's FFT lattice solver for an n x n operator given by its rows (MatrixRows: the
+// matrix need never exist), where `kind` takes it (auto, fft): that solver, or none when `kind`
+// is another or A lacks the structure (then the caller makes A for singular_solver; fft refuses
+// as singular_solver does).
+SystemSolver lattice_singular_solver(const std::string& system, const MatrixRows& A, long n, const Gauge& g,
+                                     SolverKind kind, const Lattice& fixed);
+
+}  // namespace sphib

@@ -1,0 +1,103 @@
+#include "fluid/common/boundary.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace sphib {
+
+namespace {
+// Mirror of coordinate c across the wall at w.
+double mirror(double c, double w) { return 2.0 * w - c; }
+}  // namespace
+
+Images make_images(const Lattice& L, double reach) { return make_images(L.domain, L.x, reach); }
+
+Images make_images(const Domain& d, const Mat2& X, double reach) {
+  // One image layer per wall is complete only if no particle is within reach of two opposite walls.
+  if ((!d.periodic_x && d.Lx() < 2.0 * reach) || (!d.periodic_y && d.Ly() < 2.0 * reach)) {
+    std::ostringstream m;
+    m << "walls: the distance between opposite walls must be at least two kernel supports (4h = "
+      << 2.0 * reach << "); the domain is " << d.Lx() << " x " << d.Ly();
+    throw std::invalid_argument(m.str());
+  }
+  Images im;
+  std::vector<double> xs, ys;
+  auto add = [&](int p, double x, double y, int wall, double sign) {
+    im.parent.push_back(p);
+    im.wall.push_back(wall);
+    im.v_sign.push_back(sign);
+    xs.push_back(x);
+    ys.push_back(y);
+  };
+  for (int p = 0; p < X.rows(); ++p) {
+    const double x = X(p, 0), y = X(p, 1);
+    // Walls this particle is within `reach` of, with the mirrored coordinate.
+    int xw = -1, yw = -1;
+    double xm = 0, ym = 0;
+    if (!d.periodic_x) {
+      if (x - d.x0 < reach) { xw = Left; xm = mirror(x, d.x0); }
+      else if (d.x1 - x < reach) { xw = Right; xm = mirror(x, d.x1); }
+    }
+    if (!d.periodic_y) {
+      if (y - d.y0 < reach) { yw = Bottom; ym = mirror(y, d.y0); }
+      else if (d.y1 - y < reach) { yw = Top; ym = mirror(y, d.y1); }
+    }
+    if (xw >= 0) add(p, xm, y, xw, -1.0);
+    if (yw >= 0) add(p, x, ym, yw, -1.0);
+    if (xw >= 0 && yw >= 0) add(p, xm, ym, -1, +1.0);  // corner: point reflection
+  }
+  im.x.resize(static_cast<int>(xs.size()), 2);
+  for (int k = 0; k < im.size(); ++k) {
+    im.x(k, 0) = xs[k];
+    im.x(k, 1) = ys[k];
+  }
+  return im;
+}
+
+void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint) {
+  for (int i = 0; i < x.rows(); ++i) {
+    for (int a = 0; a < 2; ++a) {
+      const bool periodic = a == 0 ? d.periodic_x : d.periodic_y;
+      const double lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
+      double& c = x(i, a);
+      if (periodic) {
+        c -= (hi - lo) * std::floor((c - lo) / (hi - lo));  // periodic wrap into [lo, hi)
+        if (c >= hi) c = lo;  // -tiny + period rounds to hi
+      } else if (!(c > lo && c < hi)) {
+        std::ostringstream m;
+        const Side side = a == 0 ? (c <= lo ? Left : Right) : (c <= lo ? Bottom : Top);
+        m << method << ": particle " << i;
+        if (!std::isfinite(c)) m << " has a non-finite position";
+        else if (d.open[side]) m << " left the tank through its open " << side_name(side) << " side " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        else m << " crossed the wall " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        m << " (now at " << x(i, 0) << ", " << x(i, 1) << ") at t = " << t;
+        if (std::isfinite(c) && !d.open[side]) m << ": " << hint;
+        if (std::isfinite(c) && d.open[side]) m << " (a splash or a jet: make the tank larger)";
+        throw std::runtime_error(m.str());
+      }
+    }
+  }
+}
+
+void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
+                            Mat2& offset) {
+  for (int k = 0; k < im.size(); ++k) {
+    const int w = im.wall[k];
+    if (w < 0) {  // corner image: u_img = u_p (see header)
+      offset(k, 0) = 0.0;
+      offset(k, 1) = 0.0;
+      continue;
+    }
+    Eigen::Vector2d g = d.wall_velocity[w];  // u_b
+    if (grad_phi) {
+      // tangential correction dt/rho (tau . grad phi~) tau with phi~ = phi^n (Kim & Moin), Eq. (42)
+      const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall
+      g[t] += dt_over_rho * (*grad_phi)(im.parent[k], t);
+    }
+    offset(k, 0) = 2.0 * g[0];  // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i
+    offset(k, 1) = 2.0 * g[1];
+  }
+}
+
+}  // namespace sphib

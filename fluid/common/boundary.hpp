@@ -1,0 +1,48 @@
+#pragma once
+// No-slip walls by image particles (Section 3.3) and the periodic wrap.
+//
+// Every particle within 2h of a wall gets a mirror image across it, created once (EPSPH).
+// Corners: a particle within 2h of two adjacent walls also gets the double reflection
+// (the point reflection through the corner), so its kernel support is complete there too.
+//
+// Image values are affine in the parent's value:  f_img = sign * f_parent + offset.
+//  - velocity, one wall w:  u_img = 2 g_w - u_p,  g_w = u_w + dt/rho (tau.grad phi~) tau  (Eq. 42)
+//  - velocity, corner:      reflecting across w1 then w2 gives u_p + 2 (g_w2 - g_w1), and the other
+//                           order the opposite offset; they agree (u_img = u_p) for walls at rest,
+//                           and we take their mean, u_img = u_p, also when the walls move
+//                           differently (the lid corner of a cavity, where u is singular anyway).
+//  - phi (and any scalar with homogeneous Neumann data): phi_img = phi_p (sign +1, Eq. 9).
+#include <vector>
+
+#include "fluid/common/lattice.hpp"
+
+namespace sphib {
+
+struct Images {
+  Mat2 x;                       // positions, M x 2
+  std::vector<int> parent;      // parent particle of each image
+  std::vector<int> wall;        // the wall of a single reflection (Side), or -1 for a corner image
+  std::vector<double> v_sign;   // velocity sign: -1 for one reflection, +1 for a corner
+
+  int size() const { return static_cast<int>(parent.size()); }
+};
+
+// Images of every particle closer than `reach` (= 2h) to a wall.
+Images make_images(const Lattice& lattice, double reach);
+
+// The same for arbitrary particle positions x (N x 2) in the domain: the moving particles of LPSPH,
+// whose images are made again every step.
+Images make_images(const Domain& domain, const Mat2& x, double reach);
+
+// Moving particles (WCSPH, ISPH) at x (N x 2): wrapped into [x0, x1) along periodic axes; a particle
+// on or beyond a wall or an open side, or with a non-finite position, throws std::runtime_error
+// naming the method, the particle, the side, where it is now and the time t, then `hint` (what to
+// change) for a wall crossed.
+void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint);
+
+// The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
+// plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.
+void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
+                            Mat2& offset);
+
+}  // namespace sphib

@@ -1,0 +1,39 @@
+#pragma once
+// Morris virtual wall particles (Morris, Fox & Zhu 1997), the solid walls of the moving-particle
+// methods that keep the fluid's kernel support complete at a wall (WCSPH; ISPH, Afanasiev et al.
+// Section 3.6): the lattice of Eq. (68) continued beyond each wall of the domain for
+// ceil(2h / spacing) rows, corner blocks where two walls meet, fixed in place. Open sides
+// (Domain::open) and periodic axes get none. Each particle carries its wall's prescribed velocity
+// (corner blocks: the mean of the two walls').
+#include <algorithm>
+#include <vector>
+
+#include "fluid/common/lattice.hpp"
+
+namespace sphib {
+
+struct VirtualWalls {
+  Mat2 x, u;                 // positions and prescribed velocities, M x 2
+  std::vector<int> side;     // the wall (Side) of a particle beyond one wall; -1 in a corner block
+  std::vector<double> dist;  // distance to that wall's line (0 in corner blocks)
+  std::vector<char> inner;   // the row next to the fluid (corner blocks: the corner particle next to both)
+  int size() const { return static_cast<int>(side.size()); }
+};
+
+// The virtual particles of every wall of L.domain for a kernel of support `support` (= 2h), in the
+// order of the extended lattice (rows from the bottom, left to right).
+VirtualWalls make_virtual_walls(const Lattice& L, double support);
+
+// Morris et al. (1997): a virtual particle B at distance d_B beyond its wall, seen from a fluid
+// particle A at distance d_A before it, carries u_B = u_w - (d_B/d_A)(u_A - u_w) in the viscous
+// term, i.e. u_A - u_B = beta (u_A - u_w) with beta = min(beta_max, 1 + d_B/d_A). d_A is floored at
+// half a spacing (the initial distance of the first fluid row): exact on the lattice, bounded for a
+// particle closer to the wall. (x_A, y_A): the fluid particle.
+inline double morris_wall_factor(const Lattice& L, int side, double d_B, double x_A, double y_A, double beta_max) {
+  const Domain& d = L.domain;
+  const double dA = side == Left ? x_A - d.x0 : side == Right ? d.x1 - x_A : side == Bottom ? y_A - d.y0 : d.y1 - y_A;
+  const double dA_min = 0.5 * (side == Left || side == Right ? L.dx : L.dy);
+  return std::min(beta_max, 1.0 + d_B / std::max(dA, dA_min));
+}
+
+}  // namespace sphib
