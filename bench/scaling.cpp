@@ -18,7 +18,7 @@
 // (solver.crank_nicolson = "pcg", Poisson by CHOLMOD simplicial), the FFT-in-x + banded-Cholesky
 // solver of fluid/algebra/fft_poisson.hpp for both (`fft`, what `auto` picks on these channels), and Eigen's
 // own SimplicialLDLT (AMD ordering) on both matrices rebuilt from the fluid's operators as
-// fluid/projection.cpp builds them:
+// fluid/eulerian/exact_projection.cpp builds them:
 // factorisation time, factor size, memory and the time per solve (CHOLMOD and PCG: in the running
 // step; Eigen: repeated solves of the same systems outside the step).
 //
@@ -133,7 +133,7 @@ int child(const fs::path& cases, const std::string& c, int nx, const std::string
     j["dt"] = f->params().dt;
     for (const char* k : {"neighbours", "assembly", "factorisation"}) j[std::string("setup_") + k + "_s"] = f->profiler().setup_seconds(k);
     if (cn == "eigen_ldlt") {
-      // The two matrices as fluid/projection.cpp builds them: A_cn = I - (nu dt / 2) lap_u (Eq. 28);
+      // The two matrices as fluid/eulerian/exact_projection.cpp builds them: A_cn = I - (nu dt / 2) lap_u (Eq. 28);
       // Poisson -lap_phi with the gauge row and column of particle 0 replaced by the identity (Eq. 32).
       const sphib::Operators& op = f->operators();
       const int N = f->size();
@@ -463,7 +463,7 @@ struct Bench {
          "Per solve = one call per step (Crank-Nicolson: both velocity components at once; Poisson: one). "
          "`pcg` = warm-started Jacobi-PCG for Crank-Nicolson with Poisson by CHOLMOD simplicial. `fft` = the "
          "FFT-in-x + banded-Cholesky solver for both. `eigen_ldlt` = Eigen's SimplicialLDLT with AMD "
-         "ordering on the two matrices rebuilt from the fluid's operators as fluid/projection.cpp builds them "
+         "ordering on the two matrices rebuilt from the fluid's operators as fluid/eulerian/exact_projection.cpp builds them "
          "(the same non-zero counts: checked, `matrices_match` in the CSV); its time per solve is from repeated "
          "solves of the same systems outside the step (the others' from the running step), its nnz(L) counts "
          "L's unit diagonal as CHOLMOD's counts the diagonal, and its memory is the RSS the two factors add "

@@ -54,7 +54,7 @@ LatticeOperators lattice_operators(const DomainCase& d, int nx, int ny, double h
   return lo;
 }
 
-// One system EPSPH solves, as fluid/projection.cpp builds it, with its null space and the parity of
+// One system EPSPH solves, as fluid/eulerian/exact_projection.cpp builds it, with its null space and the parity of
 // its wall images.
 struct System {
   std::string name;

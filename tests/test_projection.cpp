@@ -162,7 +162,7 @@ TEST(ExactProjection, CheckerboardPhiProducesNoVelocity) {
 // The exact projection is orthogonal: u* - u^{n+1} is orthogonal to every divergence-free field,
 // i.e. to the curls C psi (C^T (u* - u^{n+1}) = 0), to the alternating velocity modes and, in a
 // channel, to the uniform flux. (It is made through the least-squares stream function, whose curl
-// plus those modes spans D u = 0: fluid/projection.cpp.) Measured max |C^T (u* - u)| / max |C^T u*|:
+// plus those modes spans D u = 0: fluid/eulerian/exact_projection.cpp.) Measured max |C^T (u* - u)| / max |C^T u*|:
 // channel 2.8e-14, closed box 8.0e-14, doubly periodic 3.2e-14; mode and flux components below
 // 1.6e-16 of max |u*|. Tolerances 1e-11.
 TEST(ExactProjection, IsOrthogonalToDivergenceFreeFields) {
