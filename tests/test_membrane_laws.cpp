@@ -379,29 +379,33 @@ TEST(StiffForce, StiffBendingBlowsUpExplicitlyAndRunsSemiImplicitly) {
 }
 
 TEST(StiffForce, ARestartWithBendingContinuesBitForBit) {
-  // The filter's state is f^n, U^n and the markers: a checkpoint holds them, so a restart with
-  // bending and the semi-implicit force continues the straight run to the last bit.
-  const std::filesystem::path d = std::filesystem::temp_directory_path() / "sphib_stiff_restart";
-  std::filesystem::remove_all(d);
-  const std::vector<std::string> m{"membrane.Eb=0.5", "membrane.semi_implicit=true"};
-  auto with = [&](std::vector<std::string> v) {
-    v.insert(v.end(), m.begin(), m.end());
-    return v;
-  };
-  const nlohmann::json straight = run_stiff((d / "a").string(), with({"time.max_steps=40"}));
-  run_stiff((d / "b").string(), with({"time.max_steps=15"}));
-  std::vector<std::string> all{"grid.nx=32", "grid.ny=32", "membrane.nb=48", "time.dt=1e-3", "time.end=0.5",
-                               "membrane.Eb=10", "output.interval=0", "time.max_steps=40"};
-  all.insert(all.end(), m.begin(), m.end());
-  Scene s = load_scene(sphib_test::kOscillation, all);
-  RunOptions o;
-  o.out_dir = (d / "c").string();
-  o.restart = (d / "b" / "checkpoint.h5").string();
-  const nlohmann::json restarted = run_scene(s, o);
-  EXPECT_EQ(restarted["steps"], 40);
-  for (const char* k : {"time", "rx", "ry", "area", "kinetic_energy", "elastic_energy", "bending_energy", "deformation"})
-    EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k;
-  std::filesystem::remove_all(d);
+  // The filter's state is f^n, U^n and the markers, and with membrane.stiff_residual its history
+  // (U^{n-1}, f~^{n-1} and the smoothed residual G per mode): a checkpoint holds them, so a restart
+  // with bending and the semi-implicit force continues the straight run to the last bit, with and
+  // without the residual (without its history in the checkpoint, G would restart from zero).
+  for (const bool residual : {false, true}) {
+    const std::filesystem::path d = sphib_test::temp_dir(residual ? "stiff_restart_residual" : "stiff_restart");
+    const std::vector<std::string> m{"membrane.Eb=0.5", "membrane.semi_implicit=true",
+                                     residual ? "membrane.stiff_residual=true" : "membrane.stiff_residual=false"};
+    auto with = [&](std::vector<std::string> v) {
+      v.insert(v.end(), m.begin(), m.end());
+      return v;
+    };
+    const nlohmann::json straight = run_stiff((d / "a").string(), with({"time.max_steps=40"}));
+    run_stiff((d / "b").string(), with({"time.max_steps=15"}));
+    std::vector<std::string> all{"grid.nx=32", "grid.ny=32", "membrane.nb=48", "time.dt=1e-3", "time.end=0.5",
+                                 "membrane.Eb=10", "output.interval=0", "time.max_steps=40"};
+    all.insert(all.end(), m.begin(), m.end());
+    Scene s = load_scene(sphib_test::kOscillation, all);
+    RunOptions o;
+    o.out_dir = (d / "c").string();
+    o.restart = (d / "b" / "checkpoint.h5").string();
+    const nlohmann::json restarted = run_scene(s, o);
+    EXPECT_EQ(restarted["steps"], 40);
+    for (const char* k : {"time", "rx", "ry", "area", "kinetic_energy", "elastic_energy", "bending_energy", "deformation"})
+      EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k << (residual ? " (stiff_residual)" : "");
+    std::filesystem::remove_all(d);
+  }
 }
 
 // ------------------------------------------------------------------ scene keys
