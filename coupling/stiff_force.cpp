@@ -106,14 +106,14 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
     const C det = Maa * Mbb - Mab * Mba;
     Fn[m] = (Mbb * ra - Mab * rb) / det;
     Ft[m] = (Maa * rb - Mba * ra) / det;
-    if (record) {
+    if (record && residual_) {  // the history only the residual reads
       Up[m] = Un[m];
       Up[nm_ + m] = Ut[m];
       Fp[m] = Fn[m];
       Fp[nm_ + m] = Ft[m];
     }
   }
-  if (record) have_prev_ = true;
+  if (record && residual_) have_prev_ = true;
   fftw_execute(inv_);  // f~_n, f~_t into in_[0, 2n), times n (FFTW's unnormalised transforms)
   f_tilde.resize(n, 2);
   const double inv_n = 1.0 / n;

@@ -72,7 +72,7 @@ class StiffForceFilter {
              bool record = true);
 
   /// The history `apply` keeps (U^{n-1}, f~^{n-1} and G by mode: nb/2 + 1 rows, 12 columns of real
-  /// and imaginary parts), empty before the first step; set_state restores it (a restart), throwing
+  /// and imaginary parts), empty before the first step and without the residual; set_state restores it (a restart), throwing
   /// std::invalid_argument when its shape does not fit.
   Eigen::MatrixXd state() const;
   void set_state(const Eigen::MatrixXd& s);

@@ -58,6 +58,20 @@ ShiftingParams shifting_params(const IsphParams& p) {
 // (lagrangian.cpp, where it was measured).
 constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
 
+// f(i, a, s, side, dist) for every particle i (rows of x) and every wall of d: axis a (0: x, 1: y),
+// s = 0 for the low wall and 1 for the high one, dist the particle's distance to that wall.
+template <class F>
+void for_each_wall_distance(const Domain& d, const Mat2& x, F&& f) {
+  for (int i = 0; i < x.rows(); ++i)
+    for (int a = 0; a < 2; ++a)
+      for (int s = 0; s < 2; ++s) {
+        const Side side = a == 0 ? (s == 0 ? Left : Right) : (s == 0 ? Bottom : Top);
+        if (!d.is_wall(side)) continue;
+        const double xi = x(i, a), lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
+        f(i, a, s, side, s == 0 ? xi - lo : hi - xi);
+      }
+}
+
 }  // namespace
 
 IsphFluid::IsphFluid(const FluidParams& params, Profiler* profiler)
@@ -289,20 +303,14 @@ void IsphFluid::wall_contact() {
   const Domain& d = prm_.domain;
   const double k = prm_.dt / prm_.rho, dt = prm_.dt;
   const double gap[2] = {0.5 * lat_.dx, 0.5 * lat_.dy};
-  for (int i = 0; i < size(); ++i)
-    for (int a = 0; a < 2; ++a)
-      for (int s = 0; s < 2; ++s) {
-        const Side side = a == 0 ? (s == 0 ? Left : Right) : (s == 0 ? Bottom : Top);
-        if (!d.is_wall(side)) continue;
-        const double xi = x_(i, a), lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
-        const double dist = s == 0 ? xi - lo : hi - xi;
-        const double uw = d.wall_velocity[side][a], into = s == 0 ? uw - u_(i, a) : u_(i, a) - uw;  // closing speed
-        const double allowed = std::max(0.0, (dist - gap[a]) / dt);
-        if (into <= allowed) continue;
-        const double un = s == 0 ? uw + allowed : uw - allowed;
-        grad_phi_(i, a) += (u_(i, a) - un) / k;
-        u_(i, a) = un;
-      }
+  for_each_wall_distance(d, x_, [&](int i, int a, int s, Side side, double dist) {
+    const double uw = d.wall_velocity[side][a], into = s == 0 ? uw - u_(i, a) : u_(i, a) - uw;  // closing speed
+    const double allowed = std::max(0.0, (dist - gap[a]) / dt);
+    if (into <= allowed) return;
+    const double un = s == 0 ? uw + allowed : uw - allowed;
+    grad_phi_(i, a) += (u_(i, a) - un) / k;
+    u_(i, a) = un;
+  });
 }
 
 // The consistent scheme's Poisson rows beside the free surface (see the header): a particle whose support
@@ -391,17 +399,12 @@ void IsphFluid::reference_sums() {
 void IsphFluid::shift_off_walls() {
   const Domain& d = prm_.domain;
   const double gap[2] = {0.5 * lat_.dx, 0.5 * lat_.dy};
-  for (int i = 0; i < size(); ++i)
-    for (int a = 0; a < 2; ++a)
-      for (int s = 0; s < 2; ++s) {
-        const Side side = a == 0 ? (s == 0 ? Left : Right) : (s == 0 ? Bottom : Top);
-        if (!d.is_wall(side)) continue;
-        const double xi = x_(i, a), lo = a == 0 ? d.x0 : d.y0, hi = a == 0 ? d.x1 : d.y1;
-        const double dist = s == 0 ? xi - lo : hi - xi, towards = s == 0 ? -dr_(i, a) : dr_(i, a);
-        if (towards <= 0) continue;
-        const double allowed = std::max(0.0, dist - gap[a]);
-        if (towards > allowed) dr_(i, a) = s == 0 ? -allowed : allowed;
-      }
+  for_each_wall_distance(d, x_, [&](int i, int a, int s, Side, double dist) {
+    const double towards = s == 0 ? -dr_(i, a) : dr_(i, a);
+    if (towards <= 0) return;
+    const double allowed = std::max(0.0, dist - gap[a]);
+    if (towards > allowed) dr_(i, a) = s == 0 ? -allowed : allowed;
+  });
 }
 
 // The operators, both systems and A Eq. (26)'s sums at the list's positions (one pass), then the free
