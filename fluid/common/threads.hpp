@@ -1,4 +1,7 @@
 #pragma once
+#include <algorithm>
+#include <limits>
+
 // How many threads the step's passes and solves share (OpenMP: the products and fused passes by row
 // blocks, fluid/algebra/stencil_kernels.hpp; the lattice solvers by columns, row blocks and wavenumbers,
 // fluid/algebra/fft_poisson.hpp). Every row, column and wavenumber is computed by one thread in its own
@@ -27,5 +30,40 @@ class ThreadCount {
  private:
   int saved_;
 };
+
+// Reductions over n entries by the threads with the same bits for any count: kReductionBlocks fixed
+// blocks of ceil(n / kReductionBlocks) entries (the last ones shorter or empty), part(at, m) of each
+// block [at, at + m) computed by one thread, the blocks' results combined in block order.
+constexpr int kReductionBlocks = 64;
+
+// sum over the blocks of part(at, m) (m may be 0: part must return 0 then)
+template <class Part>
+double sum_by_blocks(long n, Part&& part) {
+  const long len = (n + kReductionBlocks - 1) / kReductionBlocks;
+  double s[kReductionBlocks];
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < kReductionBlocks; ++b) {
+    const long at = std::min(n, b * len);
+    s[b] = part(at, std::min(n, at + len) - at);
+  }
+  double total = 0;
+  for (double v : s) total += v;
+  return total;
+}
+
+// max over the non-empty blocks of part(at, m) (-infinity for n = 0); exact: a maximum has no rounding
+template <class Part>
+double max_by_blocks(long n, Part&& part) {
+  const long len = (n + kReductionBlocks - 1) / kReductionBlocks;
+  double s[kReductionBlocks];
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < kReductionBlocks; ++b) {
+    const long at = std::min(n, b * len), m = std::min(n, at + len) - at;
+    s[b] = m > 0 ? part(at, m) : -std::numeric_limits<double>::infinity();
+  }
+  double top = s[0];
+  for (double v : s) top = v > top || v != v ? v : top;  // a NaN stays (as Eigen's maxCoeff may keep it)
+  return top;
+}
 
 }  // namespace sphib
