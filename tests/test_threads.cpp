@@ -70,8 +70,7 @@ TEST(Threads, TwoThreadsGiveTheBitsOfOne) {
 // one-pass maximum exactly wherever it lies (first, middle, last entry), the sum the one-pass sum
 // up to its rounding (measured: 3.9e-16 relative for these 100003 positive entries; the test allows
 // 1e-13, far below the 1e-5 that one dropped entry of the 100003 makes, 1.6e-2 one dropped block),
-// both the same bits for one
-// and two threads.
+// both the same bits for one and two threads.
 TEST(Threads, ReductionsByBlocksTakeEveryEntry) {
   const long n = 100003;  // blocks of 1563, the last one short
   std::mt19937 gen(28);

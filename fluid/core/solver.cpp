@@ -48,11 +48,13 @@ double FluidSolver::kinetic_energy() const {
 }
 
 double FluidSolver::max_speed() const {
-  // max_i |u_i|: each |u_i| as Eigen's row norm; above kParallelRows particles by the threads in
-  // fixed blocks of rows (max_by_blocks: a maximum is exact, so the same bits as one pass)
+  // max_i |u_i|; above kParallelRows particles by the threads in fixed blocks of rows, as the root of
+  // the largest |u_i|^2 (one square root, not N: a correctly rounded root is monotone, so the same
+  // bits as the largest of Eigen's row norms; max_by_blocks: a maximum is exact)
   const long N = u_.rows();
   if (N < kParallelRows) return u_.rowwise().norm().maxCoeff();
-  return max_by_blocks(N, [&](long at, long m) { return u_.middleRows(at, m).rowwise().norm().maxCoeff(); });
+  return std::sqrt(
+      max_by_blocks(N, [&](long at, long m) { return u_.middleRows(at, m).rowwise().squaredNorm().maxCoeff(); }));
 }
 
 FluidSolver::FluidSolver(const FluidParams& params, bool particles_move, Profiler* profiler)
