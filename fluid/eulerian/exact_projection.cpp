@@ -5,8 +5,6 @@
 #include <string>
 
 #include "fluid/common/profile.hpp"
-#include "fluid/common/threads.hpp"
-#include "fluid/algebra/row_stencil.hpp"  // kParallelRows
 #include "fluid/algebra/solver_policy.hpp"
 
 namespace sphib {
@@ -179,20 +177,8 @@ void ExactProjection::curl_transpose(const Mat2& u) {
   sphib::divergence(psi_ty_, psi_tx_, u, cu_, &psi_st_);  // Gy^T u - Gx^T v (= C^T u)
   // psi on the far wall: the flux (int u dy along a channel in x, -int v dx in y), the least-squares
   // value (make_psi_solver)
-  Q_ = flux(u);
-}
-
-double ExactProjection::flux(const Mat2& u) const {
-  // Q = <u, r1> (make_psi_solver), on a channel; below kParallelRows particles in one sum (Eigen's
-  // order), above by the threads in fixed blocks (sum_by_blocks: the same bits for any count)
   const Domain& d = lat_.domain;
-  if (d.periodic_x == d.periodic_y) return 0.0;
-  const long n = u.size();
-  if (n < 2L * kParallelRows) return u.cwiseProduct(psi_r1_).sum();
-  return sum_by_blocks(n, [&](long at, long m) {
-    using Map = Eigen::Map<const Eigen::VectorXd>;
-    return Map(u.data() + at, m).cwiseProduct(Map(psi_r1_.data() + at, m)).sum();
-  });
+  Q_ = d.periodic_x != d.periodic_y ? u.cwiseProduct(psi_r1_).sum() : 0.0;
 }
 
 void ExactProjection::psi_rhs() {
@@ -208,7 +194,8 @@ bool ExactProjection::markers_in_one_pass() const {
 void ExactProjection::rhs(const Mat2& u_star, long revision) {
   // curl_transpose() and psi_rhs() (and the markers' right-hand side) in one pass: C^T u* and the
   // flux Q of u* (the least-squares value, make_psi_solver), b_psi_ = C^T u* - Q ..., b_m_
-  Q_ = flux(u_star);
+  const Domain& d = lat_.domain;
+  Q_ = d.periodic_x != d.periodic_y ? u_star.cwiseProduct(psi_r1_).sum() : 0.0;
   const bool bm = markers_in_one_pass();
   curl_transpose_rhs({&psi_ty_, &psi_tx_, &psi_st_, u_star.data(), Q_, mpsi_scale_, psi_flux_.data(),
                       mpsi_flux_.data(), cu_.data(), b_psi_.data(), bm ? b_m_.data() : nullptr});

@@ -91,7 +91,6 @@ class ExactProjection {
   void make_psi_solver();
   static void finish_divergence(Divergence& d, bool compact);  // D = -(the transposes), its stencil
   void curl_transpose(const Mat2& u);  // cu_ = C^T u, Q_ = the least-squares flux of u
-  double flux(const Mat2& u) const;    // the least-squares flux <u, r1> of a channel (0 otherwise)
   void psi_rhs();                      // b_psi_ = cu_ - Q_ (flux term), projected
 
   const Lattice& lat_;
