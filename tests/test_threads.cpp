@@ -23,7 +23,7 @@ namespace {
 struct State {
   Mat2 u, X, F;
   Vec p, phi;
-  double ke, umax;
+  double ke, umax, divmax;
 };
 
 State run(const Scene& scene, int threads, int steps) {
@@ -32,7 +32,7 @@ State run(const Scene& scene, int threads, int steps) {
   Simulation sim(scene.sim);
   for (int n = 0; n < steps; ++n) sim.step();
   return {sim.fluid().u(), sim.membranes().at(0).m.X, sim.force(), sim.fluid().p(), sim.fluid().phi(),
-          sim.fluid().kinetic_energy(), sim.fluid().max_speed()};
+          sim.fluid().kinetic_energy(), sim.fluid().max_speed(), sim.fluid().max_abs_divergence()};
 }
 
 bool same_bits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
@@ -61,6 +61,7 @@ TEST(Threads, TwoThreadsGiveTheBitsOfOne) {
     EXPECT_TRUE(same_bits(one.F, two.F)) << what;
     EXPECT_EQ(one.ke, two.ke) << what;  // (a sum by fixed blocks)
     EXPECT_EQ(one.umax, two.umax) << what;
+    EXPECT_EQ(one.divmax, two.divmax) << what;
     EXPECT_EQ(one.umax, one.u.rowwise().norm().maxCoeff()) << what;  // by blocks of rows: exact
     EXPECT_GT(one.u.cwiseAbs().maxCoeff(), 0.0) << what;  // the membrane has set the fluid moving
   }

@@ -57,6 +57,12 @@ double FluidSolver::max_speed() const {
       max_by_blocks(N, [&](long at, long m) { return u_.middleRows(at, m).rowwise().squaredNorm().maxCoeff(); }));
 }
 
+double FluidSolver::max_abs(const Vec& d) {
+  const long n = d.size();
+  if (n < kParallelRows) return d.cwiseAbs().maxCoeff();
+  return max_by_blocks(n, [&](long at, long m) { return d.segment(at, m).cwiseAbs().maxCoeff(); });
+}
+
 FluidSolver::FluidSolver(const FluidParams& params, bool particles_move, Profiler* profiler)
     : prm_(params), lat_(make_lattice(params.domain, params.nx, params.ny)),
       W_(params.h_over_dx * 0.5 * (lat_.dx + lat_.dy)), moves_(particles_move),
