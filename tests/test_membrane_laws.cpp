@@ -416,7 +416,7 @@ TEST(StiffForce, ItsDepartureFromTheExplicitForceFallsFasterThanTheStep) {
   // t = 0.2, where the explicit force is stable up to dt ~ 1e-2. Measured at dt = 1e-3, 5e-4,
   // 2.5e-4: rx semi-implicit minus explicit 7.83e-7, 1.60e-7, 3.08e-8 (halving dt divides it by
   // 4.9 and 5.2: order ~2.3), while the explicit run's own rx error against dt = 1e-5 is 8.0e-5,
-  // 4.0e-5, 1.9e-5 (the coupled scheme is first order in dt: the force is spread at t^n). The test
+  // 4.0e-5, 1.9e-5 (the coupled scheme is first order in dt). The test
   // asks a ratio of at least 3.5 (an O(dt) filter error gives 2) and a gap below a tenth of the
   // explicit run's change from dt to dt/2 (measured 0.019).
   const std::filesystem::path d = sphib_test::temp_dir("stiff_order");
