@@ -115,6 +115,32 @@ TEST(MembraneLaws, UnknownLawAndBadParametersAreRefusedByName) {
   EXPECT_THROW(make_membrane(X, circle_reference(0.5), material("hookean", NAN, 0.0)), std::invalid_argument);
 }
 
+TEST(MembraneLaws, AMembraneBuiltFieldByFieldTakesTheLawsDefaultParameters) {
+  // A Membrane aggregate (as the Python builders make one) whose material names Skalak without C:
+  // its force is the one with the registry's default C, not an out-of-range read; a wrong count is
+  // refused naming the law.
+  const Mat2 X = ellipse(32, 0, 0, 0.6, 0.45);
+  Material bare;
+  bare.law = "skalak";
+  bare.Es = 2.0;
+  const Membrane given = make_membrane(X, circle_reference(0.5), bare);  // fills C with its default
+  ASSERT_EQ(given.mat.params.size(), 1u);
+  MembraneForce a(Membrane{X, circle_reference(0.5), bare}), b(given);
+  Mat2 fa, fb;
+  Vec Ta, Tb;
+  a.compute(X, fa, Ta);
+  b.compute(X, fb, Tb);
+  EXPECT_EQ((fa - fb).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(fa.cwiseAbs().maxCoeff(), 0.0);
+  bare.params = {1.0, 2.0};
+  try {
+    make_tension_law(bare);
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("\"skalak\" takes 1 parameters, got 2"), std::string::npos) << e.what();
+  }
+}
+
 // ------------------------------------------------------------------ force = -dE/dX, every law, bending
 
 TEST(MembraneLaws, ForceIsMinusEnergyGradientAtOrderFourWithAndWithoutBending) {
