@@ -65,5 +65,11 @@ void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p, c
 enum class OperatorSet { All, Velocity, Phi, LapPhi, GradPhi };
 Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W,
                           OperatorSet set = OperatorSet::All);
+// The same (the same bits) from the lattice's pairs searched a block of `block_rows` rows at a time
+// (npairs: their count, pairs.count()), so that the whole pair list never exists (EPSPH's compact
+// storage).
+constexpr int kAssemblyRows = 4096;
+Operators build_operators(const LatticePairs& pairs, long npairs, const Images& im, const CubicSplineKernel& W,
+                          OperatorSet set = OperatorSet::All, int block_rows = kAssemblyRows);
 
 }  // namespace sphib

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace sphib {
@@ -72,13 +73,14 @@ bool same_row(const std::vector<const SpMat*>& ops, int i, int ref) {
   return true;
 }
 
-std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i) {
+// (row i of the operators, which is row `at` of the lattice: a block's rows are numbered from 0)
+std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i, int at) {
   const SpMat& A = *ops[0];
   const int *o = A.outerIndexPtr(), *c = A.innerIndexPtr();
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a over offsets and coefficient bits
   auto mix = [&](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
   for (int k = o[i]; k < o[i + 1]; ++k) {
-    mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[k] - i)));
+    mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[k] - at)));
     for (const SpMat* B : ops) {
       std::uint64_t bits;
       std::memcpy(&bits, B->valuePtr() + k, sizeof bits);
@@ -168,7 +170,7 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   // the most common first.
   std::vector<std::uint64_t> h(n);
   std::unordered_map<std::uint64_t, int> count;
-  for (int i = 0; i < n; ++i) ++count[h[i] = row_hash(ops, i)];
+  for (int i = 0; i < n; ++i) ++count[h[i] = row_hash(ops, i, i)];
   std::uint64_t best = 0;
   int most = 0;
   for (int i = 0; i < n; ++i)
@@ -208,6 +210,150 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   for (int i = 0; i < n; ++i)
     if (plain[i]) st.rest.push_back(i);
   return st;
+}
+
+RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept) {
+  // find_row_stencil above, pass by pass: the hashes; the classes (each reference row copied as it
+  // passes, the rows compared with it); the kept rows.
+  RowStencil st;
+  std::vector<std::uint64_t> h(n);
+  int nops = 0;
+  long cols = 0;
+  rows([&](const std::vector<const SpMat*>& ops, int r0) {
+    nops = static_cast<int>(ops.size());
+    cols = ops[0]->cols();
+    for (const SpMat* B : ops)
+      if (!same_pattern(*ops[0], *B)) throw std::logic_error("find_row_stencil: the operators do not share one pattern");
+    for (int q = 0; q < ops[0]->rows(); ++q) h[r0 + q] = row_hash(ops, q, r0 + q);
+  });
+  std::unordered_map<std::uint64_t, int> count;
+  for (int i = 0; i < n; ++i) ++count[h[i]];
+  std::uint64_t best = 0;
+  int most = 0;
+  for (int i = 0; i < n; ++i)
+    if (count[h[i]] > most) { most = count[h[i]]; best = h[i]; }
+  std::vector<char> plain(n, 1);
+  if (n > 0 && most >= std::max(2, n / 4)) {
+    // the classes in find_row_stencil's order: the most common row's first, then by first row
+    std::unordered_map<std::uint64_t, int> cls;
+    std::vector<int> ref;
+    for (int i = 0; i < n; ++i)
+      if (h[i] == best) { cls.emplace(best, 0); ref.push_back(i); break; }
+    for (int i = 0; i < n; ++i)
+      if (count[h[i]] >= kMinClassRows && cls.emplace(h[i], static_cast<int>(ref.size())).second) ref.push_back(i);
+    struct Ref {
+      std::vector<int> offset;
+      std::vector<std::vector<double>> val;  // per operator
+    };
+    std::vector<Ref> rd(ref.size());
+    std::vector<std::vector<int>> members(ref.size());
+    st.classes.resize(ref.size());
+    rows([&](const std::vector<const SpMat*>& ops, int r0) {
+      const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+      for (int q = 0; q < ops[0]->rows(); ++q) {
+        const int i = r0 + q;
+        const bool first = cls.count(h[i]) && ref[cls[h[i]]] == i;  // (class 0 is made whatever its count)
+        if (!first && count[h[i]] < kMinClassRows) continue;
+        const int k = cls[h[i]];
+        Ref& r = rd[k];
+        const int len = o[q + 1] - o[q];
+        if (first) {
+          for (int e = o[q]; e < o[q + 1]; ++e) r.offset.push_back(c[e] - i);
+          for (const SpMat* B : ops) r.val.emplace_back(B->valuePtr() + o[q], B->valuePtr() + o[q + 1]);
+          st.classes[k].ref = i;
+          st.classes[k].offset = r.offset;
+          if (count[h[i]] < kMinClassRows) continue;
+        }
+        bool same = len == static_cast<int>(r.offset.size());
+        for (int e = 0; same && e < len; ++e) same = c[o[q] + e] - i == r.offset[e];
+        for (int b = 0; same && b < nops; ++b)
+          same = std::memcmp(ops[b]->valuePtr() + o[q], r.val[b].data(), sizeof(double) * len) == 0;
+        if (same) { members[k].push_back(i); plain[i] = 0; }
+      }
+    });
+    for (int k = 0; k < static_cast<int>(members.size()); ++k) {
+      if (static_cast<int>(members[k].size()) < kMinClassRows)
+        for (int i : members[k]) plain[i] = 1;
+      else
+        add_blocks(k, members[k], st.blocks);
+    }
+    std::sort(st.blocks.begin(), st.blocks.end(), [](const Blk& a, const Blk& b) { return a.begin < b.begin; });
+  }
+  for (int i = 0; i < n; ++i)
+    if (plain[i]) st.rest.push_back(i);
+  // stencil_rows_only of each operator: its rows collected, then compressed
+  std::vector<char> keep(plain.begin(), plain.end());
+  for (const auto& c : st.classes) keep[c.ref] = 1;
+  std::vector<int> len(n, 0), col;
+  std::vector<std::vector<double>> val(nops);
+  rows([&](const std::vector<const SpMat*>& ops, int r0) {
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    for (int q = 0; q < ops[0]->rows(); ++q) {
+      if (!keep[r0 + q]) continue;
+      len[r0 + q] = o[q + 1] - o[q];
+      col.insert(col.end(), c + o[q], c + o[q + 1]);
+      for (int b = 0; b < nops; ++b) val[b].insert(val[b].end(), ops[b]->valuePtr() + o[q], ops[b]->valuePtr() + o[q + 1]);
+    }
+  });
+  kept.assign(nops, SpMat());
+  for (int b = 0; b < nops; ++b) {
+    SpMat& R = kept[b];
+    R.resize(n, cols);
+    R.reserve(static_cast<Eigen::Index>(col.size()));
+    long e = 0;
+    for (int i = 0; i < n; ++i) {
+      R.startVec(i);
+      for (int k = 0; k < len[i]; ++k, ++e) R.insertBack(i, col[e]) = val[b][e];  // zeros kept
+    }
+    R.finalize();
+    std::vector<double>().swap(val[b]);
+  }
+  return st;
+}
+
+std::vector<int> column_counts(const SpMat& G) {
+  std::vector<int> n(G.cols(), 0);
+  for (Eigen::Index k = 0; k < G.nonZeros(); ++k) ++n[G.innerIndexPtr()[k]];
+  return n;
+}
+
+SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m) {
+  const int *o = G.outerIndexPtr(), *c = G.innerIndexPtr();
+  // the rows of G with an entry in columns c0 .. c0 + m - 1: by the pattern's symmetry, the columns
+  // of G's rows c0 .. c0 + m - 1
+  std::vector<int> from(c + o[c0], c + o[c0 + m]);
+  std::sort(from.begin(), from.end());
+  from.erase(std::unique(from.begin(), from.end()), from.end());
+  SpMat T(m, G.rows());
+  long nnz = 0;
+  for (int q = 0; q < m; ++q) nnz += cols[c0 + q];
+  std::vector<int> start(m + 1, 0);
+  for (int k : from)
+    for (int e = o[k]; e < o[k + 1]; ++e)
+      if (c[e] >= c0 && c[e] < c0 + m) ++start[c[e] - c0 + 1];
+  for (int q = 0; q < m; ++q) {
+    if (start[q + 1] != cols[c0 + q])
+      throw std::logic_error("transposed_rows: the operator's pattern is not symmetric (column " +
+                             std::to_string(c0 + q) + ")");
+    start[q + 1] += start[q];
+  }
+  T.reserve(nnz);
+  std::vector<int> idx(nnz);
+  std::vector<double> v(nnz);
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (int k : from)  // ascending k: each row of the transpose in column order, as the whole's
+    for (int e = o[k]; e < o[k + 1]; ++e)
+      if (c[e] >= c0 && c[e] < c0 + m) {
+        const int at = next[c[e] - c0]++;
+        idx[at] = k;
+        v[at] = G.valuePtr()[e];
+      }
+  for (int q = 0; q < m; ++q) {
+    T.startVec(q);
+    for (int e = start[q]; e < start[q + 1]; ++e) T.insertBack(q, idx[e]) = v[e];
+  }
+  T.finalize();
+  return T;
 }
 
 void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st) { apply2(A, x.data(), y.data(), st); }

@@ -13,6 +13,7 @@
 // unchanged, so the results are bitwise those of the plain products.
 #include <array>
 #include <initializer_list>
+#include <functional>
 #include <vector>
 
 #include "fluid/algebra/row_stencil.hpp"
@@ -25,6 +26,22 @@ namespace sphib {
 // get no stencil; classes of fewer than kMinClassRows rows stay with the compressed rows.
 constexpr int kMinClassRows = 4;
 RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
+
+// Operators of one pattern given as their rows: rows(f) calls f(ops, r0) with rows r0 .. r0 + m - 1
+// of every operator (ops[q]: m x cols, compressed), consecutive blocks, every row once, in order;
+// it is called three times, and must give the same rows each time.
+using OperatorRows = std::function<void(const std::function<void(const std::vector<const SpMat*>& ops, int r0)>&)>;
+// find_row_stencil of the n-row operators given by `rows`, and kept[q] = stencil_rows_only of
+// operator q, without any operator ever whole (EPSPH's compact storage: the transposes of the
+// velocity gradients): the same stencil and the same kept rows, bit for bit.
+RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept);
+
+// Rows c0 .. c0 + m - 1 of G^T (an m x G.rows() matrix), the same bits and order as those rows of
+// the whole transpose, read from the rows of G that the columns' own rows reach: G's pattern must be
+// symmetric (the lattice operators' is: a pair and its mirror), which is checked against G's column
+// counts `cols` (column_counts(G)); std::logic_error if not.
+std::vector<int> column_counts(const SpMat& G);
+SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m);
 
 // Fused products over operators of one sparsity pattern: each reads the pattern once. `st`, when
 // given, must come from find_row_stencil over these operators (or a superset of them). With

@@ -12,10 +12,20 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   if (prm_.projection == Projection::Auto) prm_.projection = Projection::Exact;
   const int N = lat_.size();
 
-  // Neighbours: images and the pair list, once.
+  // Neighbours: images and the pair list, once (the compact storage: the pairs a block of rows at a
+  // time, as the assembly reads them; the whole list never exists).
+  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
+  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
   auto t0 = Profile::Clock::now();
   im_ = make_images(lat_, W_.support());
-  pairs_ = find_pairs(lat_, im_.x, W_.support());
+  std::unique_ptr<LatticePairs> blocks;
+  if (compact_) {
+    blocks = std::make_unique<LatticePairs>(lat_, im_.x, W_.support());
+    pairs_count_ = blocks->count();
+  } else {
+    pairs_ = find_pairs(lat_, im_.x, W_.support());
+    pairs_count_ = pairs_.size();
+  }
   add_setup("neighbours", seconds_since(t0));
 
   // Operators, once (Eqs. 27-34), and the rows of their patterns that are lattice translates. The
@@ -23,32 +33,39 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   // Compact storage (exact projection, lattice solvers): every product of a step goes through the
   // stencils, so each operator keeps only its stencil's rows (stencil_rows_only), and what only the
   // setup reads is freed as soon as it has been read. The setup never holds the operators whole
-  // together: the phi operators are assembled first and read (the Morris Laplacian by its solver,
-  // the phi gradients by the exact projection's divergence D = -G^T), then the velocity operators;
-  // the pair list goes after them; the Morris Laplacian of odd images (lap_u.A) is reduced to its
-  // stencil's rows once the Crank-Nicolson and the markers' solvers are made, before G^T G is
-  // computed (a block of rows at a time, never whole) from the velocity gradients.
-  pairs_count_ = pairs_.size();
-  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
-  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
-  const double m = exact() ? ExactProjection::gradient_normalisation(lat_, pairs_, W_) : 0.0;
+  // together, nor the pair list (its blocks are searched as the assembly reads them): the phi
+  // operators are assembled first and read (the Morris Laplacian by its solver, the phi gradients by
+  // the exact projection's divergence D = -G^T), then the velocity operators; the Morris Laplacian
+  // of odd images (lap_u.A) is reduced to its stencil's rows once the Crank-Nicolson and the
+  // markers' solvers are made, before G^T G is computed from the velocity gradients. The lattice
+  // solvers read their matrices' rows a block at a time (-lap, I - a lap, G^T G: none is made
+  // whole), and the velocity gradients' transposes are read a block at a time, never whole.
+  const double m = !exact() ? 0.0
+                   : compact_ ? ExactProjection::gradient_normalisation(*blocks, W_)
+                              : ExactProjection::gradient_normalisation(lat_, pairs_, W_);
   double factorisation = 0;
   ExactProjection::Divergence div;
   t0 = Profile::Clock::now();
   gauge_ = Gauge(lat_, NullSpace::Constants);
   if (compact_) {
     {
-      Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::LapPhi);
+      Operators built = build_operators(*blocks, pairs_count_, im_, W_, OperatorSet::LapPhi);
       op_.lap_phi.swap(built.lap_phi);
     }
     const auto t1 = Profile::Clock::now();
-    make_phi_solver();
+    SystemSolver s = lattice_singular_solver(phi_system(), negated_rows(op_.lap_phi), N, gauge_, prm_.poisson_solver, lat_);
+    if (s.solver) {  // (no negated copy of the Laplacian)
+      poisson_ = std::move(s.solver);
+      poisson_unpinned_ = s.unpinned;
+    } else {
+      make_phi_solver();
+    }
     factorisation += seconds_since(t1);
     lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
     keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
     lap_phi_st_ = &lap_phi_st_lattice_;
     {
-      Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::GradPhi);
+      Operators built = build_operators(*blocks, pairs_count_, im_, W_, OperatorSet::GradPhi);
       op_.grad_phix.swap(built.grad_phix);
       op_.grad_phiy.swap(built.grad_phiy);
     }
@@ -56,11 +73,11 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
       throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
     phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
     div = ExactProjection::take_divergence(op_.grad_phix, op_.grad_phiy);  // (releases them)
-    Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::Velocity);
+    Operators built = build_operators(*blocks, pairs_count_, im_, W_, OperatorSet::Velocity);
     op_.lap_u.swap(built.lap_u);
     op_.grad_ux.swap(built.grad_ux);
     op_.grad_uy.swap(built.grad_uy);
-    pairs_ = PairList();
+    blocks.reset();
   } else {
     Operators built = build_operators(pairs_, lat_, im_, W_);
     op_.swap(built);  // (not an assignment: that would copy)
@@ -80,7 +97,10 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
   // is asked for (phi()); the compact storage made that one above, while the Morris Laplacian existed.
   t0 = Profile::Clock::now();
-  cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
+  if (compact_)  // (the matrix I - a lap never made)
+    cn_ = lattice_crank_nicolson_solver(crank_nicolson_rows(op_.lap_u.A, a_cn()), N, prm_.cn_solver, lat_);
+  if (!cn_)
+    cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
   if (compact_) {
     streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true, true, &div);
     streams_->make_markers_solver();
@@ -116,11 +136,14 @@ const Operators& EulerianFluid::operators() const {
   return op_;
 }
 
+std::string EulerianFluid::phi_system() const {
+  return exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson";
+}
+
 void EulerianFluid::make_phi_solver() const {
   SpMat minus_lap = op_.lap_phi;  // -lap (negated in place: an assigned -A grows its own storage)
   negate(minus_lap);
-  auto s = singular_solver(exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson",
-                           minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+  auto s = singular_solver(phi_system(), minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
   poisson_ = std::move(s.solver);
   poisson_unpinned_ = s.unpinned;
 }

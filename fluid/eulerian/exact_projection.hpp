@@ -59,6 +59,7 @@ class ExactProjection {
   // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
   // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle's pairs.
   static double gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W);
+  static double gradient_normalisation(const LatticePairs& pairs, const CubicSplineKernel& W);  // (the same)
   void make_solvers();  // the normal equations' and the markers' (a compact constructor's are deferred)
   // The markers' solver alone (make_solvers makes it too if not made yet): the only reader of the
   // whole lap_u.A, which a compact owner may then reduce to its stencil rows before make_solvers.
