@@ -13,7 +13,7 @@ namespace {
 // sorted by column, so that a row is the same bits however the rows are blocked.
 template <class Coef>
 void assemble_rows(const PairList& P, int r0, int N, const Images& im, ImageRule rule, Coef a, bool difference,
-                   bool keep_zeros, SpMat& A, std::vector<Triplet>& tB) {
+                   bool keep_zeros, SpMat& A, std::vector<Triplet>& tB, int out0 = 0) {
   const double s_ij = difference ? -1.0 : 1.0;  // f_i - f_j  or  f_i + f_j
   std::vector<std::pair<int, double>> row;
   auto add = [&row](int col, double v) {
@@ -39,14 +39,14 @@ void assemble_rows(const PairList& P, int r0, int N, const Images& im, ImageRule
         const int m = j - N;
         const double sign = rule == ImageRule::Velocity ? im.v_sign[m] : 1.0;
         add(im.parent[m], s_ij * sign * ak);
-        if (rule == ImageRule::Velocity) tB.emplace_back(i, m, s_ij * ak);
+        if (rule == ImageRule::Velocity) tB.emplace_back(i - out0, m, s_ij * ak);
       }
     }
     add(i, diag);
     std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    A.startVec(i);
+    A.startVec(i - out0);
     for (const auto& [col, v] : row)
-      if (keep_zeros || v != 0.0) A.insertBack(i, col) = v;
+      if (keep_zeros || v != 0.0) A.insertBack(i - out0, col) = v;
   }
 }
 
@@ -120,6 +120,46 @@ Operators assemble_set(const Blocks& pairs, long npairs, const Lattice& L, const
 }
 
 }  // namespace
+
+Operators operator_rows(const PairList& P, int r0, const Lattice& L, const Images& im, const CubicSplineKernel& W,
+                        OperatorSet set) {
+  const bool vel = set == OperatorSet::All || set == OperatorSet::Velocity;
+  const bool lap_phi = set == OperatorSet::All || set == OperatorSet::Phi || set == OperatorSet::LapPhi;
+  const bool grad_phi = set == OperatorSet::All || set == OperatorSet::Phi || set == OperatorSet::GradPhi;
+  const int N = L.size(), M = im.size(), m = static_cast<int>(P.offset.size()) - 1;
+  const double V = L.volume;
+  // the coefficients of build_operators (the same expressions)
+  const auto lap = [&](int k) { return 2.0 * V * W.F(P.r[k]); };
+  const auto gx = [&](int k) { return V * P.rx[k] * W.F(P.r[k]); };
+  const auto gy = [&](int k) { return V * P.ry[k] * W.F(P.r[k]); };
+  Operators op;
+  auto put = [&](ImageOp& to, ImageRule rule, auto a, bool difference, bool keep_zeros) {
+    std::vector<Triplet> tB;
+    to.A.resize(m, N);
+    to.A.reserve(static_cast<Eigen::Index>(P.size()) + m);
+    assemble_rows(P, r0, N, im, rule, a, difference, keep_zeros, to.A, tB, r0);
+    to.A.finalize();
+    to.B.resize(m, rule == ImageRule::Velocity ? M : 0);
+    to.B.setFromTriplets(tB.begin(), tB.end());
+  };
+  ImageOp t;
+  if (vel) {
+    put(op.lap_u, ImageRule::Velocity, lap, true, true);
+    put(op.grad_ux, ImageRule::Velocity, gx, false, true);
+    put(op.grad_uy, ImageRule::Velocity, gy, false, true);
+  }
+  if (lap_phi) {
+    put(t, ImageRule::Scalar, lap, true, false);
+    op.lap_phi.swap(t.A);
+  }
+  if (grad_phi) {
+    put(t, ImageRule::Scalar, gx, false, true);
+    op.grad_phix.swap(t.A);
+    put(t, ImageRule::Scalar, gy, false, true);
+    op.grad_phiy.swap(t.A);
+  }
+  return op;
+}
 
 ImageOp assemble_pairs(const PairList& P, int N, const Images& im, ImageRule rule, const double* a,
                        bool difference, bool keep_zeros) {

@@ -69,6 +69,11 @@ Operators build_operators(const PairList& P, const Lattice& L, const Images& im,
 // (npairs: their count, pairs.count()), so that the whole pair list never exists (EPSPH's compact
 // storage).
 constexpr int kAssemblyRows = 4096;
+// The rows r0 .. r0 + m - 1 alone of the operators of `set` (A m x N, B m x M, row q the operator's
+// row r0 + q; the others empty) from P, the pairs of those rows (P.offset relative to r0:
+// LatticePairs::rows): the same bits as those rows of build_operators'.
+Operators operator_rows(const PairList& P, int r0, const Lattice& L, const Images& im, const CubicSplineKernel& W,
+                        OperatorSet set);
 Operators build_operators(const LatticePairs& pairs, long npairs, const Images& im, const CubicSplineKernel& W,
                           OperatorSet set = OperatorSet::All, int block_rows = kAssemblyRows);
 

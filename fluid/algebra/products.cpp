@@ -317,20 +317,37 @@ std::vector<int> column_counts(const SpMat& G) {
   return n;
 }
 
-SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m) {
-  const int *o = G.outerIndexPtr(), *c = G.innerIndexPtr();
-  // the rows of G with an entry in columns c0 .. c0 + m - 1: by the pattern's symmetry, the columns
-  // of G's rows c0 .. c0 + m - 1
-  std::vector<int> from(c + o[c0], c + o[c0 + m]);
+std::vector<int> reach_of(const SpMat& B) {
+  std::vector<int> from(B.innerIndexPtr(), B.innerIndexPtr() + B.nonZeros());
   std::sort(from.begin(), from.end());
   from.erase(std::unique(from.begin(), from.end()), from.end());
-  SpMat T(m, G.rows());
+  return from;
+}
+
+SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m) {
+  return transposed_rows(G, {}, cols, c0, m, false);
+}
+
+SpMat transposed_rows(const SpMat& R, const std::vector<int>& at, const std::vector<int>& cols, int c0, int m,
+                      bool local) {
+  const int *o = R.outerIndexPtr(), *c = R.innerIndexPtr();
+  // R's rows to read: those `at` names (all of them), or, R being G itself (`at` empty), the rows
+  // with an entry in columns c0 .. c0 + m - 1: by the pattern's symmetry, the columns of G's rows
+  // c0 .. c0 + m - 1
+  std::vector<int> from;
+  if (at.empty()) from = reach_of(SpMat(R.middleRows(c0, m)));
+  const int nfrom = at.empty() ? static_cast<int>(from.size()) : static_cast<int>(at.size());
+  auto row_of = [&](int q) { return at.empty() ? from[q] : q; };   // R's row
+  auto name_of = [&](int q) { return at.empty() ? from[q] : (local ? q : at[q]); };  // its column in T
+  SpMat T(m, local ? static_cast<Eigen::Index>(at.size()) : R.cols());
   long nnz = 0;
   for (int q = 0; q < m; ++q) nnz += cols[c0 + q];
   std::vector<int> start(m + 1, 0);
-  for (int k : from)
+  for (int q = 0; q < nfrom; ++q) {
+    const int k = row_of(q);
     for (int e = o[k]; e < o[k + 1]; ++e)
       if (c[e] >= c0 && c[e] < c0 + m) ++start[c[e] - c0 + 1];
+  }
   for (int q = 0; q < m; ++q) {
     if (start[q + 1] != cols[c0 + q])
       throw std::logic_error("transposed_rows: the operator's pattern is not symmetric (column " +
@@ -341,19 +358,74 @@ SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int 
   std::vector<int> idx(nnz);
   std::vector<double> v(nnz);
   std::vector<int> next(start.begin(), start.end() - 1);
-  for (int k : from)  // ascending k: each row of the transpose in column order, as the whole's
+  for (int q = 0; q < nfrom; ++q) {  // ascending rows of G: each row of the transpose in column order, as the whole's
+    const int k = row_of(q);
     for (int e = o[k]; e < o[k + 1]; ++e)
       if (c[e] >= c0 && c[e] < c0 + m) {
-        const int at = next[c[e] - c0]++;
-        idx[at] = k;
-        v[at] = G.valuePtr()[e];
+        const int a = next[c[e] - c0]++;
+        idx[a] = name_of(q);
+        v[a] = R.valuePtr()[e];
       }
+  }
   for (int q = 0; q < m; ++q) {
     T.startVec(q);
     for (int e = start[q]; e < start[q + 1]; ++e) T.insertBack(q, idx[e]) = v[e];
   }
   T.finalize();
   return T;
+}
+
+StencilRows::StencilRows(const RowStencil& st, int n) : st_(st), cls_(n, -1) {
+  for (const auto& b : st.blocks)
+    for (int k = 0; k < b.count; ++k) cls_[b.begin + k * b.stride] = b.cls;
+  for (const auto& c : st.classes) cls_[c.ref] = -1;  // kept
+}
+
+template <class Row>
+SpMat StencilRows::gather(const SpMat& A, int m, Row row) const {
+  const int* o = A.outerIndexPtr();
+  long nnz = 0;
+  for (int q = 0; q < m; ++q) {
+    const int i = row(q), k = cls_[i];
+    const int src = k < 0 ? i : st_.classes[k].ref;
+    nnz += o[src + 1] - o[src];
+  }
+  SpMat B(m, A.cols());
+  B.reserve(nnz);
+  for (int q = 0; q < m; ++q) {
+    const int i = row(q), k = cls_[i];
+    B.startVec(q);
+    if (k < 0) {
+      for (int e = o[i]; e < o[i + 1]; ++e) B.insertBack(q, A.innerIndexPtr()[e]) = A.valuePtr()[e];
+    } else {
+      const RowStencil::Class& c = st_.classes[k];
+      for (int e = o[c.ref], t = 0; e < o[c.ref + 1]; ++e, ++t) B.insertBack(q, i + c.offset[t]) = A.valuePtr()[e];
+    }
+  }
+  B.finalize();
+  return B;
+}
+
+SpMat StencilRows::rows(const SpMat& A, int r0, int m) const {
+  return gather(A, m, [r0](int q) { return r0 + q; });
+}
+
+SpMat StencilRows::rows(const SpMat& A, const std::vector<int>& at) const {
+  return gather(A, static_cast<int>(at.size()), [&at](int q) { return at[q]; });
+}
+
+std::vector<int> StencilRows::column_counts(const SpMat& A) const {
+  std::vector<int> n(A.cols(), 0);
+  const int* o = A.outerIndexPtr();
+  for (int i = 0; i < static_cast<int>(cls_.size()); ++i) {
+    const int k = cls_[i];
+    if (k < 0) {
+      for (int e = o[i]; e < o[i + 1]; ++e) ++n[A.innerIndexPtr()[e]];
+    } else {
+      for (int t : st_.classes[k].offset) ++n[i + t];
+    }
+  }
+  return n;
 }
 
 void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st) { apply2(A, x.data(), y.data(), st); }

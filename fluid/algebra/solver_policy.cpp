@@ -104,11 +104,19 @@ std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat&
   return s;
 }
 
-MatrixRows negated_rows(const SpMat& A) {
-  return [&A](const std::function<void(const SpMat&, int)>& f) {
-    const int n = static_cast<int>(A.rows()), b = product_block(n);
+namespace {
+RowsOf middle_rows(const SpMat& A) {
+  return [&A](int r0, int m) { return SpMat(A.middleRows(r0, m)); };
+}
+}  // namespace
+
+MatrixRows negated_rows(const SpMat& A) { return negated_rows(middle_rows(A), static_cast<int>(A.rows())); }
+
+MatrixRows negated_rows(RowsOf rows, int n) {
+  return [rows = std::move(rows), n](const std::function<void(const SpMat&, int)>& f) {
+    const int b = product_block(n);
     for (int r0 = 0; r0 < n; r0 += b) {
-      SpMat B = A.middleRows(r0, std::min(b, n - r0));
+      SpMat B = rows(r0, std::min(b, n - r0));
       negate(B);
       f(B, r0);
     }
@@ -116,11 +124,15 @@ MatrixRows negated_rows(const SpMat& A) {
 }
 
 MatrixRows crank_nicolson_rows(const SpMat& lap, double a) {
-  return [&lap, a](const std::function<void(const SpMat&, int)>& f) {
-    const int n = static_cast<int>(lap.rows()), b = product_block(n);
+  return crank_nicolson_rows(middle_rows(lap), static_cast<int>(lap.rows()), a);
+}
+
+MatrixRows crank_nicolson_rows(RowsOf lap, int n, double a) {
+  return [lap = std::move(lap), n, a](const std::function<void(const SpMat&, int)>& f) {
+    const int b = product_block(n);
     for (int r0 = 0; r0 < n; r0 += b) {
       const int m = std::min(b, n - r0);
-      SpMat B = lap.middleRows(r0, m);
+      SpMat B = lap(r0, m);
       B *= -a;  // as ProjectionFluid::crank_nicolson_matrix (Eq. 28)
       for (int q = 0; q < m; ++q) B.coeffRef(q, r0 + q) += 1.0;
       B.makeCompressed();  // (should a diagonal have been missing)

@@ -92,6 +92,30 @@ ExactProjection::Divergence ExactProjection::take_divergence(SpMat& grad_phix, S
   return d;
 }
 
+ExactProjection::Divergence ExactProjection::divergence_by_blocks(const SpMat& grad_phix, const SpMat& grad_phiy,
+                                                                   const RowStencil& st) {
+  const int N = static_cast<int>(grad_phix.rows()), block = product_block(N);
+  const StencilRows sr(st, N);
+  const std::vector<int> cols_x = sr.column_counts(grad_phix), cols_y = sr.column_counts(grad_phiy);
+  const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
+    for (int r0 = 0; r0 < N; r0 += block) {
+      const int m = std::min(block, N - r0);
+      const std::vector<int> at = reach_of(sr.rows(grad_phix, r0, m));  // (one pattern)
+      SpMat dx = transposed_rows(sr.rows(grad_phix, at), at, cols_x, r0, m, false);
+      SpMat dy = transposed_rows(sr.rows(grad_phiy, at), at, cols_y, r0, m, false);
+      negate(dx);  // D = -G^T
+      negate(dy);
+      f({&dx, &dy}, r0);
+    }
+  };
+  Divergence d;
+  std::vector<SpMat> kept;
+  d.st = find_row_stencil(rows, N, kept);
+  d.x.swap(kept[0]);
+  d.y.swap(kept[1]);
+  return d;
+}
+
 void ExactProjection::finish_divergence(Divergence& d, bool compact) {
   negate(d.x);
   negate(d.y);
@@ -114,11 +138,16 @@ void ExactProjection::make_markers_solver() {
   mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
   const std::string system = "stream function of the markers (Morris Laplacian, odd images)";
   SystemSolver m;
-  if (compact_)  // the lattice solver from -lap's rows (no negated copy)
-    m = lattice_singular_solver(system, negated_rows(op_.lap_u.A), lat_.size(), mpsi_gauge_, kind_, lat_);
+  const int N = lat_.size();
+  std::unique_ptr<StencilRows> sr;  // compact: lap_u.A by its stencil's rows only
+  if (compact_) {  // the lattice solver from -lap's rows (no negated copy, lap never whole)
+    sr = std::make_unique<StencilRows>(*vel_st_, N);
+    m = lattice_singular_solver(system, negated_rows([&](int r0, int k) { return sr->rows(op_.lap_u.A, r0, k); }, N),
+                                N, mpsi_gauge_, kind_, lat_);
+  }
   if (!m.solver) {
-    SpMat minus_lap = op_.lap_u.A;  // -lap (negated in place: an assigned -A grows its own storage)
-    negate(minus_lap);
+    SpMat minus_lap = sr ? sr->rows(op_.lap_u.A, 0, N) : op_.lap_u.A;  // -lap (negated in place: an
+    negate(minus_lap);                                                 // assigned -A grows its own storage)
     m = singular_solver(system, minus_lap, mpsi_gauge_, kind_, &lat_, Refactor::Once);
   }
   mpsi_solver_ = std::move(m.solver);
@@ -133,27 +162,37 @@ void ExactProjection::make_psi_solver() {
   const SpMat& Gx = op_.grad_ux.A;
   const SpMat& Gy = op_.grad_uy.A;
   const int N = lat_.size(), block = product_block(N);
-  // The compact storage never holds the transposes whole: their rows a block at a time (the same
-  // bits as the whole transposes' rows), read three times for their stencil and kept rows, once for
-  // the flux's terms and once more (up to three times) by the lattice solver for G^T G.
+  // The compact storage holds the velocity gradients by their stencil's rows only, and never their
+  // transposes whole: a block of the transposes' rows at a time (the same bits as the whole
+  // transposes' rows), from the gradients' rows that reach them made whole again (StencilRows), read
+  // three times for the transposes' stencil and kept rows, once for the flux's terms and up to three
+  // times by the lattice solver for G^T G; the gradients' rows themselves a block at a time.
+  std::unique_ptr<StencilRows> sr;
   std::vector<int> cols_x, cols_y;
-  const auto transposes = [&](int r0, int m, SpMat& ty, SpMat& tx) {
-    ty = transposed_rows(Gy, cols_y, r0, m);
-    tx = transposed_rows(Gx, cols_x, r0, m);
+  // the block's transposes, and the gradients' rows they reach (`local`: the transposes' columns
+  // numbered as those rows, for the products with them)
+  const auto transposes = [&](int r0, int m, SpMat& ty, SpMat& tx, SpMat* ry, SpMat* rx, bool local) {
+    const std::vector<int> at = reach_of(sr->rows(Gy, r0, m));  // (Gx's pattern is Gy's)
+    SpMat y = sr->rows(Gy, at), x = sr->rows(Gx, at);
+    ty = transposed_rows(y, at, cols_y, r0, m, local);
+    tx = transposed_rows(x, at, cols_x, r0, m, local);
     negate(tx);  // -Gx^T
+    if (ry) ry->swap(y);
+    if (rx) rx->swap(x);
   };
-  const auto transposes_by_blocks = [&](const std::function<void(const SpMat&, const SpMat&, int)>& f) {
-    SpMat ty, tx;
-    for (int r0 = 0; r0 < N; r0 += block) {
-      transposes(r0, std::min(block, N - r0), ty, tx);
-      f(ty, tx, r0);
-    }
+  const auto by_blocks = [&](const std::function<void(int, int)>& f) {
+    for (int r0 = 0; r0 < N; r0 += block) f(r0, std::min(block, N - r0));
   };
   if (compact_) {
-    cols_x = column_counts(Gx);
-    cols_y = column_counts(Gy);
+    sr = std::make_unique<StencilRows>(*vel_st_, N);
+    cols_x = sr->column_counts(Gx);
+    cols_y = sr->column_counts(Gy);
     const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
-      transposes_by_blocks([&](const SpMat& ty, const SpMat& tx, int r0) { f({&ty, &tx}, r0); });
+      SpMat ty, tx;
+      by_blocks([&](int r0, int m) {
+        transposes(r0, m, ty, tx, nullptr, nullptr, false);
+        f({&ty, &tx}, r0);
+      });
     };
     std::vector<SpMat> kept;
     psi_st_ = find_row_stencil(rows, N, kept);  // read from here on only through psi_st_
@@ -177,9 +216,11 @@ void ExactProjection::make_psi_solver() {
     psi_by1_ = op_.grad_uy.B * c1;
     psi_bx1_ = op_.grad_ux.B * c1;
     if (compact_)  // by rows of the transposes: each row's sums as the whole products'
-      transposes_by_blocks([&](const SpMat& ty, const SpMat& tx, int r0) {
+      by_blocks([&](int r0, int m) {
+        SpMat ty, tx;
+        transposes(r0, m, ty, tx, nullptr, nullptr, false);
         const Vec f = ty * psi_by1_ - tx * psi_bx1_;
-        psi_flux_.segment(r0, f.size()) = f;
+        psi_flux_.segment(r0, m) = f;
       });
     else
       psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
@@ -197,18 +238,21 @@ void ExactProjection::make_psi_solver() {
   SystemSolver s;
   if (compact_) {
     const MatrixRows gtg = [&](const std::function<void(const SpMat&, int)>& f) {
-      transposes_by_blocks([&](const SpMat& ty, const SpMat& tx, int r0) {
-        f(rows_of_sum_of_products(ty, Gy, -1.0, tx, Gx, 0, static_cast<int>(ty.rows())), r0);
+      by_blocks([&](int r0, int m) {
+        SpMat ty, tx, ry, rx;
+        transposes(r0, m, ty, tx, &ry, &rx, true);
+        f(rows_of_sum_of_products(ty, ry, -1.0, tx, rx, 0, m), r0);
       });
     };
     s = lattice_singular_solver(system, gtg, N, psi_gauge_, kind_, lat_);
   }
   if (!s.solver) {
     SpMat A;
-    if (compact_) {  // the transposes whole again, for the matrix
-      SpMat ty = Gy.transpose(), tx = Gx.transpose();
+    if (compact_) {  // the gradients and their transposes whole again, for the matrix
+      const SpMat gx = sr->rows(Gx, 0, N), gy = sr->rows(Gy, 0, N);
+      SpMat ty = gy.transpose(), tx = gx.transpose();
       negate(tx);
-      A = sum_of_products(ty, Gy, -1.0, tx, Gx);
+      A = sum_of_products(ty, gy, -1.0, tx, gx);
     } else {
       A = sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx);
     }
@@ -228,8 +272,18 @@ void ExactProjection::make_psi_solver() {
     if (!psi_unpinned_) psi_gauge_.pin_rhs(b);
     psi_solver_->solve(b.data(), psi1.data(), 1);
     psi_gauge_.project(psi1);
-    psi_r1_.col(0) = Gy * psi1 + psi_by1_;
-    psi_r1_.col(1) = -(Gx * psi1 + psi_bx1_);
+    if (compact_) {  // by blocks of the gradients' rows: each row's sums as the whole products'
+      by_blocks([&](int r0, int m) {
+        const SpMat gy = sr->rows(Gy, r0, m), gx = sr->rows(Gx, r0, m);
+        const Vec ry = gy * psi1 + psi_by1_.segment(r0, m);
+        const Vec rx = -(gx * psi1 + psi_bx1_.segment(r0, m));
+        psi_r1_.col(0).segment(r0, m) = ry;
+        psi_r1_.col(1).segment(r0, m) = rx;
+      });
+    } else {
+      psi_r1_.col(0) = Gy * psi1 + psi_by1_;
+      psi_r1_.col(1) = -(Gx * psi1 + psi_bx1_);
+    }
     psi_r1_ /= psi_r1_.squaredNorm();
   }
   if (!mpsi_solver_) make_markers_solver();
