@@ -233,6 +233,18 @@ RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>&
   for (int i = 0; i < n; ++i)
     if (count[h[i]] > most) { most = count[h[i]]; best = h[i]; }
   std::vector<char> plain(n, 1);
+  // the kept rows (stencil_rows_only's: the classes' reference rows and the plain ones), collected
+  // as they pass (in order) and compressed at the end
+  std::vector<int> len(n, 0), col;
+  std::vector<std::vector<double>> val;
+  const auto collect = [&](const std::vector<const SpMat*>& ops, int q, int i) {
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    val.resize(ops.size());
+    len[i] = o[q + 1] - o[q];
+    col.insert(col.end(), c + o[q], c + o[q + 1]);
+    for (size_t b = 0; b < ops.size(); ++b) val[b].insert(val[b].end(), ops[b]->valuePtr() + o[q], ops[b]->valuePtr() + o[q + 1]);
+  };
+  bool collected = false;  // the second pass collected them (no class fell below kMinClassRows)
   if (n > 0 && most >= std::max(2, n / 4)) {
     // the classes in find_row_stencil's order: the most common row's first, then by first row
     std::unordered_map<std::uint64_t, int> cls;
@@ -253,7 +265,10 @@ RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>&
       for (int q = 0; q < ops[0]->rows(); ++q) {
         const int i = r0 + q;
         const bool first = cls.count(h[i]) && ref[cls[h[i]]] == i;  // (class 0 is made whatever its count)
-        if (!first && count[h[i]] < kMinClassRows) continue;
+        if (!first && count[h[i]] < kMinClassRows) {
+          collect(ops, q, i);  // plain
+          continue;
+        }
         const int k = cls[h[i]];
         Ref& r = rd[k];
         const int len = o[q + 1] - o[q];
@@ -262,39 +277,43 @@ RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>&
           for (const SpMat* B : ops) r.val.emplace_back(B->valuePtr() + o[q], B->valuePtr() + o[q + 1]);
           st.classes[k].ref = i;
           st.classes[k].offset = r.offset;
+          collect(ops, q, i);  // a reference row
           if (count[h[i]] < kMinClassRows) continue;
         }
-        bool same = len == static_cast<int>(r.offset.size());
-        for (int e = 0; same && e < len; ++e) same = c[o[q] + e] - i == r.offset[e];
+        const int n_i = o[q + 1] - o[q];
+        bool same = n_i == static_cast<int>(r.offset.size());
+        for (int e = 0; same && e < n_i; ++e) same = c[o[q] + e] - i == r.offset[e];
         for (int b = 0; same && b < nops; ++b)
-          same = std::memcmp(ops[b]->valuePtr() + o[q], r.val[b].data(), sizeof(double) * len) == 0;
+          same = std::memcmp(ops[b]->valuePtr() + o[q], r.val[b].data(), sizeof(double) * n_i) == 0;
         if (same) { members[k].push_back(i); plain[i] = 0; }
+        else collect(ops, q, i);  // plain
       }
     });
+    collected = true;
     for (int k = 0; k < static_cast<int>(members.size()); ++k) {
-      if (static_cast<int>(members[k].size()) < kMinClassRows)
+      if (static_cast<int>(members[k].size()) < kMinClassRows) {
         for (int i : members[k]) plain[i] = 1;
-      else
+        collected = false;  // rows of a class not collected are plain after all
+      } else {
         add_blocks(k, members[k], st.blocks);
+      }
     }
     std::sort(st.blocks.begin(), st.blocks.end(), [](const Blk& a, const Blk& b) { return a.begin < b.begin; });
   }
   for (int i = 0; i < n; ++i)
     if (plain[i]) st.rest.push_back(i);
-  // stencil_rows_only of each operator: its rows collected, then compressed
-  std::vector<char> keep(plain.begin(), plain.end());
-  for (const auto& c : st.classes) keep[c.ref] = 1;
-  std::vector<int> len(n, 0), col;
-  std::vector<std::vector<double>> val(nops);
-  rows([&](const std::vector<const SpMat*>& ops, int r0) {
-    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
-    for (int q = 0; q < ops[0]->rows(); ++q) {
-      if (!keep[r0 + q]) continue;
-      len[r0 + q] = o[q + 1] - o[q];
-      col.insert(col.end(), c + o[q], c + o[q + 1]);
-      for (int b = 0; b < nops; ++b) val[b].insert(val[b].end(), ops[b]->valuePtr() + o[q], ops[b]->valuePtr() + o[q + 1]);
-    }
-  });
+  if (!collected) {  // a third pass for them
+    std::vector<char> keep(plain.begin(), plain.end());
+    for (const auto& c : st.classes) keep[c.ref] = 1;
+    std::fill(len.begin(), len.end(), 0);
+    col.clear();
+    val.assign(nops, {});
+    rows([&](const std::vector<const SpMat*>& ops, int r0) {
+      for (int q = 0; q < ops[0]->rows(); ++q)
+        if (keep[r0 + q]) collect(ops, q, r0 + q);
+    });
+  }
+  val.resize(nops);
   kept.assign(nops, SpMat());
   for (int b = 0; b < nops; ++b) {
     SpMat& R = kept[b];

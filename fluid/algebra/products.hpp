@@ -29,11 +29,13 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
 
 // Operators of one pattern given as their rows: rows(f) calls f(ops, r0) with rows r0 .. r0 + m - 1
 // of every operator (ops[q]: m x cols, compressed), consecutive blocks, every row once, in order;
-// it is called three times, and must give the same rows each time.
+// it is called two or three times, and must give the same rows each time.
 using OperatorRows = std::function<void(const std::function<void(const std::vector<const SpMat*>& ops, int r0)>&)>;
 // find_row_stencil of the n-row operators given by `rows`, and kept[q] = stencil_rows_only of
 // operator q, without any operator ever whole (EPSPH's compact storage: the transposes of the
-// velocity gradients): the same stencil and the same kept rows, bit for bit.
+// velocity gradients): the same stencil and the same kept rows, bit for bit. Two passes over the
+// rows (the hashes; the classes and the kept rows), a third only should a class fall below
+// kMinClassRows (hash collisions) or no stencil apply.
 RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept);
 
 // Rows c0 .. c0 + m - 1 of G^T (an m x G.rows() matrix), the same bits and order as those rows of

@@ -165,8 +165,8 @@ void ExactProjection::make_psi_solver() {
   // The compact storage holds the velocity gradients by their stencil's rows only, and never their
   // transposes whole: a block of the transposes' rows at a time (the same bits as the whole
   // transposes' rows), from the gradients' rows that reach them made whole again (StencilRows), read
-  // three times for the transposes' stencil and kept rows, once for the flux's terms and up to three
-  // times by the lattice solver for G^T G; the gradients' rows themselves a block at a time.
+  // twice for the transposes' stencil and kept rows, once for the flux's terms and up to three times
+  // by the lattice solver for G^T G; the gradients' rows themselves a block at a time.
   std::unique_ptr<StencilRows> sr;
   std::vector<int> cols_x, cols_y;
   // the block's transposes, and the gradients' rows they reach (`local`: the transposes' columns
