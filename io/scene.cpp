@@ -882,7 +882,7 @@ void read_membranes(Reader& r, Scene& s, bool documenting) {
 }
 
 // [contact]: the short-range repulsion between membranes and off the walls (coupling/contact.hpp).
-void read_contact(Reader& r, Scene& s, size_t program_membranes) {
+void read_contact(Reader& r, Scene& s, size_t program_membranes, bool more_may_follow) {
   ContactParams& c = s.sim.contact;
   c.strength = r.number("contact.strength", 0.0, ">= 0",
                         "De of the Morse repulsion between the line elements of different membranes (and off the walls), "
@@ -902,9 +902,14 @@ void read_contact(Reader& r, Scene& s, size_t program_membranes) {
     r.fail("contact.range", "value " + fmt_num(c.range) + " must be below a third of the periodic period");
   const bool walls = c.walls && !(d.periodic_x && d.periodic_y);
   const size_t n = s.membranes.size() + program_membranes;  // the file's and a program's
-  if (c.strength > 0 && (n == 0 || (n == 1 && !walls)))
+  if (c.strength > 0 && !more_may_follow && (n == 0 || (n == 1 && !walls)))
     r.fail("contact.strength", "acts between membranes and off walls: this scene has " + std::to_string(n) +
                                    " membrane(s)" + (walls ? "" : " and no wall to push off"));
+}
+
+// membrane.semi_implicit as given, else its default: with bending or a law other than hookean.
+bool program_semi_implicit(const ProgramMembrane& m) {
+  return m.semi_implicit.value_or(m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean");
 }
 
 // A program's membrane's values, by the rules of a file's keys ("" when they pass): the key and why.
@@ -930,6 +935,8 @@ std::pair<std::string, std::string> program_membrane_problem(const ProgramMembra
   if (!std::isfinite(m.h_star) || !(m.h_star >= 0)) return {p + "h_star", "value " + fmt_num(m.h_star) + " is out of range (allowed: >= 0)"};
   if (!std::isfinite(m.h_star_over_h) || !(m.h_star_over_h > 0))
     return {p + "h_star_over_h", "value " + fmt_num(m.h_star_over_h) + " is out of range (allowed: > 0)"};
+  if (m.stiff_residual && !program_semi_implicit(m))
+    return {p + "stiff_residual", "refines the semi-implicit force: set semi_implicit = true too"};
   return {};
 }
 
@@ -974,8 +981,8 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     if (m.viscosity_ratio != 1.0 && s.method != FluidMethod::Eulerian)
       r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + std::string(to_string(s.method)) +
                                         "\" has one viscosity everywhere)");
-    const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
-    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit, m.viscosity_ratio});
+    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, program_semi_implicit(m),
+                               m.viscosity_ratio, m.stiff_residual});
   }
   size_t second = 0;
   if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())
@@ -985,7 +992,7 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
-            std::vector<Reader::Doc>* docs_out, const std::vector<ProgramMembrane>& program = {}) {
+            std::vector<Reader::Doc>* docs_out, const std::vector<ProgramMembrane>& program = {}, bool more_may_follow = false) {
   if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
   Reader r(root, name, overridden);
   r.documenting = docs_out != nullptr;
@@ -1006,7 +1013,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   read_output(r, s);
   read_probes(r, s);
   read_membranes(r, s, docs_out != nullptr);
-  read_contact(r, s, program.size());
+  read_contact(r, s, program.size(), more_may_follow);
   if (docs_out) { *docs_out = r.docs; return s; }
   r.reject_unknown();
   s.resolved = r.resolved;
@@ -1017,6 +1024,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
 
   if (const std::string why = steps_problem(s); !why.empty()) r.fail("time.end", why);
   build_membranes(r, s, program);
+  if (more_may_follow && s.sim.membranes.empty()) return s;  // observe.exact may wait for a membrane
   if (const std::string why = exact_cannot_apply(s); !why.empty()) r.fail("observe.exact", why);
   return s;
 }
@@ -1035,10 +1043,10 @@ const std::vector<std::string>& known_keys() {
 }
 
 Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides,
-                 const std::vector<ProgramMembrane>& program = {}) {
+                 const std::vector<ProgramMembrane>& program = {}, bool more_may_follow = false) {
   std::set<std::string> overridden;
   for (const auto& kv : overrides) overridden.insert(apply_override(root, kv, name));
-  return build(root, name, overridden, nullptr, program);
+  return build(root, name, overridden, nullptr, program, more_may_follow);
 }
 
 // The cavity's Ghia tables are in observe.reference_dir (resolved against the scene file's folder).
@@ -1090,7 +1098,7 @@ void put(toml::table& root, const std::string& key, toml::node&& value, const st
 }
 
 Scene parse_text(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
-                 const std::vector<ProgramMembrane>& program) {
+                 const std::vector<ProgramMembrane>& program, bool more_may_follow = false) {
   if (const auto [line, parts] = deepest_key(text); line > 0)
     throw SceneError(name + ":" + std::to_string(line) + ": a key of " + std::to_string(parts) +
                      " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
@@ -1102,11 +1110,11 @@ Scene parse_text(const std::string& text, const std::string& name, const std::ve
     m << name << ":" << e.source().begin.line << ": TOML syntax error: " << e.description();
     throw SceneError(m.str());
   }
-  return from_table(std::move(root), name, overrides, program);
+  return from_table(std::move(root), name, overrides, program, more_may_follow);
 }
 
 Scene load_file(const std::string& path, const std::vector<std::string>& overrides,
-                const std::vector<ProgramMembrane>& program) {
+                const std::vector<ProgramMembrane>& program, bool more_may_follow = false) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw SceneError(path + ": is a directory, not a scene file");
@@ -1119,7 +1127,7 @@ Scene load_file(const std::string& path, const std::vector<std::string>& overrid
   if (in.bad()) throw SceneError(path + ": cannot read the scene file");
   if (in.gcount() > kMaxSceneBytes) throw SceneError(path + ": larger than 16 MB: not a scene file");
   text.resize(static_cast<size_t>(in.gcount()));
-  Scene s = parse_text(text, path, overrides, program);
+  Scene s = parse_text(text, path, overrides, program, more_may_follow);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
   require_reference_tables(s, path);
   return s;
@@ -1175,8 +1183,9 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
-                  const std::vector<ProgramMembrane>& membranes) {
-  return path.empty() ? parse_text("", name, overrides, membranes) : load_file(path, overrides, membranes);
+                  const std::vector<ProgramMembrane>& membranes, bool more_may_follow) {
+  return path.empty() ? parse_text("", name, overrides, membranes, more_may_follow)
+                      : load_file(path, overrides, membranes, more_may_follow);
 }
 
 std::string describe_scene_keys() {
