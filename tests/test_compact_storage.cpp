@@ -118,8 +118,8 @@ TEST(CompactStorage, AssemblyEqualsTheTripletAssembly) {
 }
 
 // The pairs a block of rows at a time (LatticePairs, which the compact storage assembles from) are
-// the whole list's, and the operators assembled from them the whole list's bit for bit, blocks of 7
-// rows (not dividing a lattice row) as of the whole lattice.
+// the whole list's, and the operators' rows assembled from them (operator_rows) the whole
+// operators' rows bit for bit, blocks of 7 rows (not dividing a lattice row) as of the whole lattice.
 TEST(CompactStorage, AssemblyByBlocksOfPairsEqualsTheWholePairList) {
   for (const Box& box : kBoxes) {
     const EulerianFluid f(box_params(box));
@@ -143,13 +143,19 @@ TEST(CompactStorage, AssemblyByBlocksOfPairsEqualsTheWholePairList) {
     EXPECT_TRUE(same) << box.n;
     const Operators whole = build_operators(P, f.lattice(), im, f.kernel());
     for (int rows : {7, N}) {
-      const Operators blocks = build_operators(lp, P.size(), im, f.kernel(), OperatorSet::All, rows);
-      for (auto [a, b] : {std::pair{&whole.lap_u.A, &blocks.lap_u.A}, {&whole.lap_u.B, &blocks.lap_u.B},
-                          {&whole.grad_ux.A, &blocks.grad_ux.A}, {&whole.grad_ux.B, &blocks.grad_ux.B},
-                          {&whole.grad_uy.A, &blocks.grad_uy.A}, {&whole.grad_uy.B, &blocks.grad_uy.B},
-                          {&whole.lap_phi, &blocks.lap_phi}, {&whole.grad_phix, &blocks.grad_phix},
-                          {&whole.grad_phiy, &blocks.grad_phiy}})
-        EXPECT_TRUE(same_matrix(*a, *b)) << box.n << " " << rows;
+      bool rows_same = true;
+      for (int r0 = 0; r0 < N; r0 += rows) {
+        const int r1 = std::min(N, r0 + rows), m = r1 - r0;
+        lp.rows(r0, r1, B);
+        const Operators b = operator_rows(B, r0, f.lattice(), im, f.kernel(), OperatorSet::All);
+        for (auto [a, c] : {std::pair{&whole.lap_u.A, &b.lap_u.A}, {&whole.lap_u.B, &b.lap_u.B},
+                            {&whole.grad_ux.A, &b.grad_ux.A}, {&whole.grad_ux.B, &b.grad_ux.B},
+                            {&whole.grad_uy.A, &b.grad_uy.A}, {&whole.grad_uy.B, &b.grad_uy.B},
+                            {&whole.lap_phi, &b.lap_phi}, {&whole.grad_phix, &b.grad_phix},
+                            {&whole.grad_phiy, &b.grad_phiy}})
+          rows_same &= same_matrix(SpMat(a->middleRows(r0, m)), *c);
+      }
+      EXPECT_TRUE(rows_same) << box.n << " " << rows;
     }
   }
 }
@@ -197,6 +203,12 @@ TEST(CompactStorage, TransposesAndTheirStencilByBlocksEqualTheWholeOnes) {
       EXPECT_TRUE(same_matrix(kept[0], stencil_rows_only(ty, whole))) << box.n << " " << block;
       EXPECT_TRUE(same_matrix(kept[1], stencil_rows_only(tx, whole))) << box.n << " " << block;
     }
+    // D = -G^T of the phi gradients kept compact, by blocks (the compact setup's), as from the whole
+    const RowStencil ps = find_row_stencil({&op.grad_phix, &op.grad_phiy});
+    const ExactProjection::Divergence a = ExactProjection::divergence_by_blocks(
+        stencil_rows_only(op.grad_phix, ps), stencil_rows_only(op.grad_phiy, ps), ps);
+    const ExactProjection::Divergence b = ExactProjection::make_divergence(op.grad_phix, op.grad_phiy, true);
+    EXPECT_TRUE(same_matrix(a.x, b.x) && same_matrix(a.y, b.y) && same_stencil(a.st, b.st)) << box.n;
     // a pattern that is not symmetric is refused
     SpMat upper = op.grad_ux.A.triangularView<Eigen::StrictlyUpper>();  // row 0 reaches columns whose rows never reach 0
     EXPECT_THROW(transposed_rows(upper, column_counts(upper), 0, N), std::logic_error) << box.n;

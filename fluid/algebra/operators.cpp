@@ -176,21 +176,6 @@ Operators build_operators(const PairList& P, const Lattice& L, const Images& im,
   return assemble_set([&P](const auto& f) { f(P, 0); }, P.size(), L, im, W, set);
 }
 
-Operators build_operators(const LatticePairs& pairs, long npairs, const Images& im, const CubicSplineKernel& W,
-                          OperatorSet set, int block_rows) {
-  const Lattice& L = pairs.lattice();
-  const int N = L.size();
-  const auto blocks = [&](const auto& f) {
-    PairList P;
-    for (int r0 = 0; r0 < N; r0 += block_rows) {
-      const int r1 = std::min(N, r0 + block_rows);
-      pairs.rows(r0, r1, P);
-      f(P, r0);
-    }
-  };
-  return assemble_set(blocks, npairs, L, im, W, set);
-}
-
 void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p, const RowStencil* st) {
   if (st) {
     p.resize(phi.size());

@@ -65,9 +65,7 @@ void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p, c
 enum class OperatorSet { All, Velocity, Phi, LapPhi, GradPhi };
 Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W,
                           OperatorSet set = OperatorSet::All);
-// The same (the same bits) from the lattice's pairs searched a block of `block_rows` rows at a time
-// (npairs: their count, pairs.count()), so that the whole pair list never exists (EPSPH's compact
-// storage).
+// The rows a block of pairs gives at a time (EPSPH's compact storage: LatticePairs, operator_rows).
 constexpr int kAssemblyRows = 4096;
 // The rows r0 .. r0 + m - 1 alone of the operators of `set` (A m x N, B m x M, row q the operator's
 // row r0 + q; the others empty) from P, the pairs of those rows (P.offset relative to r0:

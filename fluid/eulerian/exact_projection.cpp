@@ -82,16 +82,6 @@ ExactProjection::Divergence ExactProjection::make_divergence(const SpMat& grad_p
   return d;
 }
 
-ExactProjection::Divergence ExactProjection::take_divergence(SpMat& grad_phix, SpMat& grad_phiy) {
-  Divergence d;
-  d.x = grad_phix.transpose();
-  release(grad_phix);
-  d.y = grad_phiy.transpose();
-  release(grad_phiy);
-  finish_divergence(d, true);
-  return d;
-}
-
 ExactProjection::Divergence ExactProjection::divergence_by_blocks(const SpMat& grad_phix, const SpMat& grad_phiy,
                                                                    const RowStencil& st) {
   const int N = static_cast<int>(grad_phix.rows()), block = product_block(N);

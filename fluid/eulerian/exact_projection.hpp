@@ -54,9 +54,6 @@ class ExactProjection {
   // D = -G^T from the phi gradients (Gx, Gy: grad_phix, grad_phiy) and its stencil; `compact`: only
   // the stencil's rows kept (stencil_rows_only)
   static Divergence make_divergence(const SpMat& grad_phix, const SpMat& grad_phiy, bool compact);
-  // The same, compact, each gradient released (0 x 0) as soon as it is transposed (never both
-  // gradients and both transposes held at once)
-  static Divergence take_divergence(SpMat& grad_phix, SpMat& grad_phiy);
   // The same, compact, from the phi gradients kept compact by their stencil `st` (stencil_rows_only):
   // the transposes a block of rows at a time, never whole (the same stencil and kept rows)
   static Divergence divergence_by_blocks(const SpMat& grad_phix, const SpMat& grad_phiy, const RowStencil& st);
