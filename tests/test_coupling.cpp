@@ -608,6 +608,53 @@ TEST(Coupling, MembraneTranslatesWithUniformFlow) {
   }
 }
 
+// coupling.interpolation = "spreading_kernel" in a run: a stretched ellipse (semi-axes 0.3, 0.2, rest
+// radius 0.2, T0 = 10, 64 markers, h* = 2.4 dx) relaxes towards a circle in a periodic box (nx = 16, dt = 0.01, 20 steps).
+// Its marker velocity is the curl of psi by the kernel of radius h* (the interpolation length the
+// stiff-force filter is told is h*), divergence-free: the enclosed area changes only by the time
+// integration of the markers, measured |area - area0| / area0 = PRINTED (divergence_free, the fluid's
+// h: PRINTED); tolerance 10x measured. Free membranes with different h* are refused by name; a
+// fixed membrane (no interpolation) may have its own.
+TEST(SpreadingKernelCurl, RingKeepsItsAreaAndFreeMembranesShareOneRadius) {
+  double change[3];
+  for (int n = 0; n < 3; ++n) {  // spreading kernel at dt, at dt/2; divergence_free at dt
+    const double dt = n == 1 ? 0.005 : 0.01;
+    SimulationParams sp = periodic_ib(16, dt);
+    sp.interpolation = n < 2 ? MarkerInterpolation::SpreadingKernel : MarkerInterpolation::DivergenceFree;
+    MembraneSetup ms;
+    ms.membrane = make_membrane(ellipse(64, 0.5, 0.5, 0.3, 0.2), 0.2, 10.0);
+    ms.h_star = 2.4 / 16;
+    sp.membranes.push_back(ms);
+    Simulation sim(sp);
+    if (n < 2) EXPECT_EQ(sim.interpolation_length(), ms.h_star);
+    MembraneDiagnostics D(64, ms.membrane.L0());
+    const double a0 = D.measure(sim.membranes()[0].m.X).area;
+    while (sim.time() < 0.2 - 1e-9) sim.step();
+    change[n] = std::abs(D.measure(sim.membranes()[0].m.X).area / a0 - 1.0);
+    EXPECT_GT((sim.membranes()[0].m.X - ms.membrane.X).cwiseAbs().maxCoeff(), 1e-3);  // it did move
+  }
+  std::printf("area change: spreading kernel %.3e (dt/2: %.3e), divergence_free %.3e\n", change[0], change[1], change[2]);
+  EXPECT_LT(change[0], 1.5 * 1.921e-5);
+  EXPECT_LT(change[1], 0.35 * change[0]);  // second order in dt: the time integration's
+  SimulationParams sp = periodic_ib(16, 0.01);
+  sp.interpolation = MarkerInterpolation::SpreadingKernel;
+  MembraneSetup a, b;
+  a.membrane = make_membrane(circle(32, 0.3, 0.5, 0.1), 0.1, 1.0);
+  b.membrane = make_membrane(circle(32, 0.7, 0.5, 0.1), 0.1, 1.0);
+  a.h_star = 0.1;
+  b.h_star = 0.12;
+  sp.membranes = {a, b};
+  try {
+    Simulation sim(sp);
+    ADD_FAILURE() << "two free membranes with different h* accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("h_star = 0.12"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("spreading_kernel"), std::string::npos) << e.what();
+  }
+  sp.membranes[1].fixed = true;
+  EXPECT_NO_THROW(Simulation{sp});
+}
+
 // A membrane in its discrete rest state in a fluid at rest stays at rest: measured max |u| and
 // max marker displacement after 20 steps (nx = 16, dt = 0.01, divergence-free markers): exact
 // projection 5.0e-14 and 6.7e-16, approximate 7.9e-14 and 6.7e-16. Tolerances 1e-12 and 1e-14
