@@ -244,7 +244,7 @@ bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
     interpolate_curl(*grid_, fluid.kernel(), *sf.psi, sf.mean, X, U, dU);
     return dU != nullptr;
   }
-  if (interp_ == MarkerInterpolation::SpreadingKernel) {  // the same curl, the spreading's kernel W(r, h*)
+  if (interp_ == MarkerInterpolation::SpreadingKernel) {  // Eq. (63) on psi with W(r, h*), the kernel of Eq. (53), then its curl
     const StreamFunction sf = fluid.stream_function();
     interpolate_curl(*grid_, *W_interp_, *sf.psi, sf.mean, X, U, dU);
     return dU != nullptr;
