@@ -912,6 +912,11 @@ void read_contact(Reader& r, Scene& s, size_t program_membranes) {
 }
 
 // A program's membrane's values, by the rules of a file's keys ("" when they pass): the key and why.
+// membrane.semi_implicit as given, else its default: with bending or a law other than hookean.
+bool program_semi_implicit(const ProgramMembrane& m) {
+  return m.semi_implicit.value_or(m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean");
+}
+
 std::pair<std::string, std::string> program_membrane_problem(const ProgramMembrane& m, const std::string& p) {
   const Membrane& mb = m.membrane;
   if (mb.nb() < 4 || mb.nb() > kMaxMarkers)
@@ -934,6 +939,8 @@ std::pair<std::string, std::string> program_membrane_problem(const ProgramMembra
   if (!std::isfinite(m.h_star) || !(m.h_star >= 0)) return {p + "h_star", "value " + fmt_num(m.h_star) + " is out of range (allowed: >= 0)"};
   if (!std::isfinite(m.h_star_over_h) || !(m.h_star_over_h > 0))
     return {p + "h_star_over_h", "value " + fmt_num(m.h_star_over_h) + " is out of range (allowed: > 0)"};
+  if (m.stiff_residual && !program_semi_implicit(m))
+    return {p + "stiff_residual", "refines the semi-implicit force: set semi_implicit = true too"};
   return {};
 }
 
@@ -978,8 +985,8 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     if (m.viscosity_ratio != 1.0 && s.method != FluidMethod::Eulerian)
       r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + std::string(to_string(s.method)) +
                                         "\" has one viscosity everywhere)");
-    const bool semi_implicit = m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean";  // as membrane.semi_implicit's default
-    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, semi_implicit, m.viscosity_ratio});
+    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, program_semi_implicit(m),
+                               m.viscosity_ratio, m.stiff_residual});
   }
   size_t second = 0;
   if (const std::string why = membranes_cross(s.sim.membranes, s.sim.fluid.domain, nullptr, &second); !why.empty())

@@ -5,6 +5,7 @@
 // the key and its line.
 #include <functional>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,10 @@ struct ProgramMembrane {
   double h_star_over_h = 1.4;
   bool fixed = false;
   double viscosity_ratio = 1.0;  // as membrane.viscosity_ratio
+  // as membrane.semi_implicit (unset: its default, semi-implicit with bending or a law other than
+  // hookean) and membrane.stiff_residual (needs the semi-implicit force)
+  std::optional<bool> semi_implicit;
+  bool stiff_residual = false;
 };
 
 // load_scene (path not empty) or parse_scene of an empty text named `name`, plus membranes built by

@@ -28,7 +28,7 @@ std::string lattice_too_large(const FluidParams& f);
 std::string kernel_too_narrow(const FluidParams& f);
 
 // A run-time warning (sphib check and the run log), "" if none: h < 0.9 max(dx, dy) runs, but its
-// errors are an order of magnitude or more above those at h = dx (README "Kernel width").
+// errors are an order of magnitude or more above those at h = dx (docs/validation/kernel_width.md).
 std::string kernel_warning(const FluidParams& f);
 
 // walls.<side>: the image particles of a wall are fixed, so a wall moves only along itself; a

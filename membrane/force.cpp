@@ -61,11 +61,7 @@ Membrane make_membrane(Mat2 X, Reference ref, Material mat) {
     throw std::invalid_argument("membrane: modulus Es = " + std::to_string(mat.Es) + " must be >= 0 and finite");
   if (!(mat.Eb >= 0.0) || !std::isfinite(mat.Eb))
     throw std::invalid_argument("membrane: bending modulus Eb = " + std::to_string(mat.Eb) + " must be >= 0 and finite");
-  if (mat.params.empty())
-    for (const LawParam& p : info.params) mat.params.push_back(p.value);
-  if (mat.params.size() != info.params.size())
-    throw std::invalid_argument("membrane: law \"" + mat.law + "\" takes " + std::to_string(info.params.size()) +
-                                " parameters, got " + std::to_string(mat.params.size()));
+  mat.params = law_params(mat);
   for (size_t i = 0; i < info.params.size(); ++i)
     if (!(mat.params[i] >= info.params[i].min && mat.params[i] <= info.params[i].max))
       throw std::invalid_argument("membrane: " + info.params[i].name + " = " + std::to_string(mat.params[i]) +
@@ -78,7 +74,7 @@ Membrane make_membrane(Mat2 X, Reference ref, Material mat) {
 
 MembraneForce::MembraneForce(const Membrane& m, HookeanScheme scheme)
     : nb_(m.nb()), ref_(m.ref), mat_(m.mat), scheme_(scheme),
-      law_(tension_law_info(m.mat.law).make(m.mat.Es, m.mat.params)), geo_(m.nb(), m.L0()),
+      law_(make_tension_law(m.mat)), geo_(m.nb(), m.L0()),
       mspline_(m.nb(), m.L0()), wx_(m.nb(), m.L0()), wy_(m.nb(), m.L0()), ax_(m.nb(), m.L0()), kx_(m.nb(), m.L0()),
       W_(m.nb(), 2), m_(m.nb()), m_s_(m.nb()), lambda_(m.nb()) {
   if (scheme_ == HookeanScheme::Analytic && !paper_hookean())

@@ -29,6 +29,23 @@ const LawInfo& tension_law_info(const std::string& name) {
   throw std::invalid_argument("unknown membrane law \"" + name + "\" (known: " + names + ")");
 }
 
+std::vector<double> law_params(const Material& mat) {
+  const LawInfo& info = tension_law_info(mat.law);
+  if (mat.params.empty()) {
+    std::vector<double> defaults;
+    for (const LawParam& p : info.params) defaults.push_back(p.value);
+    return defaults;
+  }
+  if (mat.params.size() != info.params.size())
+    throw std::invalid_argument("membrane: law \"" + mat.law + "\" takes " + std::to_string(info.params.size()) +
+                                " parameters, got " + std::to_string(mat.params.size()));
+  return mat.params;
+}
+
+std::unique_ptr<TensionLaw> make_tension_law(const Material& mat) {
+  return tension_law_info(mat.law).make(mat.Es, law_params(mat));
+}
+
 Reference circle_reference(double r0) {
   if (!(r0 > 0.0) || !std::isfinite(r0))
     throw std::invalid_argument("membrane: rest radius r0 = " + std::to_string(r0) + " must be positive and finite");

@@ -58,6 +58,13 @@ struct Material {
   double spontaneous_curvature = 0.0;
 };
 
+/// The parameters of a material's law: its own, or the law's defaults when it gives none (a Material
+/// built field by field, e.g. law = "skalak" without C). Throws std::invalid_argument for an unknown
+/// law or a count of parameters the law does not take.
+std::vector<double> law_params(const Material& mat);
+/// The tension law of a material, made from law_params(mat).
+std::unique_ptr<TensionLaw> make_tension_law(const Material& mat);
+
 /// The paper's membrane: Hookean, T0 = Es, no bending.
 inline Material hookean(double T0) {
   Material m;

@@ -43,7 +43,7 @@ class MembraneEquilibrium final : public Analysis {
   };
   static double exact_jump(const Material& mat, double re, double r0) {
     if (mat.law == "hookean" && mat.Eb == 0.0) return mat.Es / re * (re / r0 - 1.0);  // Eq. (66)
-    const double T = tension_law_info(mat.law).make(mat.Es, mat.params)->tension(re / r0);
+    const double T = make_tension_law(mat)->tension(re / r0);
     const double kappa0 = mat.spontaneous ? mat.spontaneous_curvature : 1.0 / r0, kappa = 1.0 / re;
     return (T + bending_tension(bending_moment(mat.Eb, kappa, kappa0), kappa, kappa0)) / re;
   }

@@ -449,8 +449,23 @@ void bind_membranes(py::module_& m) {
   struct Mat {
     std::string law, reference;
     std::optional<double> T0, Es, C, kappa0;
-    double Eb, prestretch;
-    Membrane membrane(Mat2 X, double r0) const {
+    double Eb;
+    std::optional<double> prestretch;
+    // The rest radius as the scene reader takes membrane.r0: needed by reference = "circle", refused by
+    // "initial" (whose reference is the initial shape); prestretch only with "initial".
+    static double rest_radius(const std::string& reference, std::optional<double> r0, std::optional<double> prestretch) {
+      if (reference == "circle") {
+        if (!r0) throw py::value_error("r0: the rest radius is needed with reference = \"circle\" (the default)");
+        if (prestretch) throw py::value_error("prestretch applies to reference = \"initial\" only");
+        return *r0;
+      }
+      if (r0) throw py::value_error("r0 is the radius of reference = \"circle\"; with reference = \"initial\" the initial shape is the reference");
+      return 0.0;
+    }
+    Membrane membrane(Mat2 X, std::optional<double> r0) const {
+      if (reference != "circle" && reference != "initial")
+        throw py::value_error("reference must be \"circle\" or \"initial\" (got \"" + reference + "\")");
+      const double rest = rest_radius(reference, r0, prestretch);
       Material mat;
       mat.law = law;
       if (T0 && Es) throw py::value_error("give T0 or Es, not both (T0 is the Hookean law's Es)");
@@ -462,9 +477,7 @@ void bind_membranes(py::module_& m) {
       }
       mat.Eb = Eb;
       if (kappa0) mat.spontaneous = true, mat.spontaneous_curvature = *kappa0;
-      if (reference != "circle" && reference != "initial")
-        throw py::value_error("reference must be \"circle\" or \"initial\" (got \"" + reference + "\")");
-      Reference ref = reference == "circle" ? circle_reference(r0) : initial_reference(X, prestretch);
+      Reference ref = reference == "circle" ? circle_reference(rest) : initial_reference(X, prestretch.value_or(1.0));
       // Not checked here: Scene.add_membrane checks it as the scene reader checks a file's, naming the key.
       return Membrane{std::move(X), std::move(ref), std::move(mat)};
     }
@@ -472,34 +485,37 @@ void bind_membranes(py::module_& m) {
 #define SPHIB_MAT_ARGS                                                                                             \
   py::kw_only(), py::arg("T0") = py::none(), py::arg("law") = "hookean", py::arg("Es") = py::none(),              \
       py::arg("Eb") = 0.0, py::arg("C") = py::none(), py::arg("kappa0") = py::none(),                              \
-      py::arg("reference") = "circle", py::arg("prestretch") = 1.0
+      py::arg("reference") = "circle", py::arg("prestretch") = py::none()
 #define SPHIB_MAT_PARAMS                                                                                           \
   std::optional<double> T0, const std::string &law, std::optional<double> Es, double Eb, std::optional<double> C, \
-      std::optional<double> kappa0, const std::string &reference, double prestretch
+      std::optional<double> kappa0, const std::string &reference, std::optional<double> prestretch
 #define SPHIB_MAT Mat{law, reference, T0, Es, C, kappa0, Eb, prestretch}
-  m.def("circle", [](long nb, double r0, std::optional<double> radius, std::vector<double> centre, SPHIB_MAT_PARAMS) {
+  // r0: the rest radius of reference = "circle" (needed there, refused with "initial", as membrane.r0).
+  using R0 = std::optional<double>;
+  m.def("circle", [](long nb, R0 r0, std::optional<double> radius, std::vector<double> centre, SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = point2(centre, "centre");
-          return SPHIB_MAT.membrane(circle(marker_count(nb), c.x(), c.y(), radius.value_or(r0)), r0);
-        }, py::arg("nb"), py::arg("r0"), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
+          if (!radius && !r0) throw py::value_error("radius: a circle needs its radius (or r0, the rest radius it defaults to)");
+          return SPHIB_MAT.membrane(circle(marker_count(nb), c.x(), c.y(), radius ? *radius : *r0), r0);
+        }, py::arg("nb"), py::arg("r0") = py::none(), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
         SPHIB_MAT_ARGS, "A circle of the given radius (default r0: at rest) about centre.");
-  m.def("ellipse", [](long nb, double r0, double rx, double ry, std::vector<double> centre, SPHIB_MAT_PARAMS) {
+  m.def("ellipse", [](long nb, R0 r0, double rx, double ry, std::vector<double> centre, SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = point2(centre, "centre");
           return SPHIB_MAT.membrane(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0);
-        }, py::arg("nb"), py::arg("r0"), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
+        }, py::arg("nb"), py::arg("r0") = py::none(), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
         SPHIB_MAT_ARGS, "An axis-aligned ellipse with half-axes rx, ry about centre.");
-  m.def("from_points", [](const Mat2& points, long nb, double r0, SPHIB_MAT_PARAMS) {
+  m.def("from_points", [](const Mat2& points, long nb, R0 r0, SPHIB_MAT_PARAMS) {
           return SPHIB_MAT.membrane(from_points(points, marker_count(nb)), r0);
         },
-        py::arg("points"), py::arg("nb"), py::arg("r0") = 1.0, SPHIB_MAT_ARGS,
+        py::arg("points"), py::arg("nb"), py::arg("r0") = py::none(), SPHIB_MAT_ARGS,
         "A closed curve through points (m x 2, anticlockwise), resampled at nb markers uniform in arclength.");
-  m.def("polar", [](const std::function<double(double)>& r, long nb, double r0, std::vector<double> centre, SPHIB_MAT_PARAMS) {
+  m.def("polar", [](const std::function<double(double)>& r, long nb, R0 r0, std::vector<double> centre, SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = point2(centre, "centre");
           return SPHIB_MAT.membrane(from_polar(r, marker_count(nb), c.x(), c.y()), r0);
-        }, py::arg("r"), py::arg("nb"), py::arg("r0") = 1.0, py::arg("centre") = std::vector<double>{0, 0}, SPHIB_MAT_ARGS,
+        }, py::arg("r"), py::arg("nb"), py::arg("r0") = py::none(), py::arg("centre") = std::vector<double>{0, 0}, SPHIB_MAT_ARGS,
         "A star-shaped curve of radius r(theta) about centre.");
-  m.def("curve", [](const std::function<Eigen::Vector2d(double)>& C_, long nb, double r0, SPHIB_MAT_PARAMS) {
+  m.def("curve", [](const std::function<Eigen::Vector2d(double)>& C_, long nb, R0 r0, SPHIB_MAT_PARAMS) {
           return SPHIB_MAT.membrane(from_curve(C_, marker_count(nb)), r0);
-        }, py::arg("C"), py::arg("nb"), py::arg("r0") = 1.0, SPHIB_MAT_ARGS,
+        }, py::arg("C"), py::arg("nb"), py::arg("r0") = py::none(), SPHIB_MAT_ARGS,
         "A closed curve C(t) -> (x, y), t in [0, 1), anticlockwise, C(1) = C(0).");
 #undef SPHIB_MAT_ARGS
 #undef SPHIB_MAT_PARAMS
@@ -575,16 +591,17 @@ void bind_scene(py::module_& m) {
              s = std::move(trial);
            }, py::arg("keys") = py::none(), "set({'fluid.mu': 0.05}): change scene keys (validated)")
       .def("add_membrane", [](PyScene& s, const Membrane& mb, std::optional<double> h_star, double h_star_over_h, bool fixed,
-                              double viscosity_ratio) {
+                              double viscosity_ratio, std::optional<bool> semi_implicit, bool stiff_residual) {
              PyScene trial = s;
-             trial.added.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed, viscosity_ratio});
+             trial.added.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed, viscosity_ratio, semi_implicit, stiff_residual});
              trial.validate();  // checked with the scene's own membranes; refused: the scene stays as it was
              s = std::move(trial);
            }, py::arg("membrane"), py::arg("h_star") = py::none(), py::arg("h_star_over_h") = 1.4, py::arg("fixed") = false,
-           py::arg("viscosity_ratio") = 1.0,
+           py::arg("viscosity_ratio") = 1.0, py::arg("semi_implicit") = py::none(), py::arg("stiff_residual") = false,
            "Adds a membrane (sphib.circle, ellipse, polar, curve, from_points) with spreading radius h* (default "
            "1.4 h) and the viscosity ratio mu_in / mu_out of the fluid it encloses (method eulerian), checked as a "
-           "scene file's membranes are (values, crossings, observe.exact).")
+           "scene file's membranes are (values, crossings, observe.exact). semi_implicit and stiff_residual are the "
+           "scene's membrane.semi_implicit (default: with bending or a law other than hookean) and membrane.stiff_residual.")
       .def("observe", [](PyScene& s, const std::string& name, py::function fn) {
              if (name.empty()) throw py::value_error("an observer needs a name");
              for (const auto& o : s.observers)

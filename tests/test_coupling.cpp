@@ -76,9 +76,8 @@ double kernel_sum(const Lattice& L, const CubicSplineKernel& W, double X, double
 // axes), each once, compared with brute force over 300 random points and 200 random queries.
 // Cases: lattice-spaced cells (the markers' grid) with radii up to 0.3 L, and cells of at least
 // the radius (find_pairs' grid), radius < L/2.
-// The library at commit dc4c49e FAILS the cases with fewer than 3 cells per period or a query disc
-// spanning every cell (span(), "all" branch): see the report. Measured there: cell >= 0.4, radius
-// 0.375 (nc = 2): 7127 missed neighbours; cell >= 0.3 (nc = 3), radius 0.375: 83 missed.
+// The cases with fewer than 3 cells per period and a query disc spanning every cell (span(), "all"
+// branch) are the ones a grid that wraps a cell twice gets wrong (missed neighbours).
 TEST(Coupling, CellGridQueriesMatchBruteForce) {
   std::mt19937 gen(3);
   std::uniform_real_distribution<double> U(0.0, 1.0);

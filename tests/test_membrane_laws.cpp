@@ -115,6 +115,32 @@ TEST(MembraneLaws, UnknownLawAndBadParametersAreRefusedByName) {
   EXPECT_THROW(make_membrane(X, circle_reference(0.5), material("hookean", NAN, 0.0)), std::invalid_argument);
 }
 
+TEST(MembraneLaws, AMembraneBuiltFieldByFieldTakesTheLawsDefaultParameters) {
+  // A Membrane aggregate (as the Python builders make one) whose material names Skalak without C:
+  // its force is the one with the registry's default C, not an out-of-range read; a wrong count is
+  // refused naming the law.
+  const Mat2 X = ellipse(32, 0, 0, 0.6, 0.45);
+  Material bare;
+  bare.law = "skalak";
+  bare.Es = 2.0;
+  const Membrane given = make_membrane(X, circle_reference(0.5), bare);  // fills C with its default
+  ASSERT_EQ(given.mat.params.size(), 1u);
+  MembraneForce a(Membrane{X, circle_reference(0.5), bare}), b(given);
+  Mat2 fa, fb;
+  Vec Ta, Tb;
+  a.compute(X, fa, Ta);
+  b.compute(X, fb, Tb);
+  EXPECT_EQ((fa - fb).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(fa.cwiseAbs().maxCoeff(), 0.0);
+  bare.params = {1.0, 2.0};
+  try {
+    make_tension_law(bare);
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("\"skalak\" takes 1 parameters, got 2"), std::string::npos) << e.what();
+  }
+}
+
 // ------------------------------------------------------------------ force = -dE/dX, every law, bending
 
 TEST(MembraneLaws, ForceIsMinusEnergyGradientAtOrderFourWithAndWithoutBending) {
@@ -408,6 +434,41 @@ TEST(StiffForce, ARestartWithBendingContinuesBitForBit) {
   }
 }
 
+TEST(StiffForce, ItsDepartureFromTheExplicitForceFallsFasterThanTheStep) {
+  // The semi-implicit force is the explicit one plus a correction that vanishes with dt
+  // (coupling/stiff_force.hpp), so at a step both can take, their runs part by less than the
+  // scheme's own time error and the gap closes faster than dt. Relaxation of a slightly elliptic
+  // membrane with bending only (Eb = 1, T0 = 0, mu = 1, Stokes flow, 32 x 32, 64 markers) to
+  // t = 0.2, where the explicit force is stable up to dt ~ 1e-2. Measured at dt = 1e-3, 5e-4,
+  // 2.5e-4: rx semi-implicit minus explicit 7.83e-7, 1.60e-7, 3.08e-8 (halving dt divides it by
+  // 4.9 and 5.2: order ~2.3), while the explicit run's own rx error against dt = 1e-5 is 8.0e-5,
+  // 4.0e-5, 1.9e-5 (the coupled scheme is first order in dt). The test
+  // asks a ratio of at least 3.5 (an O(dt) filter error gives 2) and a gap below a tenth of the
+  // explicit run's change from dt to dt/2 (measured 0.019).
+  const std::filesystem::path d = sphib_test::temp_dir("stiff_order");
+  auto rx = [&](double dt, bool semi) {
+    std::vector<std::string> sets{"grid.nx=32", "grid.ny=32", "membrane.nb=64", "time.end=0.2", "membrane.Eb=1",
+                                  "membrane.T0=0", "fluid.mu=1", "fluid.convection=false", "output.interval=0",
+                                  "membrane.rx=0.55", "membrane.ry=0.4545", "time.dt=" + std::to_string(dt),
+                                  semi ? "membrane.semi_implicit=true" : "membrane.semi_implicit=false"};
+    Scene s = load_scene(sphib_test::kOscillation, sets);
+    RunOptions o;
+    o.out_dir = (d / ((semi ? "s" : "e") + std::to_string(dt))).string();
+    const nlohmann::json j = run_scene(s, o);
+    EXPECT_EQ(j["stop_reason"], "end time");
+    return j["rx"].get<double>();
+  };
+  const double dts[3] = {1e-3, 5e-4, 2.5e-4};
+  double gap[3], explicit_rx[3];
+  for (int k = 0; k < 3; ++k) {
+    explicit_rx[k] = rx(dts[k], false);
+    gap[k] = std::abs(rx(dts[k], true) - explicit_rx[k]);
+  }
+  EXPECT_GT(gap[0] / gap[1], 3.5);
+  EXPECT_GT(gap[1] / gap[2], 3.5);
+  EXPECT_LT(gap[0], 0.1 * std::abs(explicit_rx[0] - explicit_rx[1]));
+  std::filesystem::remove_all(d);
+}
 // ------------------------------------------------------------------ scene keys
 
 TEST(MembraneKeys, TheMaterialKeysAreReadAndCheckedByName) {

@@ -565,7 +565,7 @@ std::unique_ptr<LinearSolver> factorize(const std::string& system, const SpMat& 
     throw std::invalid_argument("linear solver: system '" + system + "': the FFT solver needs the fixed lattice (EPSPH)");
   if (kind != SolverKind::Auto) return std::make_unique<CholmodSolver>(system, A, kind);
   // Auto, deterministic: simplicial up to 8e5 non-zeros in L, supernodal above (measured on this
-  // machine: README, "Solvers, chosen automatically").
+  // machine: docs/performance/index.md, "Solvers, chosen automatically").
   return cholmod_by_factor_size(system, A, 8e5, "auto");
 }
 

@@ -15,7 +15,7 @@
 //     matrix factorised once (the solves dominate) and 1.5e5 for one factorised every step (the
 //     numeric factorisation dominates). Measured here (one core), ms simplicial / supernodal per
 //     factorisation: nnz(L) = 1.2e4: 0.45/0.93; 9.4e4: 4.4/8.5; 1.5e5: 10.3/9.9; 2.9e5: 24.3/19.5;
-//     5.9e5: 56.5/35.1; per solve: README, "Solvers, chosen automatically".
+//     5.9e5: 56.5/35.1; per solve: docs/performance/index.md, "Solvers, chosen automatically".
 //
 // Moving particles (Refactor::EveryStep: LPSPH, ISPH) change the matrices a little every step, and
 // refactorising them every step was 80% of an LPSPH step. There (solver.* = "pcg_fft" or

@@ -19,9 +19,7 @@
 //     matrices in place. describe() and figures() say which, how many iterations per solve and
 //     how often a preconditioner was factorised; a direct solver asked for (solver.* = cholmod_*)
 //     is refactorised every step, its symbolic analysis kept while the pattern stays.
-// Measured (bench/lpsph_comparison, README "Moving particles: LPSPH"): start-up Poiseuille, 10 000
-// steps, LPSPH/EPSPH CPU time 5.9 at Nx = 24 to 9.5 at Nx = 64 (836cd20; EPSPH has become faster
-// since 4.9 to 6.9; 55ee2fe, refactorising: 64 and 265).
+// Its cost against EPSPH's: bench/lpsph_comparison, docs/validation/lpsph.md.
 //
 // Where: the paper does not say at which positions the sums of a step are taken. We take the
 // predicted positions x* = x^n + dt u^n (the idea of Cummins & Rudman's SPH projection method), so

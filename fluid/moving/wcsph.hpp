@@ -50,7 +50,7 @@
 // Which EOS: with the symmetric pressure term a uniform pressure p0 does not cancel on a sheared or
 // disordered particle set, so the Morris form (background pressure c^2 rho0) pushes sliding rows
 // across each other once c is chosen for incompressibility; the Tait form has none. Measured:
-// README, "Weakly compressible SPH" (bench/wcsph_comparison).
+// docs/validation/wcsph.md (bench/wcsph_comparison).
 //
 // Neighbours: a cell list over fluid and wall particles (cells at least 2h wide), rebuilt every
 // step; each pair within 2h is found once (half stencil of cells) and every pair sum is

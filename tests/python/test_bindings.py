@@ -110,6 +110,47 @@ class Membranes(unittest.TestCase):
         shape = sphib.measure(m.X, m.L0, m.T0)
         self.assertAlmostEqual(shape["area"], np.pi * 0.75 * 0.5, places=4)
 
+    def test_add_membrane_takes_the_force_scheme_as_a_file_does(self):
+        # membrane.semi_implicit from Python: a stiffly bent ellipse (Eb = 10, 32 x 32, dt = 1e-3) runs
+        # semi-implicitly by default and when asked, and blows up explicitly (measured: the energy
+        # guard at step 99, as StiffForce.StiffBendingBlowsUpExplicitlyAndRunsSemiImplicitly in C++);
+        # stiff_residual needs the semi-implicit force, refused by name otherwise.
+        def scene(**kw):
+            s = sphib.Scene({"domain": {"x": [-1.5, 1.5], "y": [-1.5, 1.5], "periodic_x": True, "periodic_y": False},
+                             "grid": {"nx": 32, "ny": 32}, "fluid": {"rho": 1, "mu": 0.1},
+                             "time": {"dt": 1e-3, "end": 0.15}})
+            s.add_membrane(sphib.ellipse(nb=48, r0=0.5, rx=0.75, ry=0.5, T0=10.0, Eb=10.0), **kw)
+            return s
+        with tempfile.TemporaryDirectory() as d:
+            self.assertEqual(sphib.run(scene(), out=os.path.join(d, "a"))["stop_reason"], "end time")
+            self.assertEqual(sphib.run(scene(semi_implicit=True, stiff_residual=True), out=os.path.join(d, "b"))["stop_reason"],
+                             "end time")
+            with self.assertRaisesRegex(sphib.RunError, "blow-up at step"):
+                sphib.run(scene(semi_implicit=False), out=os.path.join(d, "c"))
+        with self.assertRaisesRegex(sphib.SceneError, r"membranes\[0\].stiff_residual: refines the semi-implicit force"):
+            scene(semi_implicit=False, stiff_residual=True)
+
+    def test_the_builders_take_r0_as_the_scene_reader_does(self):
+        # membrane.r0 is the rest radius of reference = "circle": needed there, refused with "initial"
+        # (whose reference is the initial shape), as are prestretch with "circle"; a law's own
+        # parameters (Skalak's C) default as in a scene file.
+        with self.assertRaisesRegex(ValueError, "r0: the rest radius is needed"):
+            sphib.polar(lambda th: 0.3, nb=32)
+        with self.assertRaisesRegex(ValueError, "r0 is the radius of reference"):
+            sphib.ellipse(nb=32, r0=0.3, rx=0.3, ry=0.2, reference="initial")
+        with self.assertRaisesRegex(ValueError, "prestretch applies"):
+            sphib.circle(nb=32, r0=0.3, prestretch=1.1)
+        # An ellipse that is its own reference is stress-free: nothing moves (Skalak without C: C = 1);
+        # measured 0.0 after 5 steps, against 1.7e-4 for the same ellipse on a circle of r0 = 0.25.
+        e = sphib.ellipse(nb=64, rx=0.3, ry=0.2, law="skalak", Es=2.0, Eb=0.01, reference="initial")
+        s = sphib.Scene({"domain": {"x": [-1, 1], "y": [-1, 1], "periodic_x": True, "periodic_y": False},
+                         "grid": {"nx": 32, "ny": 32}, "fluid": {"rho": 1, "mu": 1},
+                         "time": {"dt": 1e-3, "end": 1.0, "max_steps": 5}})
+        s.add_membrane(e)
+        sim = sphib.Simulation(s)
+        sim.step(5)
+        self.assertLess(np.abs(sim.markers(0) - e.X).max(), 1e-14)
+
 
 class Simulations(unittest.TestCase):
     def test_views_are_read_only_shared_and_keep_the_simulation_alive(self):
