@@ -728,17 +728,21 @@ void read_time_and_solvers(Reader& r, Scene& s) {
                "O(dt^3) from the root) or euler (the paper's Eq. 58, X^n + dt U^{n+1}(X^n)); the same root within "
                "solver.marker_eps") == "extrapolated";
   const std::string interp = r.choice(
-      "coupling.interpolation", "auto", {"auto", "divergence_free", "bspline", "sph"},
+      "coupling.interpolation", "auto", {"auto", "divergence_free", "bspline", "sph", "spreading_kernel"},
       "marker velocity: divergence_free (curl of the stream function interpolated with the SPH kernel: membranes "
       "keep their area), bspline (the same curl, the stream function interpolated by tensor cubic B-splines on the "
-      "lattice: no lattice-scale ripple), sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
+      "lattice: no lattice-scale ripple), spreading_kernel (the same curl, the SPH kernel of the membranes' "
+      "spreading radius membrane.h_star: as wide as the spreading at any h*; the free membranes share one h_star), "
+      "sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
       "bspline when a membrane has bending or a law other than hookean, else divergence_free; sph for the other "
       "methods");
-  if ((interp == "divergence_free" || interp == "bspline") && s.method != FluidMethod::Eulerian)
+  if ((interp == "divergence_free" || interp == "bspline" || interp == "spreading_kernel") &&
+      s.method != FluidMethod::Eulerian)
     r.fail("coupling.interpolation", "\"" + interp + "\" needs method \"eulerian\" (the fixed lattice's stream function)");
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                         : interp == "bspline"       ? MarkerInterpolation::BSpline
                         : interp == "sph"           ? MarkerInterpolation::Sph
+                        : interp == "spreading_kernel" ? MarkerInterpolation::SpreadingKernel
                                                     : MarkerInterpolation::Auto;
 }
 
