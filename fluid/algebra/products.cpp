@@ -271,7 +271,6 @@ RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>&
         }
         const int k = cls[h[i]];
         Ref& r = rd[k];
-        const int len = o[q + 1] - o[q];
         if (first) {
           for (int e = o[q]; e < o[q + 1]; ++e) r.offset.push_back(c[e] - i);
           for (const SpMat* B : ops) r.val.emplace_back(B->valuePtr() + o[q], B->valuePtr() + o[q + 1]);
