@@ -1,7 +1,9 @@
 // The marker interpolations on a smooth flow: the error against the exact velocity and the ripple
 // (the largest second difference along a line sampled every dx/30), for the SPH kernel's curl of the
 // stream function (coupling.interpolation = "divergence_free"), its tensor cubic B-spline curl
-// ("bspline") and the normalised SPH interpolation of the velocity (Eq. 63, "sph").
+// ("bspline"), the normalised SPH interpolation of the velocity (Eq. 63, "sph") and the curl by the
+// spreading's kernel of radius h* ("spreading_kernel", at h*/dx = 1.68, 3.36, 6.72: its error against
+// the exact velocity includes the kernel's smoothing, O((k h*)^2); its ripple is the lattice's).
 //   build/marker_interpolation [--nx N] [--h-over-dx R]
 // Doubly periodic box [-1.5, 1.5]^2, u = (sin(2 pi y/3), 0.3 cos(2 pi x/3)), h = 1.2 dx by default.
 #include <CLI/CLI.hpp>
@@ -41,11 +43,12 @@ int main(int argc, char** argv) {
   const StreamFunction sf = fl->stream_function();
   std::printf("%d x %d, h = %g dx, %d points every dx/30 along a line\n", nx, nx, h_over_dx, n);
   std::printf("%-16s %12s %12s\n", "interpolation", "max error", "ripple");
-  for (const char* name : {"divergence_free", "bspline", "sph"}) {
+  for (const char* name : {"divergence_free", "bspline", "sph", "h*/dx = 1.68", "h*/dx = 3.36", "h*/dx = 6.72"}) {
     const std::string s = name;
     if (s == "divergence_free") interpolate_curl(grid, fl->kernel(), *sf.psi, sf.mean, X, U);
     else if (s == "bspline") interpolate_curl_bspline(grid, dx, fl->lattice().dy, *sf.psi, sf.mean, X, U);
-    else interpolate_velocity(grid, fl->kernel(), fl->volumes(), fl->u(), X, U);
+    else if (s == "sph") interpolate_velocity(grid, fl->kernel(), fl->volumes(), fl->u(), X, U);
+    else interpolate_curl(grid, CubicSplineKernel(std::stod(s.substr(8)) * dx), *sf.psi, sf.mean, X, U);
     double err = 0, ripple = 0;
     for (int k = 0; k < n; ++k) err = std::max(err, (U.row(k).transpose() - exact(X(k, 0), X(k, 1))).norm());
     for (int k = 1; k + 1 < n; ++k) ripple = std::max(ripple, (U.row(k + 1) - 2 * U.row(k) + U.row(k - 1)).norm());

@@ -52,13 +52,15 @@ int main(int argc, char** argv) {
   app.add_flag("--explicit", p.explicit_force, "explicit membrane force (no stiff-force filter)");
   app.add_flag("--stiff-residual", p.stiff_residual, "the stiff-force filter with its model's residual (membrane.stiff_residual)");
   app.add_option("--interpolation", interp, "marker velocity (coupling.interpolation): auto (bspline with bending), "
-                 "bspline, divergence_free, sph")->check(CLI::IsMember({"auto", "bspline", "divergence_free", "sph"}));
+                 "bspline, divergence_free, sph, spreading_kernel (the curl with the kernel of radius h*)")
+      ->check(CLI::IsMember({"auto", "bspline", "divergence_free", "sph", "spreading_kernel"}));
   app.add_flag("--sheared", p.sheared, "start from the developed shear u = (G y, 0) (default: at rest; the flow "
                "develops from the walls in ~H^2/(10 nu))");
   CLI11_PARSE(app, argc, argv);
   p.interpolation = interp == "bspline"           ? MarkerInterpolation::BSpline
                     : interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                     : interp == "sph"             ? MarkerInterpolation::Sph
+                    : interp == "spreading_kernel" ? MarkerInterpolation::SpreadingKernel
                                                   : MarkerInterpolation::Auto;
 
   std::filesystem::create_directories(out);

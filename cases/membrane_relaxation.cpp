@@ -48,12 +48,14 @@ int main(int argc, char** argv) {
   app.add_option("--steps", steps, "stop each run after this many steps (smoke test)");
   app.add_flag("--explicit", explicit_force, "explicit membrane force (no stiff-force filter)");
   app.add_option("--interpolation", interp, "marker velocity (coupling.interpolation): auto (bspline with bending), "
-                 "bspline, divergence_free, sph")->check(CLI::IsMember({"auto", "bspline", "divergence_free", "sph"}));
+                 "bspline, divergence_free, sph, spreading_kernel (the curl with the kernel of radius h*)")
+      ->check(CLI::IsMember({"auto", "bspline", "divergence_free", "sph", "spreading_kernel"}));
   CLI11_PARSE(app, argc, argv);
   p.semi_implicit = !explicit_force;
   p.interpolation = interp == "bspline"           ? MarkerInterpolation::BSpline
                     : interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                     : interp == "sph"             ? MarkerInterpolation::Sph
+                    : interp == "spreading_kernel" ? MarkerInterpolation::SpreadingKernel
                                                   : MarkerInterpolation::Auto;
 
   std::filesystem::create_directories(out);

@@ -29,7 +29,9 @@ void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, doub
 void interpolate_velocity(const CellGrid& grid, const CubicSplineKernel& W, const Vec& V, const Mat2& u,
                           const Mat2& X, Mat2& U, bool normalised = true);
 
-// The divergence-free marker velocity above, from psi at the particles of `grid` and the uniform
+// The divergence-free marker velocity above, with the kernel W of any radius (the fluid's h, or the
+// spreading's h*: coupling.interpolation = "spreading_kernel"; the lattice boxes gather up to
+// CellGrid::LatticeBox::kMax columns), from psi at the particles of `grid` and the uniform
 // flow U_mean; with dU non-null also its gradient dU/dX at X (from the Hessian of psi_h, exact for
 // the interpolant: trace 0). Throws like interpolate_velocity for a point with no particle within 2h.
 void interpolate_curl(const CellGrid& grid, const CubicSplineKernel& W, const Vec& psi,

@@ -25,10 +25,13 @@ struct MembraneSetup {
 // How markers get their velocity from the fluid (coupling/interpolate.hpp): divergence-free (the curl
 // of the stream function interpolated by the SPH kernel, or by tensor cubic B-splines on the
 // lattice: a closed membrane keeps its area) or the paper's normalised SPH interpolation, Eq. (63).
+// SpreadingKernel: the divergence-free curl with the SPH kernel of the membranes' spreading radius h*
+// (their MembraneSetup::h_star, which the free membranes must share) in place of the fluid's h: the
+// interpolation as wide as the spreading (Eq. 53) at any h*, for studies that hold h* fixed.
 // Auto: where the fluid method has a stream function (EPSPH), divergence-free, by B-splines when a
 // membrane has bending (the kernel's curl carries a lattice-scale ripple that bending amplifies);
 // SPH otherwise.
-enum class MarkerInterpolation { Auto, DivergenceFree, BSpline, Sph };
+enum class MarkerInterpolation { Auto, DivergenceFree, BSpline, Sph, SpreadingKernel };
 
 // The marker update, Eqs. (56)-(60) (coupling/marker_update.hpp says how).
 struct MarkerUpdateParams {

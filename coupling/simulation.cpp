@@ -98,9 +98,26 @@ Simulation::Simulation(const SimulationParams& params)
   }
   if (interp_ != MarkerInterpolation::Sph && !fluid_->has_stream_function())
     throw std::invalid_argument(std::string("coupling.interpolation = \"") +
-                                (interp_ == MarkerInterpolation::BSpline ? "bspline" : "divergence_free") +
+                                (interp_ == MarkerInterpolation::BSpline           ? "bspline"
+                                 : interp_ == MarkerInterpolation::SpreadingKernel ? "spreading_kernel"
+                                                                                   : "divergence_free") +
                                 "\" needs a stream function of the fluid, which method \"" + to_string(prm_.fluid.method) +
                                 "\" does not provide (use \"sph\")");
+  if (interp_ == MarkerInterpolation::SpreadingKernel) {  // one kernel for the free markers: one h*
+    const MembraneState* first = nullptr;
+    for (const auto& s : mem_) {
+      if (s.fixed) continue;
+      if (first && s.h_star != first->h_star) {
+        std::ostringstream e;
+        e << "coupling.interpolation = \"spreading_kernel\" interpolates every free membrane with one kernel: membrane "
+          << &s - mem_.data() << " has h_star = " << s.h_star << ", membrane " << first - mem_.data() << " h_star = "
+          << first->h_star << " (give the free membranes one membrane.h_star)";
+        throw std::invalid_argument(e.str());
+      }
+      if (!first) first = &s;
+    }
+    if (first) W_interp_.emplace(first->h_star);
+  }
   if (!mem_.empty()) {  // no membranes, no coupling
     if (fluid_->particles_move()) grid_->build(fluid_->x());
     else grid_->use_lattice(fluid_->lattice());  // EPSPH: index arithmetic on the fixed lattice
@@ -270,6 +287,11 @@ bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
     });
     return dU != nullptr;
   }
+  if (interp_ == MarkerInterpolation::SpreadingKernel) {  // Eq. (63) on psi with W(r, h*), the kernel of Eq. (53), then its curl
+    const StreamFunction sf = fluid.stream_function();
+    interpolate_curl(*grid_, *W_interp_, *sf.psi, sf.mean, X, U, dU);
+    return dU != nullptr;
+  }
   if (interp_ == MarkerInterpolation::BSpline) {
     const StreamFunction sf = fluid.stream_function();
     by_marker_blocks(X, U, dU, [&](const Mat2& Xb, Mat2& Ub, Jacobians* dUb) {
@@ -361,6 +383,7 @@ void Simulation::external_force(double t) {
 
 double Simulation::interpolation_length() const {
   if (interp_ == MarkerInterpolation::BSpline) return std::min(fluid_->lattice().dx, fluid_->lattice().dy);
+  if (W_interp_) return W_interp_->h;
   return fluid_->h();
 }
 

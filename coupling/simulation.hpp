@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <memory>
+#include <optional>
 
 #include "coupling/params.hpp"
 #include "fluid/core/solver.hpp"
@@ -78,8 +79,8 @@ class Simulation {
   // viscosity_ratio is 1.
   const ViscosityContrast* viscosity_contrast() const { return contrast_.get(); }
   MarkerInterpolation interpolation() const { return interp_; }  // as resolved (never Auto)
-  // The smoothing length of the marker interpolation in use: h (SPH kernel) or the lattice spacing
-  // (B-splines).
+  // The smoothing length of the marker interpolation in use: h (SPH kernel), the lattice spacing
+  // (B-splines) or the free membranes' h* (the spreading kernel).
   double interpolation_length() const;
   // The marker velocity of the fluid's current state at the points X, by the interpolation in use;
   // with dU non-null also its gradient at X where the interpolation has one (returns whether it has).
@@ -109,6 +110,7 @@ class Simulation {
   std::vector<MembraneState> mem_;
   std::unique_ptr<CellGrid> grid_;  // lattice-spaced cells over the fixed particles: marker neighbourhoods in O(Nb)
   MarkerInterpolation interp_ = MarkerInterpolation::Sph;
+  std::optional<CubicSplineKernel> W_interp_;  // SpreadingKernel: the free membranes' kernel of radius h*
   Mat2 F_body_, F_;
   std::unique_ptr<ContactForce> contact_;  // nullptr: off
   // The passes over markers take many membranes as one set, their markers concatenated (membrane

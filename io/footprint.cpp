@@ -17,18 +17,19 @@ namespace {
 // runs of cases/membrane_oscillation.toml, poiseuille.toml, cavity_re100.toml, wcsph_couette.toml and
 // membrane_oscillation_lagrangian.toml at 64^2-512^2, h_over_dx = 0.9, 1.2, 1.5, 2.0; peak minus the
 // 31.4 MB of a 16^2 run, over N n2):
-//   EPSPH, FFT solvers (a channel): exact projection (the compact storage, fluid/eulerian/eulerian.hpp: its
-//     peak is the setup's, the pair list and one set of whole operators, or the velocity gradients
-//     and their transposes at G^T G; its fields, solvers and compact operators do not grow with n2)
-//     460 per particle + 58 per particle and neighbour (965, 1625 and 3146 B per particle at n2 = 8,
-//     20, 44 at 256^2; 1591 and 1579 at n2 = 20, 512^2 and 1024^2); approximate 165-189;
+//   EPSPH, FFT solvers (a channel): exact projection (the compact storage, fluid/eulerian/eulerian.hpp:
+//     no operator and no pair list is ever whole, so its peak is about the stepping state: the
+//     fields, the lattice solvers and the compact operators, which hardly grow with n2)
+//     700 per particle + 4 per particle and neighbour (peaks of 1.17, 1.29, 1.30 and 1.36 kB per
+//     particle at n2 = 8, 20, 28, 44 at 256^2, 0.93 and 0.99 kB at n2 = 20, 44 at 512^2, 0.84 and
+//     0.74 kB at n2 = 20 at 1024^2 and 2048^2, the process included); approximate 165-189;
 //   EPSPH, CHOLMOD (a box, doubly periodic, or solvers chosen): the factors grow like log2 N:
 //     exact 34-51 x log2 N, approximate 11-25 x log2 N (44 and 22 keep 64^2-256^2 within 18%);
 //   LPSPH (rebuilt every step): 19-26 x log2 N;  WCSPH (no linear system): 8-50 (not monotone in N);
 //   ISPH (cases/dam_break.toml at 200 x 800 to 800 x 3200, 5000-80000 fluid particles;
 //     still_tank_isph.toml at 160^2): 14-19 x log2 N, N the fluid particles (not the lattice's sites).
 // The constants are chosen for the main path's error across 64^2-1024^2 (docs/performance/memory.md).
-constexpr double kFftExact = 58, kFftExactPerParticle = 460, kFftApproximate = 185;
+constexpr double kFftExact = 4, kFftExactPerParticle = 700, kFftApproximate = 185;
 constexpr double kCholmodExactPerLog = 44, kCholmodApproximatePerLog = 22;
 constexpr double kLagrangianPerLog = 24, kWcsph = 40;
 constexpr double kIsphPerLog = 19;

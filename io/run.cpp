@@ -89,6 +89,8 @@ std::string setup_report(const Scene& scene, const Simulation& sim, double setup
     m << "\n  marker velocity: "
       << (i == MarkerInterpolation::Sph       ? "normalised SPH interpolation (Eq. 63)"
           : i == MarkerInterpolation::BSpline ? "curl of the stream function, tensor cubic B-splines (divergence-free)"
+          : i == MarkerInterpolation::SpreadingKernel
+              ? "curl of the stream function, SPH kernel of the spreading radius h* (divergence-free)"
                                               : "curl of the stream function, SPH kernel (divergence-free)");
   }
   if (const ContactForce* c = sim.contact()) {

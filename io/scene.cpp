@@ -728,17 +728,21 @@ void read_time_and_solvers(Reader& r, Scene& s) {
                "O(dt^3) from the root) or euler (the paper's Eq. 58, X^n + dt U^{n+1}(X^n)); the same root within "
                "solver.marker_eps") == "extrapolated";
   const std::string interp = r.choice(
-      "coupling.interpolation", "auto", {"auto", "divergence_free", "bspline", "sph"},
+      "coupling.interpolation", "auto", {"auto", "divergence_free", "bspline", "sph", "spreading_kernel"},
       "marker velocity: divergence_free (curl of the stream function interpolated with the SPH kernel: membranes "
       "keep their area), bspline (the same curl, the stream function interpolated by tensor cubic B-splines on the "
-      "lattice: no lattice-scale ripple), sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
+      "lattice: no lattice-scale ripple), spreading_kernel (the same curl, the SPH kernel of the membranes' "
+      "spreading radius membrane.h_star: as wide as the spreading at any h*; the free membranes share one h_star), "
+      "sph (the paper's normalised SPH interpolation, Eq. 63); auto: for eulerian "
       "bspline when a membrane has bending or a law other than hookean, else divergence_free; sph for the other "
       "methods");
-  if ((interp == "divergence_free" || interp == "bspline") && s.method != FluidMethod::Eulerian)
+  if ((interp == "divergence_free" || interp == "bspline" || interp == "spreading_kernel") &&
+      s.method != FluidMethod::Eulerian)
     r.fail("coupling.interpolation", "\"" + interp + "\" needs method \"eulerian\" (the fixed lattice's stream function)");
   s.sim.interpolation = interp == "divergence_free" ? MarkerInterpolation::DivergenceFree
                         : interp == "bspline"       ? MarkerInterpolation::BSpline
                         : interp == "sph"           ? MarkerInterpolation::Sph
+                        : interp == "spreading_kernel" ? MarkerInterpolation::SpreadingKernel
                                                     : MarkerInterpolation::Auto;
 }
 
@@ -882,7 +886,7 @@ void read_membranes(Reader& r, Scene& s, bool documenting) {
 }
 
 // [contact]: the short-range repulsion between membranes and off the walls (coupling/contact.hpp).
-void read_contact(Reader& r, Scene& s, size_t program_membranes) {
+void read_contact(Reader& r, Scene& s, size_t program_membranes, bool more_may_follow) {
   ContactParams& c = s.sim.contact;
   c.strength = r.number("contact.strength", 0.0, ">= 0",
                         "De of the Morse repulsion between the line elements of different membranes (and off the walls), "
@@ -902,17 +906,17 @@ void read_contact(Reader& r, Scene& s, size_t program_membranes) {
     r.fail("contact.range", "value " + fmt_num(c.range) + " must be below a third of the periodic period");
   const bool walls = c.walls && !(d.periodic_x && d.periodic_y);
   const size_t n = s.membranes.size() + program_membranes;  // the file's and a program's
-  if (c.strength > 0 && (n == 0 || (n == 1 && !walls)))
+  if (c.strength > 0 && !more_may_follow && (n == 0 || (n == 1 && !walls)))
     r.fail("contact.strength", "acts between membranes and off walls: this scene has " + std::to_string(n) +
                                    " membrane(s)" + (walls ? "" : " and no wall to push off"));
 }
 
-// A program's membrane's values, by the rules of a file's keys ("" when they pass): the key and why.
 // membrane.semi_implicit as given, else its default: with bending or a law other than hookean.
 bool program_semi_implicit(const ProgramMembrane& m) {
   return m.semi_implicit.value_or(m.membrane.mat.Eb > 0 || m.membrane.mat.law != "hookean");
 }
 
+// A program's membrane's values, by the rules of a file's keys ("" when they pass): the key and why.
 std::pair<std::string, std::string> program_membrane_problem(const ProgramMembrane& m, const std::string& p) {
   const Membrane& mb = m.membrane;
   if (mb.nb() < 4 || mb.nb() > kMaxMarkers)
@@ -992,7 +996,7 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
 }
 
 Scene build(toml::table& root, const std::string& name, const std::set<std::string>& overridden,
-            std::vector<Reader::Doc>* docs_out, const std::vector<ProgramMembrane>& program = {}) {
+            std::vector<Reader::Doc>* docs_out, const std::vector<ProgramMembrane>& program = {}, bool more_may_follow = false) {
   if (!docs_out) reject_unknown_keys(root, "", known_keys(), name, overridden);
   Reader r(root, name, overridden);
   r.documenting = docs_out != nullptr;
@@ -1013,7 +1017,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   read_output(r, s);
   read_probes(r, s);
   read_membranes(r, s, docs_out != nullptr);
-  read_contact(r, s, program.size());
+  read_contact(r, s, program.size(), more_may_follow);
   if (docs_out) { *docs_out = r.docs; return s; }
   r.reject_unknown();
   s.resolved = r.resolved;
@@ -1024,6 +1028,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
 
   if (const std::string why = steps_problem(s); !why.empty()) r.fail("time.end", why);
   build_membranes(r, s, program);
+  if (more_may_follow && s.sim.membranes.empty()) return s;  // observe.exact may wait for a membrane
   if (const std::string why = exact_cannot_apply(s); !why.empty()) r.fail("observe.exact", why);
   return s;
 }
@@ -1042,10 +1047,10 @@ const std::vector<std::string>& known_keys() {
 }
 
 Scene from_table(toml::table root, const std::string& name, const std::vector<std::string>& overrides,
-                 const std::vector<ProgramMembrane>& program = {}) {
+                 const std::vector<ProgramMembrane>& program = {}, bool more_may_follow = false) {
   std::set<std::string> overridden;
   for (const auto& kv : overrides) overridden.insert(apply_override(root, kv, name));
-  return build(root, name, overridden, nullptr, program);
+  return build(root, name, overridden, nullptr, program, more_may_follow);
 }
 
 // The cavity's Ghia tables are in observe.reference_dir (resolved against the scene file's folder).
@@ -1097,7 +1102,7 @@ void put(toml::table& root, const std::string& key, toml::node&& value, const st
 }
 
 Scene parse_text(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
-                 const std::vector<ProgramMembrane>& program) {
+                 const std::vector<ProgramMembrane>& program, bool more_may_follow = false) {
   if (const auto [line, parts] = deepest_key(text); line > 0)
     throw SceneError(name + ":" + std::to_string(line) + ": a key of " + std::to_string(parts) +
                      " dotted parts (a scene's keys have a few; at most " + std::to_string(kMaxKeyParts) + ")");
@@ -1109,11 +1114,11 @@ Scene parse_text(const std::string& text, const std::string& name, const std::ve
     m << name << ":" << e.source().begin.line << ": TOML syntax error: " << e.description();
     throw SceneError(m.str());
   }
-  return from_table(std::move(root), name, overrides, program);
+  return from_table(std::move(root), name, overrides, program, more_may_follow);
 }
 
 Scene load_file(const std::string& path, const std::vector<std::string>& overrides,
-                const std::vector<ProgramMembrane>& program) {
+                const std::vector<ProgramMembrane>& program, bool more_may_follow = false) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw SceneError(path + ": is a directory, not a scene file");
@@ -1126,7 +1131,7 @@ Scene load_file(const std::string& path, const std::vector<std::string>& overrid
   if (in.bad()) throw SceneError(path + ": cannot read the scene file");
   if (in.gcount() > kMaxSceneBytes) throw SceneError(path + ": larger than 16 MB: not a scene file");
   text.resize(static_cast<size_t>(in.gcount()));
-  Scene s = parse_text(text, path, overrides, program);
+  Scene s = parse_text(text, path, overrides, program, more_may_follow);
   s.reference_dir = (fs::path(path).parent_path() / s.reference_dir).string();
   require_reference_tables(s, path);
   return s;
@@ -1182,8 +1187,9 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
-                  const std::vector<ProgramMembrane>& membranes) {
-  return path.empty() ? parse_text("", name, overrides, membranes) : load_file(path, overrides, membranes);
+                  const std::vector<ProgramMembrane>& membranes, bool more_may_follow) {
+  return path.empty() ? parse_text("", name, overrides, membranes, more_may_follow)
+                      : load_file(path, overrides, membranes, more_may_follow);
 }
 
 std::string describe_scene_keys() {

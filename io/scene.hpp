@@ -89,8 +89,11 @@ struct ProgramMembrane {
 // load_scene (path not empty) or parse_scene of an empty text named `name`, plus membranes built by
 // a program: the reader checks them as it checks a file's ([4, 1e6] markers, T0 >= 0, h* > 0, no
 // crossings, none in a free-surface scene, what observe.exact needs), naming membranes[k].
+// more_may_follow: the program may add membranes still (a scene built step by step, as in Python), so
+// the rules that need membranes to exist (contact.strength, observe.exact without any membrane) wait
+// for the build without it, which a run makes.
 Scene build_scene(const std::string& path, const std::string& name, const std::vector<std::string>& overrides,
-                  const std::vector<ProgramMembrane>& membranes);
+                  const std::vector<ProgramMembrane>& membranes, bool more_may_follow = false);
 
 // The scene whose resolved values (Scene::resolved: key = value as used) are `values`, e.g. those a
 // checkpoint keeps, with `overrides` applied; observe.reference_dir is taken relative to base_dir.

@@ -263,7 +263,8 @@ struct PyScene {
   py::object body_force = py::none(), initial_velocity = py::none();
   std::vector<std::pair<std::string, py::object>> observers;
 
-  void validate() { scene = build_scene(path, name, overrides, added); }
+  // While it is being built: membranes may still be added (rules that need them wait for assemble).
+  void validate() { scene = build_scene(path, name, overrides, added, true); }
 
   double h() const {
     const FluidParams& f = scene.sim.fluid;
@@ -272,7 +273,7 @@ struct PyScene {
 
   // The C++ scene, its callbacks bound to ctx.
   Scene assemble(const std::shared_ptr<Context>& ctx) const {
-    Scene s = scene;
+    Scene s = build_scene(path, name, overrides, added);  // every rule, the membranes now complete
     const Mat2 x0 = make_lattice(s.sim.fluid.domain, s.sim.fluid.nx, s.sim.fluid.ny).x;
     if (!body_force.is_none()) {
       auto f = std::make_shared<VectorField>(body_force, "body_force", true, x0, ctx);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <functional>
 #include <random>
 
 #include "fluid/eulerian/eulerian.hpp"
@@ -113,6 +114,104 @@ TEST(CompactStorage, AssemblyEqualsTheTripletAssembly) {
           EXPECT_TRUE(same_matrix(op.A, A)) << box.n;
           EXPECT_EQ(op.B.cols(), M);
         }
+  }
+}
+
+// The pairs a block of rows at a time (LatticePairs, which the compact storage assembles from) are
+// the whole list's, and the operators' rows assembled from them (operator_rows) the whole
+// operators' rows bit for bit, blocks of 7 rows (not dividing a lattice row) as of the whole lattice.
+TEST(CompactStorage, AssemblyByBlocksOfPairsEqualsTheWholePairList) {
+  for (const Box& box : kBoxes) {
+    const EulerianFluid f(box_params(box));
+    const Images& im = f.images();
+    const PairList P = find_pairs(f.lattice(), im.x, f.kernel().support());
+    const LatticePairs lp(f.lattice(), im.x, f.kernel().support());
+    const int N = f.size();
+    EXPECT_EQ(lp.count(), P.size()) << box.n;
+    PairList B;
+    bool same = true;
+    for (int r0 = 0; r0 < N; r0 += 7) {
+      const int r1 = std::min(N, r0 + 7);
+      lp.rows(r0, r1, B);
+      const int k0 = P.offset[r0];
+      same &= static_cast<int>(B.offset.size()) == r1 - r0 + 1 && B.size() == P.offset[r1] - k0;
+      for (int q = 0; same && q <= r1 - r0; ++q) same &= B.offset[q] == P.offset[r0 + q] - k0;
+      for (int k = 0; same && k < B.size(); ++k)
+        same &= B.j[k] == P.j[k0 + k] && bitwise_equal(&B.rx[k], &P.rx[k0 + k], 1) &&
+                bitwise_equal(&B.ry[k], &P.ry[k0 + k], 1) && bitwise_equal(&B.r[k], &P.r[k0 + k], 1);
+    }
+    EXPECT_TRUE(same) << box.n;
+    const Operators whole = build_operators(P, f.lattice(), im, f.kernel());
+    for (int rows : {7, N}) {
+      bool rows_same = true;
+      for (int r0 = 0; r0 < N; r0 += rows) {
+        const int r1 = std::min(N, r0 + rows), m = r1 - r0;
+        lp.rows(r0, r1, B);
+        const Operators b = operator_rows(B, r0, f.lattice(), im, f.kernel(), OperatorSet::All);
+        for (auto [a, c] : {std::pair{&whole.lap_u.A, &b.lap_u.A}, {&whole.lap_u.B, &b.lap_u.B},
+                            {&whole.grad_ux.A, &b.grad_ux.A}, {&whole.grad_ux.B, &b.grad_ux.B},
+                            {&whole.grad_uy.A, &b.grad_uy.A}, {&whole.grad_uy.B, &b.grad_uy.B},
+                            {&whole.lap_phi, &b.lap_phi}, {&whole.grad_phix, &b.grad_phix},
+                            {&whole.grad_phiy, &b.grad_phiy}})
+          rows_same &= same_matrix(SpMat(a->middleRows(r0, m)), *c);
+      }
+      EXPECT_TRUE(rows_same) << box.n << " " << rows;
+    }
+  }
+}
+
+bool same_stencil(const RowStencil& a, const RowStencil& b) {
+  if (a.classes.size() != b.classes.size() || a.blocks.size() != b.blocks.size() || a.rest != b.rest) return false;
+  for (size_t k = 0; k < a.classes.size(); ++k)
+    if (a.classes[k].ref != b.classes[k].ref || a.classes[k].offset != b.classes[k].offset) return false;
+  for (size_t k = 0; k < a.blocks.size(); ++k)
+    if (a.blocks[k].cls != b.blocks[k].cls || a.blocks[k].begin != b.blocks[k].begin ||
+        a.blocks[k].count != b.blocks[k].count || a.blocks[k].stride != b.blocks[k].stride)
+      return false;
+  return true;
+}
+
+// The transposes of the velocity gradients by blocks of rows (transposed_rows) are the whole
+// transposes' rows, and their stencil and kept rows found from the blocks (three passes) those of
+// the whole matrices: blocks of 7 rows and of the whole lattice.
+TEST(CompactStorage, TransposesAndTheirStencilByBlocksEqualTheWholeOnes) {
+  for (const Box& box : kBoxes) {
+    const EulerianFluid f(box_params(box));
+    const Operators& op = f.operators();
+    const int N = f.size();
+    SpMat ty = op.grad_uy.A.transpose(), tx = op.grad_ux.A.transpose();
+    negate(tx);
+    const RowStencil whole = find_row_stencil({&ty, &tx});
+    const std::vector<int> cy = column_counts(op.grad_uy.A), cx = column_counts(op.grad_ux.A);
+    for (int block : {7, N}) {
+      bool same = true;
+      const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& g) {
+        for (int r0 = 0; r0 < N; r0 += block) {
+          const int m = std::min(block, N - r0);
+          const SpMat by = transposed_rows(op.grad_uy.A, cy, r0, m);
+          SpMat bx = transposed_rows(op.grad_ux.A, cx, r0, m);
+          negate(bx);
+          same &= same_matrix(by, SpMat(ty.middleRows(r0, m))) && same_matrix(bx, SpMat(tx.middleRows(r0, m)));
+          g({&by, &bx}, r0);
+        }
+      };
+      std::vector<SpMat> kept;
+      const RowStencil st = find_row_stencil(rows, N, kept);
+      EXPECT_TRUE(same) << box.n << " " << block;
+      EXPECT_TRUE(same_stencil(st, whole)) << box.n << " " << block;
+      ASSERT_EQ(kept.size(), 2u);
+      EXPECT_TRUE(same_matrix(kept[0], stencil_rows_only(ty, whole))) << box.n << " " << block;
+      EXPECT_TRUE(same_matrix(kept[1], stencil_rows_only(tx, whole))) << box.n << " " << block;
+    }
+    // D = -G^T of the phi gradients kept compact, by blocks (the compact setup's), as from the whole
+    const RowStencil ps = find_row_stencil({&op.grad_phix, &op.grad_phiy});
+    const ExactProjection::Divergence a = ExactProjection::divergence_by_blocks(
+        stencil_rows_only(op.grad_phix, ps), stencil_rows_only(op.grad_phiy, ps), ps);
+    const ExactProjection::Divergence b = ExactProjection::make_divergence(op.grad_phix, op.grad_phiy, true);
+    EXPECT_TRUE(same_matrix(a.x, b.x) && same_matrix(a.y, b.y) && same_stencil(a.st, b.st)) << box.n;
+    // a pattern that is not symmetric is refused
+    SpMat upper = op.grad_ux.A.triangularView<Eigen::StrictlyUpper>();  // row 0 reaches columns whose rows never reach 0
+    EXPECT_THROW(transposed_rows(upper, column_counts(upper), 0, N), std::logic_error) << box.n;
   }
 }
 

@@ -235,12 +235,12 @@ TEST(DataSafety, TheMemoryGuardRefusesBeforeAllocatingAndCheckDoesNotBuildLargeS
   const fs::path tmp = temp_dir("memory"), d = tmp / "D";
   const Exit e = shell(command(run_args(d, {"grid.nx=3000", "grid.ny=3000", "membrane.nb=6000", "limits.memory_gb=2"})), tmp);
   EXPECT_EQ(e.status, 2) << e.err;
-  EXPECT_NE(e.err.find("limits.memory_gb: the run would need about 14."), std::string::npos) << e.err;  // + this process
-  EXPECT_NE(e.err.find("(9000000 particles x (460 B + 20 neighbours x 58 B), EPSPH, FFT solvers, exact projection"), std::string::npos)
+  EXPECT_NE(e.err.find("limits.memory_gb: the run would need about 7."), std::string::npos) << e.err;  // + this process
+  EXPECT_NE(e.err.find("(9000000 particles x (700 B + 20 neighbours x 4 B), EPSPH, FFT solvers, exact projection"), std::string::npos)
       << e.err;
   EXPECT_NE(e.err.find("more than limits.memory_gb = 2"), std::string::npos) << e.err;
   EXPECT_FALSE(fs::exists(d));
-  // check at 2048^2: the estimate (6.8 GB) without the lattice's operators; its own peak is its lattice
+  // check at 2048^2: the estimate (3.3 GB) without the lattice's operators; its own peak is its lattice
   // and initial velocity (measured 82 MB), below the 1 GB it builds under.
   std::vector<std::string> args{SPHIB_BINARY, "check", kScene, "--set", "grid.nx=2048", "--set", "grid.ny=2048",
                                 "--set", "membrane.nb=4096"};
@@ -258,8 +258,8 @@ TEST(DataSafety, TheMemoryGuardRefusesBeforeAllocatingAndCheckDoesNotBuildLargeS
   posix_spawn_file_actions_destroy(&fa);
   const std::string out = slurp(tmp / "check.txt");
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
-  EXPECT_NE(out.find("not built: its estimated peak, 6."), std::string::npos) << out;
-  EXPECT_NE(out.find("4194304 particles x (460 bytes + 20 neighbours x 58 bytes)"), std::string::npos) << out;
+  EXPECT_NE(out.find("not built: its estimated peak, 3."), std::string::npos) << out;
+  EXPECT_NE(out.find("4194304 particles x (700 bytes + 20 neighbours x 4 bytes)"), std::string::npos) << out;
   EXPECT_LT(ru.ru_maxrss, 1000 * 1000) << "check's own peak, kB";
   fs::remove_all(tmp);
 }

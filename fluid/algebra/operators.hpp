@@ -65,5 +65,14 @@ void pressure_from_phi(const SpMat& lap_phi, const Vec& phi, double a, Vec& p, c
 enum class OperatorSet { All, Velocity, Phi, LapPhi, GradPhi };
 Operators build_operators(const PairList& P, const Lattice& L, const Images& im, const CubicSplineKernel& W,
                           OperatorSet set = OperatorSet::All);
+// The rows a block of pairs gives at a time (EPSPH's compact storage: LatticePairs, operator_rows).
+constexpr int kAssemblyRows = 4096;
+// The rows r0 .. r0 + m - 1 alone of the operators of `set` (A m x N, B m x M, row q the operator's
+// row r0 + q; the others empty) from P, the pairs of those rows (P.offset relative to r0:
+// LatticePairs::rows): the same bits as those rows of build_operators'.
+Operators operator_rows(const PairList& P, int r0, const Lattice& L, const Images& im, const CubicSplineKernel& W,
+                        OperatorSet set);
+Operators build_operators(const LatticePairs& pairs, long npairs, const Images& im, const CubicSplineKernel& W,
+                          OperatorSet set = OperatorSet::All, int block_rows = kAssemblyRows);
 
 }  // namespace sphib

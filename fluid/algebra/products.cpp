@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace sphib {
@@ -72,13 +73,14 @@ bool same_row(const std::vector<const SpMat*>& ops, int i, int ref) {
   return true;
 }
 
-std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i) {
+// (row i of the operators, which is row `at` of the lattice: a block's rows are numbered from 0)
+std::uint64_t row_hash(const std::vector<const SpMat*>& ops, int i, int at) {
   const SpMat& A = *ops[0];
   const int *o = A.outerIndexPtr(), *c = A.innerIndexPtr();
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a over offsets and coefficient bits
   auto mix = [&](std::uint64_t v) { h = (h ^ v) * 1099511628211ull; };
   for (int k = o[i]; k < o[i + 1]; ++k) {
-    mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[k] - i)));
+    mix(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[k] - at)));
     for (const SpMat* B : ops) {
       std::uint64_t bits;
       std::memcpy(&bits, B->valuePtr() + k, sizeof bits);
@@ -168,7 +170,7 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   // the most common first.
   std::vector<std::uint64_t> h(n);
   std::unordered_map<std::uint64_t, int> count;
-  for (int i = 0; i < n; ++i) ++count[h[i] = row_hash(ops, i)];
+  for (int i = 0; i < n; ++i) ++count[h[i] = row_hash(ops, i, i)];
   std::uint64_t best = 0;
   int most = 0;
   for (int i = 0; i < n; ++i)
@@ -208,6 +210,240 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   for (int i = 0; i < n; ++i)
     if (plain[i]) st.rest.push_back(i);
   return st;
+}
+
+RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept) {
+  // find_row_stencil above, pass by pass: the hashes; the classes (each reference row copied as it
+  // passes, the rows compared with it); the kept rows.
+  RowStencil st;
+  std::vector<std::uint64_t> h(n);
+  int nops = 0;
+  long cols = 0;
+  rows([&](const std::vector<const SpMat*>& ops, int r0) {
+    nops = static_cast<int>(ops.size());
+    cols = ops[0]->cols();
+    for (const SpMat* B : ops)
+      if (!same_pattern(*ops[0], *B)) throw std::logic_error("find_row_stencil: the operators do not share one pattern");
+    for (int q = 0; q < ops[0]->rows(); ++q) h[r0 + q] = row_hash(ops, q, r0 + q);
+  });
+  std::unordered_map<std::uint64_t, int> count;
+  for (int i = 0; i < n; ++i) ++count[h[i]];
+  std::uint64_t best = 0;
+  int most = 0;
+  for (int i = 0; i < n; ++i)
+    if (count[h[i]] > most) { most = count[h[i]]; best = h[i]; }
+  std::vector<char> plain(n, 1);
+  // the kept rows (stencil_rows_only's: the classes' reference rows and the plain ones), collected
+  // as they pass (in order) and compressed at the end
+  std::vector<int> len(n, 0), col;
+  std::vector<std::vector<double>> val;
+  const auto collect = [&](const std::vector<const SpMat*>& ops, int q, int i) {
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    val.resize(ops.size());
+    len[i] = o[q + 1] - o[q];
+    col.insert(col.end(), c + o[q], c + o[q + 1]);
+    for (size_t b = 0; b < ops.size(); ++b) val[b].insert(val[b].end(), ops[b]->valuePtr() + o[q], ops[b]->valuePtr() + o[q + 1]);
+  };
+  bool collected = false;  // the second pass collected them (no class fell below kMinClassRows)
+  if (n > 0 && most >= std::max(2, n / 4)) {
+    // the classes in find_row_stencil's order: the most common row's first, then by first row
+    std::unordered_map<std::uint64_t, int> cls;
+    std::vector<int> ref;
+    for (int i = 0; i < n; ++i)
+      if (h[i] == best) { cls.emplace(best, 0); ref.push_back(i); break; }
+    for (int i = 0; i < n; ++i)
+      if (count[h[i]] >= kMinClassRows && cls.emplace(h[i], static_cast<int>(ref.size())).second) ref.push_back(i);
+    struct Ref {
+      std::vector<int> offset;
+      std::vector<std::vector<double>> val;  // per operator
+    };
+    std::vector<Ref> rd(ref.size());
+    std::vector<std::vector<int>> members(ref.size());
+    st.classes.resize(ref.size());
+    rows([&](const std::vector<const SpMat*>& ops, int r0) {
+      const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+      for (int q = 0; q < ops[0]->rows(); ++q) {
+        const int i = r0 + q;
+        const bool first = cls.count(h[i]) && ref[cls[h[i]]] == i;  // (class 0 is made whatever its count)
+        if (!first && count[h[i]] < kMinClassRows) {
+          collect(ops, q, i);  // plain
+          continue;
+        }
+        const int k = cls[h[i]];
+        Ref& r = rd[k];
+        if (first) {
+          for (int e = o[q]; e < o[q + 1]; ++e) r.offset.push_back(c[e] - i);
+          for (const SpMat* B : ops) r.val.emplace_back(B->valuePtr() + o[q], B->valuePtr() + o[q + 1]);
+          st.classes[k].ref = i;
+          st.classes[k].offset = r.offset;
+          collect(ops, q, i);  // a reference row
+          if (count[h[i]] < kMinClassRows) continue;
+        }
+        const int n_i = o[q + 1] - o[q];
+        bool same = n_i == static_cast<int>(r.offset.size());
+        for (int e = 0; same && e < n_i; ++e) same = c[o[q] + e] - i == r.offset[e];
+        for (int b = 0; same && b < nops; ++b)
+          same = std::memcmp(ops[b]->valuePtr() + o[q], r.val[b].data(), sizeof(double) * n_i) == 0;
+        if (same) { members[k].push_back(i); plain[i] = 0; }
+        else collect(ops, q, i);  // plain
+      }
+    });
+    collected = true;
+    for (int k = 0; k < static_cast<int>(members.size()); ++k) {
+      if (static_cast<int>(members[k].size()) < kMinClassRows) {
+        for (int i : members[k]) plain[i] = 1;
+        collected = false;  // rows of a class not collected are plain after all
+      } else {
+        add_blocks(k, members[k], st.blocks);
+      }
+    }
+    std::sort(st.blocks.begin(), st.blocks.end(), [](const Blk& a, const Blk& b) { return a.begin < b.begin; });
+  }
+  for (int i = 0; i < n; ++i)
+    if (plain[i]) st.rest.push_back(i);
+  if (!collected) {  // a third pass for them
+    std::vector<char> keep(plain.begin(), plain.end());
+    for (const auto& c : st.classes) keep[c.ref] = 1;
+    std::fill(len.begin(), len.end(), 0);
+    col.clear();
+    val.assign(nops, {});
+    rows([&](const std::vector<const SpMat*>& ops, int r0) {
+      for (int q = 0; q < ops[0]->rows(); ++q)
+        if (keep[r0 + q]) collect(ops, q, r0 + q);
+    });
+  }
+  val.resize(nops);
+  kept.assign(nops, SpMat());
+  for (int b = 0; b < nops; ++b) {
+    SpMat& R = kept[b];
+    R.resize(n, cols);
+    R.reserve(static_cast<Eigen::Index>(col.size()));
+    long e = 0;
+    for (int i = 0; i < n; ++i) {
+      R.startVec(i);
+      for (int k = 0; k < len[i]; ++k, ++e) R.insertBack(i, col[e]) = val[b][e];  // zeros kept
+    }
+    R.finalize();
+    std::vector<double>().swap(val[b]);
+  }
+  return st;
+}
+
+std::vector<int> column_counts(const SpMat& G) {
+  std::vector<int> n(G.cols(), 0);
+  for (Eigen::Index k = 0; k < G.nonZeros(); ++k) ++n[G.innerIndexPtr()[k]];
+  return n;
+}
+
+std::vector<int> reach_of(const SpMat& B) {
+  std::vector<int> from(B.innerIndexPtr(), B.innerIndexPtr() + B.nonZeros());
+  std::sort(from.begin(), from.end());
+  from.erase(std::unique(from.begin(), from.end()), from.end());
+  return from;
+}
+
+SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m) {
+  return transposed_rows(G, {}, cols, c0, m, false);
+}
+
+SpMat transposed_rows(const SpMat& R, const std::vector<int>& at, const std::vector<int>& cols, int c0, int m,
+                      bool local) {
+  const int *o = R.outerIndexPtr(), *c = R.innerIndexPtr();
+  // R's rows to read: those `at` names (all of them), or, R being G itself (`at` empty), the rows
+  // with an entry in columns c0 .. c0 + m - 1: by the pattern's symmetry, the columns of G's rows
+  // c0 .. c0 + m - 1
+  std::vector<int> from;
+  if (at.empty()) from = reach_of(SpMat(R.middleRows(c0, m)));
+  const int nfrom = at.empty() ? static_cast<int>(from.size()) : static_cast<int>(at.size());
+  auto row_of = [&](int q) { return at.empty() ? from[q] : q; };   // R's row
+  auto name_of = [&](int q) { return at.empty() ? from[q] : (local ? q : at[q]); };  // its column in T
+  SpMat T(m, local ? static_cast<Eigen::Index>(at.size()) : R.cols());
+  long nnz = 0;
+  for (int q = 0; q < m; ++q) nnz += cols[c0 + q];
+  std::vector<int> start(m + 1, 0);
+  for (int q = 0; q < nfrom; ++q) {
+    const int k = row_of(q);
+    for (int e = o[k]; e < o[k + 1]; ++e)
+      if (c[e] >= c0 && c[e] < c0 + m) ++start[c[e] - c0 + 1];
+  }
+  for (int q = 0; q < m; ++q) {
+    if (start[q + 1] != cols[c0 + q])
+      throw std::logic_error("transposed_rows: the operator's pattern is not symmetric (column " +
+                             std::to_string(c0 + q) + ")");
+    start[q + 1] += start[q];
+  }
+  T.reserve(nnz);
+  std::vector<int> idx(nnz);
+  std::vector<double> v(nnz);
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (int q = 0; q < nfrom; ++q) {  // ascending rows of G: each row of the transpose in column order, as the whole's
+    const int k = row_of(q);
+    for (int e = o[k]; e < o[k + 1]; ++e)
+      if (c[e] >= c0 && c[e] < c0 + m) {
+        const int a = next[c[e] - c0]++;
+        idx[a] = name_of(q);
+        v[a] = R.valuePtr()[e];
+      }
+  }
+  for (int q = 0; q < m; ++q) {
+    T.startVec(q);
+    for (int e = start[q]; e < start[q + 1]; ++e) T.insertBack(q, idx[e]) = v[e];
+  }
+  T.finalize();
+  return T;
+}
+
+StencilRows::StencilRows(const RowStencil& st, int n) : st_(st), cls_(n, -1) {
+  for (const auto& b : st.blocks)
+    for (int k = 0; k < b.count; ++k) cls_[b.begin + k * b.stride] = b.cls;
+  for (const auto& c : st.classes) cls_[c.ref] = -1;  // kept
+}
+
+template <class Row>
+SpMat StencilRows::gather(const SpMat& A, int m, Row row) const {
+  const int* o = A.outerIndexPtr();
+  long nnz = 0;
+  for (int q = 0; q < m; ++q) {
+    const int i = row(q), k = cls_[i];
+    const int src = k < 0 ? i : st_.classes[k].ref;
+    nnz += o[src + 1] - o[src];
+  }
+  SpMat B(m, A.cols());
+  B.reserve(nnz);
+  for (int q = 0; q < m; ++q) {
+    const int i = row(q), k = cls_[i];
+    B.startVec(q);
+    if (k < 0) {
+      for (int e = o[i]; e < o[i + 1]; ++e) B.insertBack(q, A.innerIndexPtr()[e]) = A.valuePtr()[e];
+    } else {
+      const RowStencil::Class& c = st_.classes[k];
+      for (int e = o[c.ref], t = 0; e < o[c.ref + 1]; ++e, ++t) B.insertBack(q, i + c.offset[t]) = A.valuePtr()[e];
+    }
+  }
+  B.finalize();
+  return B;
+}
+
+SpMat StencilRows::rows(const SpMat& A, int r0, int m) const {
+  return gather(A, m, [r0](int q) { return r0 + q; });
+}
+
+SpMat StencilRows::rows(const SpMat& A, const std::vector<int>& at) const {
+  return gather(A, static_cast<int>(at.size()), [&at](int q) { return at[q]; });
+}
+
+std::vector<int> StencilRows::column_counts(const SpMat& A) const {
+  std::vector<int> n(A.cols(), 0);
+  const int* o = A.outerIndexPtr();
+  for (int i = 0; i < static_cast<int>(cls_.size()); ++i) {
+    const int k = cls_[i];
+    if (k < 0) {
+      for (int e = o[i]; e < o[i + 1]; ++e) ++n[A.innerIndexPtr()[e]];
+    } else {
+      for (int t : st_.classes[k].offset) ++n[i + t];
+    }
+  }
+  return n;
 }
 
 void apply2(const SpMat& A, const Mat2& x, Mat2& y, const RowStencil* st) { apply2(A, x.data(), y.data(), st); }

@@ -13,6 +13,7 @@
 // unchanged, so the results are bitwise those of the plain products.
 #include <array>
 #include <initializer_list>
+#include <functional>
 #include <vector>
 
 #include "fluid/algebra/row_stencil.hpp"
@@ -25,6 +26,49 @@ namespace sphib {
 // get no stencil; classes of fewer than kMinClassRows rows stay with the compressed rows.
 constexpr int kMinClassRows = 4;
 RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
+
+// Operators of one pattern given as their rows: rows(f) calls f(ops, r0) with rows r0 .. r0 + m - 1
+// of every operator (ops[q]: m x cols, compressed), consecutive blocks, every row once, in order;
+// it is called two or three times, and must give the same rows each time.
+using OperatorRows = std::function<void(const std::function<void(const std::vector<const SpMat*>& ops, int r0)>&)>;
+// find_row_stencil of the n-row operators given by `rows`, and kept[q] = stencil_rows_only of
+// operator q, without any operator ever whole (EPSPH's compact storage: the transposes of the
+// velocity gradients): the same stencil and the same kept rows, bit for bit. Two passes over the
+// rows (the hashes; the classes and the kept rows), a third only should a class fall below
+// kMinClassRows (hash collisions) or no stencil apply.
+RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept);
+
+// Rows c0 .. c0 + m - 1 of G^T (an m x G.rows() matrix), the same bits and order as those rows of
+// the whole transpose, read from the rows of G that the columns' own rows reach: G's pattern must be
+// symmetric (the lattice operators' is: a pair and its mirror), which is checked against G's column
+// counts `cols` (column_counts(G)); std::logic_error if not.
+std::vector<int> column_counts(const SpMat& G);
+SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m);
+// The same from R, the rows `at` (ascending) of G (R's row q is G's row at[q]), which must hold the
+// rows of G that G's columns c0 .. c0 + m - 1 reach (reach_of below); `local`: the columns numbered
+// as R's rows (q for G's row at[q]: an m x at.size() matrix for products with R).
+SpMat transposed_rows(const SpMat& R, const std::vector<int>& at, const std::vector<int>& cols, int c0, int m,
+                      bool local);
+// The columns of the rows of B, ascending, each once (of G's rows c0 .. c0 + m - 1: by the
+// pattern's symmetry, the rows that reach the columns c0 .. c0 + m - 1)
+std::vector<int> reach_of(const SpMat& B);
+
+// An operator kept compact by a stencil (stencil_rows_only over `st`), its rows whole again: a row
+// of a class is its reference row translated (the same coefficient bits, the columns shifted), the
+// other rows are the kept ones. `st` must outlive it.
+class StencilRows {
+ public:
+  StencilRows(const RowStencil& st, int n);
+  SpMat rows(const SpMat& A, int r0, int m) const;               // rows r0 .. r0 + m - 1 (m x cols)
+  SpMat rows(const SpMat& A, const std::vector<int>& at) const;  // rows at[q], ascending or not
+  std::vector<int> column_counts(const SpMat& A) const;          // of the whole operator
+
+ private:
+  template <class Row>
+  SpMat gather(const SpMat& A, int m, Row row) const;
+  const RowStencil& st_;
+  std::vector<int> cls_;  // each row's class, -1 for a kept row
+};
 
 // Fused products over operators of one sparsity pattern: each reads the pattern once. `st`, when
 // given, must come from find_row_stencil over these operators (or a superset of them). With

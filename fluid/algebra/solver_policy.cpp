@@ -1,5 +1,7 @@
 #include "fluid/algebra/solver_policy.hpp"
 
+#include "fluid/algebra/products.hpp"
+
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -99,6 +101,53 @@ std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat&
   }
   auto s = direct(system, A, kind == SolverKind::Auto && (moving || b <= 0.5) ? SolverKind::Pcg : kind, refactor);
   if (kind == SolverKind::Auto) s->annotate(note.str(), 0.0);
+  return s;
+}
+
+namespace {
+RowsOf middle_rows(const SpMat& A) {
+  return [&A](int r0, int m) { return SpMat(A.middleRows(r0, m)); };
+}
+}  // namespace
+
+MatrixRows negated_rows(const SpMat& A) { return negated_rows(middle_rows(A), static_cast<int>(A.rows())); }
+
+MatrixRows negated_rows(RowsOf rows, int n) {
+  return [rows = std::move(rows), n](const std::function<void(const SpMat&, int)>& f) {
+    const int b = product_block(n);
+    for (int r0 = 0; r0 < n; r0 += b) {
+      SpMat B = rows(r0, std::min(b, n - r0));
+      negate(B);
+      f(B, r0);
+    }
+  };
+}
+
+MatrixRows crank_nicolson_rows(const SpMat& lap, double a) {
+  return crank_nicolson_rows(middle_rows(lap), static_cast<int>(lap.rows()), a);
+}
+
+MatrixRows crank_nicolson_rows(RowsOf lap, int n, double a) {
+  return [lap = std::move(lap), n, a](const std::function<void(const SpMat&, int)>& f) {
+    const int b = product_block(n);
+    for (int r0 = 0; r0 < n; r0 += b) {
+      const int m = std::min(b, n - r0);
+      SpMat B = lap(r0, m);
+      B *= -a;  // as ProjectionFluid::crank_nicolson_matrix (Eq. 28)
+      for (int q = 0; q < m; ++q) B.coeffRef(q, r0 + q) += 1.0;
+      B.makeCompressed();  // (should a diagonal have been missing)
+      f(B, r0);
+    }
+  };
+}
+
+std::unique_ptr<LinearSolver> lattice_crank_nicolson_solver(const MatrixRows& A, long n, SolverKind kind,
+                                                            const Lattice& fixed) {
+  if (kind != SolverKind::Auto && kind != SolverKind::Fft) return nullptr;
+  std::string why;
+  auto s = make_fft_solver("Crank-Nicolson", A, n, fixed, false, &why);  // as crank_nicolson_solver
+  if (s && kind == SolverKind::Auto) s->annotate(" (auto)", 0.0);
+  if (!s && kind == SolverKind::Fft) throw std::invalid_argument("solver.crank_nicolson = \"fft\" does not apply: " + why);
   return s;
 }
 

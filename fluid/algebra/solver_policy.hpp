@@ -95,4 +95,20 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
 SystemSolver lattice_singular_solver(const std::string& system, const MatrixRows& A, long n, const Gauge& g,
                                      SolverKind kind, const Lattice& fixed);
 
+// The rows of -A, and of the Crank-Nicolson matrix I - a lap, a block at a time (each row the same
+// bits as the whole matrix's: crank_nicolson_matrix, negate), for the two solvers below: the lattice
+// solver reads them without the matrix ever made (EPSPH's compact storage).
+// `rows(r0, m)`: the operator's rows r0 .. r0 + m - 1 (an m-row matrix; EPSPH's compact operators
+// give them by StencilRows), n its row count.
+using RowsOf = std::function<SpMat(int r0, int m)>;
+MatrixRows negated_rows(const SpMat& A);
+MatrixRows negated_rows(RowsOf rows, int n);
+MatrixRows crank_nicolson_rows(const SpMat& lap, double a);
+MatrixRows crank_nicolson_rows(RowsOf lap, int n, double a);
+// crank_nicolson_solver's FFT lattice solver of I - a lap from its rows, where `kind` takes it (auto,
+// fft): that solver, or nullptr when `kind` is another or the matrix lacks the structure (then the
+// caller makes the matrix for crank_nicolson_solver; fft refuses as crank_nicolson_solver does).
+std::unique_ptr<LinearSolver> lattice_crank_nicolson_solver(const MatrixRows& A, long n, SolverKind kind,
+                                                            const Lattice& fixed);
+
 }  // namespace sphib

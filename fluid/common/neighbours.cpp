@@ -132,33 +132,9 @@ void CellGrid::build(const Mat2& points) {
   }
 }
 
-PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
-  PairList P;
-  find_pairs(L.domain, L.x, image_x, support, P);
-  // Particle pairs: x_i - x_j from the lattice indices, (i_x - j_x) dx (minimum image), instead of a
-  // difference of rounded positions, so that every pair of one lattice offset carries the same
-  // bits and the operators' rows away from walls are exact translates (fluid/algebra/products.hpp).
-  const int N = L.size();
-  for (int i = 0; i < N; ++i)
-    for (int k = P.offset[i]; k < P.offset[i + 1]; ++k) {
-      const int j = P.j[k];
-      if (j >= N) continue;  // an image: reflected positions, left as found
-      int di = i % L.nx - j % L.nx, dj = i / L.nx - j / L.nx;
-      if (L.domain.periodic_x) di -= L.nx * static_cast<int>(std::lround(static_cast<double>(di) / L.nx));
-      if (L.domain.periodic_y) dj -= L.ny * static_cast<int>(std::lround(static_cast<double>(dj) / L.ny));
-      P.rx[k] = di * L.dx;
-      P.ry[k] = dj * L.dy;
-      P.r[k] = std::sqrt(P.rx[k] * P.rx[k] + P.ry[k] * P.ry[k]);
-    }
-  // kept for the setup (EPSPH): no room left from the growth of the arrays (up to twice their size)
-  P.j.shrink_to_fit();
-  P.rx.shrink_to_fit();
-  P.ry.shrink_to_fit();
-  P.r.shrink_to_fit();
-  return P;
-}
+namespace {
 
-void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double support, PairList& P) {
+void check_support(const Domain& d, double support) {
   if (d.periodic_x && !(support <= 0.5 * d.Lx())) {
     std::ostringstream m;
     m << "kernel support 2h = " << support << " must not exceed half the periodic length Lx = " << d.Lx();
@@ -169,6 +145,10 @@ void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double supp
     m << "kernel support 2h = " << support << " must not exceed half the periodic length Ly = " << d.Ly();
     throw std::invalid_argument(m.str());
   }
+}
+
+// The cells of the particles x and images (numbered N + k) that the pair search walks.
+CellGrid pair_grid(const Domain& d, const Mat2& x, const Mat2& image_x, double support) {
   const int N = static_cast<int>(x.rows()), M = static_cast<int>(image_x.rows());
   Mat2 all(N + M, 2);
   all.topRows(N) = x;
@@ -179,16 +159,15 @@ void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double supp
   if (!d.periodic_y) { lo[1] -= support; hi[1] += support; }
   CellGrid grid(lo, hi, d.periodic_x, d.periodic_y, support);
   grid.build(all);
+  return grid;
+}
 
+// The pairs of particles r0 .. r1 - 1 appended to P (P.offset relative to r0: it has one entry
+// more than the rows, P.offset[0] as P held before).
+void gather_pairs(const CellGrid& grid, const Mat2& x, double support, int r0, int r1, PairList& P) {
   struct Near { int j; double rx, ry, r; };
   std::vector<Near> near;  // the pairs of one particle
-  P.offset.resize(N + 1);
-  P.offset[0] = 0;
-  P.j.clear();
-  P.rx.clear();
-  P.ry.clear();
-  P.r.clear();
-  for (int i = 0; i < N; ++i) {
+  for (int i = r0; i < r1; ++i) {
     near.clear();
     grid.for_each_near(x(i, 0), x(i, 1), support, [&](int j, double dx, double dy, double r) {
       if (j != i) near.push_back({j, dx, dy, r});
@@ -201,8 +180,76 @@ void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double supp
       P.ry.push_back(n.ry);
       P.r.push_back(n.r);
     }
-    P.offset[i + 1] = P.size();
+    P.offset.push_back(P.size());
   }
+}
+
+// Particle pairs of rows r0 .. (P's pairs from offset[0]): x_i - x_j from the lattice indices,
+// (i_x - j_x) dx (minimum image), instead of a difference of rounded positions, so that every pair of
+// one lattice offset carries the same bits and the operators' rows away from walls are exact
+// translates (fluid/algebra/products.hpp).
+void lattice_offsets(const Lattice& L, int r0, PairList& P) {
+  const int N = L.size();
+  const int rows = static_cast<int>(P.offset.size()) - 1;
+  for (int q = 0; q < rows; ++q) {
+    const int i = r0 + q;
+    for (int k = P.offset[q]; k < P.offset[q + 1]; ++k) {
+      const int j = P.j[k];
+      if (j >= N) continue;  // an image: reflected positions, left as found
+      int di = i % L.nx - j % L.nx, dj = i / L.nx - j / L.nx;
+      if (L.domain.periodic_x) di -= L.nx * static_cast<int>(std::lround(static_cast<double>(di) / L.nx));
+      if (L.domain.periodic_y) dj -= L.ny * static_cast<int>(std::lround(static_cast<double>(dj) / L.ny));
+      P.rx[k] = di * L.dx;
+      P.ry[k] = dj * L.dy;
+      P.r[k] = std::sqrt(P.rx[k] * P.rx[k] + P.ry[k] * P.ry[k]);
+    }
+  }
+}
+
+}  // namespace
+
+LatticePairs::LatticePairs(const Lattice& L, const Mat2& image_x, double support)
+    : L_(L), support_(support), grid_((check_support(L.domain, support), pair_grid(L.domain, L.x, image_x, support))) {}
+
+void LatticePairs::rows(int r0, int r1, PairList& P) const {
+  P.offset.assign(1, 0);
+  P.j.clear();
+  P.rx.clear();
+  P.ry.clear();
+  P.r.clear();
+  gather_pairs(grid_, L_.x, support_, r0, r1, P);
+  lattice_offsets(L_, r0, P);
+}
+
+long LatticePairs::count() const {
+  long n = 0;
+  for (int i = 0; i < L_.size(); ++i)
+    grid_.for_each_near(L_.x(i, 0), L_.x(i, 1), support_, [&](int j, double, double, double) { n += j != i; });
+  return n;
+}
+
+PairList find_pairs(const Lattice& L, const Mat2& image_x, double support) {
+  PairList P;
+  find_pairs(L.domain, L.x, image_x, support, P);
+  lattice_offsets(L, 0, P);
+  // kept for the setup (EPSPH): no room left from the growth of the arrays (up to twice their size)
+  P.j.shrink_to_fit();
+  P.rx.shrink_to_fit();
+  P.ry.shrink_to_fit();
+  P.r.shrink_to_fit();
+  return P;
+}
+
+void find_pairs(const Domain& d, const Mat2& x, const Mat2& image_x, double support, PairList& P) {
+  check_support(d, support);
+  const CellGrid grid = pair_grid(d, x, image_x, support);
+  P.offset.assign(1, 0);
+  P.offset.reserve(x.rows() + 1);
+  P.j.clear();
+  P.rx.clear();
+  P.ry.clear();
+  P.r.clear();
+  gather_pairs(grid, x, support, 0, static_cast<int>(x.rows()), P);
 }
 
 VerletList::VerletList(const Domain& d, double reach, double skin_min, double skin_max)

@@ -182,6 +182,25 @@ struct PairGeometry {
 // Throws std::invalid_argument if 2h exceeds half a periodic period (minimum image would fail).
 PairList find_pairs(const Lattice& lattice, const Mat2& image_x, double support);
 
+// The lattice's pairs a block of rows at a time, so that the whole list need never exist (EPSPH's
+// compact storage assembles its operators from them: fluid/algebra/operators.hpp). It holds the
+// search's cells (the particles' and images' positions, ~30 B per particle).
+class LatticePairs {
+ public:
+  // Throws as find_pairs. L and image_x must outlive it (image_x is copied into the cells).
+  LatticePairs(const Lattice& L, const Mat2& image_x, double support);
+  // P := the pairs of particles r0 .. r1 - 1, each as find_pairs(L, ...) makes it (the same j, rx,
+  // ry, r bits, in its order), P.offset relative to r0 (P.offset[0] = 0, r1 - r0 + 1 entries).
+  void rows(int r0, int r1, PairList& P) const;
+  long count() const;  // the whole list's length (a pass that counts them)
+  const Lattice& lattice() const { return L_; }
+
+ private:
+  const Lattice& L_;
+  double support_;
+  CellGrid grid_;
+};
+
 // The same for arbitrary particle positions x (N x 2) in the domain: the moving particles of LPSPH,
 // searched again every step (cell list, O(N)). `out` is overwritten, reusing its storage.
 void find_pairs(const Domain& domain, const Mat2& x, const Mat2& image_x, double support, PairList& out);

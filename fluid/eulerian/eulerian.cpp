@@ -12,10 +12,20 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   if (prm_.projection == Projection::Auto) prm_.projection = Projection::Exact;
   const int N = lat_.size();
 
-  // Neighbours: images and the pair list, once.
+  // Neighbours: images and the pair list, once (the compact storage: the pairs a block of rows at a
+  // time, as the assembly reads them; the whole list never exists).
+  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
+  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
   auto t0 = Profile::Clock::now();
   im_ = make_images(lat_, W_.support());
-  pairs_ = find_pairs(lat_, im_.x, W_.support());
+  std::unique_ptr<LatticePairs> blocks;
+  if (compact_) {
+    blocks = std::make_unique<LatticePairs>(lat_, im_.x, W_.support());
+    pairs_count_ = blocks->count();
+  } else {
+    pairs_ = find_pairs(lat_, im_.x, W_.support());
+    pairs_count_ = pairs_.size();
+  }
   add_setup("neighbours", seconds_since(t0));
 
   // Operators, once (Eqs. 27-34), and the rows of their patterns that are lattice translates. The
@@ -23,50 +33,91 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   // Compact storage (exact projection, lattice solvers): every product of a step goes through the
   // stencils, so each operator keeps only its stencil's rows (stencil_rows_only), and what only the
   // setup reads is freed as soon as it has been read. The setup never holds the operators whole
-  // together: the phi operators are assembled first and read (the Morris Laplacian by its solver,
-  // the phi gradients by the exact projection's divergence D = -G^T), then the velocity operators;
-  // the pair list goes after them; the Morris Laplacian of odd images (lap_u.A) is reduced to its
-  // stencil's rows once the Crank-Nicolson and the markers' solvers are made, before G^T G is
-  // computed (a block of rows at a time, never whole) from the velocity gradients.
-  pairs_count_ = pairs_.size();
-  auto lattice_solver = [](SolverKind k) { return k == SolverKind::Auto || k == SolverKind::Fft; };
-  compact_ = exact() && lattice_solver(prm_.cn_solver) && lattice_solver(prm_.poisson_solver);
-  const double m = exact() ? ExactProjection::gradient_normalisation(lat_, pairs_, W_) : 0.0;
+  // together, nor the pair list (its blocks are searched as the assembly reads them): the phi
+  // operators are assembled first and read (the Morris Laplacian by its solver, the phi gradients by
+  // the exact projection's divergence D = -G^T), then the velocity operators; the Morris Laplacian
+  // of odd images (lap_u.A) is reduced to its stencil's rows once the Crank-Nicolson and the
+  // markers' solvers are made, before G^T G is computed from the velocity gradients. The lattice
+  // solvers read their matrices' rows a block at a time (-lap, I - a lap, G^T G: none is made
+  // whole), and the velocity gradients' transposes are read a block at a time, never whole.
+  const double m = !exact() ? 0.0
+                   : compact_ ? ExactProjection::gradient_normalisation(*blocks, W_)
+                              : ExactProjection::gradient_normalisation(lat_, pairs_, W_);
   double factorisation = 0;
   ExactProjection::Divergence div;
   t0 = Profile::Clock::now();
   gauge_ = Gauge(lat_, NullSpace::Constants);
   if (compact_) {
-    {
-      Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::LapPhi);
-      op_.lap_phi.swap(built.lap_phi);
-    }
-    const auto t1 = Profile::Clock::now();
-    make_phi_solver();
-    factorisation += seconds_since(t1);
-    lap_phi_st_lattice_ = find_row_stencil({&op_.lap_phi});
-    keep_stencil_rows(op_.lap_phi, lap_phi_st_lattice_);
+    // Each set of operators by blocks of rows, never whole: the pairs of a block searched, its rows
+    // assembled (operator_rows), read twice (find_row_stencil: the classes' hashes; the classes and
+    // the kept rows); the velocity operators' image parts B whole (rows near the walls only) from the
+    // first pass. Where a reader needs the whole rows again (the lattice solvers' models and row
+    // checks, the transposes), StencilRows makes them from the kept ones, a block at a time.
+    std::vector<Triplet> tB[3];
+    const auto rows_of = [&](OperatorSet set, bool images) -> OperatorRows {
+      return [&, set, images](const std::function<void(const std::vector<const SpMat*>&, int)>& f) mutable {
+        PairList P;
+        for (int r0 = 0; r0 < N; r0 += kAssemblyRows) {
+          blocks->rows(r0, std::min(N, r0 + kAssemblyRows), P);
+          const Operators b = operator_rows(P, r0, lat_, im_, W_, set);
+          if (set == OperatorSet::LapPhi) {
+            f({&b.lap_phi}, r0);
+          } else if (set == OperatorSet::GradPhi) {
+            f({&b.grad_phix, &b.grad_phiy}, r0);
+          } else {
+            const ImageOp* ops[3] = {&b.lap_u, &b.grad_ux, &b.grad_uy};
+            for (int q = 0; images && q < 3; ++q)
+              for (int i = 0; i < ops[q]->B.outerSize(); ++i)
+                for (SpMat::InnerIterator it(ops[q]->B, i); it; ++it) tB[q].emplace_back(r0 + i, it.col(), it.value());
+            f({&b.lap_u.A, &b.grad_ux.A, &b.grad_uy.A}, r0);
+          }
+        }
+        images = false;  // (the first pass's only)
+      };
+    };
+    std::vector<SpMat> kept;
+    // the Morris Laplacian of phi, and its solver (for phi~ and the pressure of Eq. 35)
+    lap_phi_st_lattice_ = find_row_stencil(rows_of(OperatorSet::LapPhi, false), N, kept);
+    op_.lap_phi.swap(kept[0]);
     lap_phi_st_ = &lap_phi_st_lattice_;
     {
-      Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::GradPhi);
-      op_.grad_phix.swap(built.grad_phix);
-      op_.grad_phiy.swap(built.grad_phiy);
+      const auto t1 = Profile::Clock::now();
+      const StencilRows sr(lap_phi_st_lattice_, N);
+      SystemSolver s = lattice_singular_solver(
+          phi_system(), negated_rows([&](int r0, int k) { return sr.rows(op_.lap_phi, r0, k); }, N), N, gauge_,
+          prm_.poisson_solver, lat_);
+      if (s.solver) {
+        poisson_ = std::move(s.solver);
+        poisson_unpinned_ = s.unpinned;
+      } else {  // the Laplacian whole again for the other solvers
+        SpMat lap = sr.rows(op_.lap_phi, 0, N);
+        op_.lap_phi.swap(lap);
+        make_phi_solver();
+        op_.lap_phi.swap(lap);
+      }
+      factorisation += seconds_since(t1);
     }
-    if (!same_pattern(op_.grad_phix, op_.grad_phiy))
-      throw std::logic_error("fluid: the operators do not share one pattern (fused products need it)");
-    phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
-    div = ExactProjection::take_divergence(op_.grad_phix, op_.grad_phiy);  // (releases them)
-    Operators built = build_operators(pairs_, lat_, im_, W_, OperatorSet::Velocity);
-    op_.lap_u.swap(built.lap_u);
-    op_.grad_ux.swap(built.grad_ux);
-    op_.grad_uy.swap(built.grad_uy);
-    pairs_ = PairList();
+    // the phi gradients, read only by the exact projection's divergence D = -G^T (then freed)
+    phi_st_lattice_ = find_row_stencil(rows_of(OperatorSet::GradPhi, false), N, kept);
+    div = ExactProjection::divergence_by_blocks(kept[0], kept[1], phi_st_lattice_);
+    kept.clear();
+    // the velocity operators
+    vel_st_lattice_ = find_row_stencil(rows_of(OperatorSet::Velocity, true), N, kept);
+    blocks.reset();
+    op_.lap_u.A.swap(kept[0]);
+    op_.grad_ux.A.swap(kept[1]);
+    op_.grad_uy.A.swap(kept[2]);
+    ImageOp* whole[3] = {&op_.lap_u, &op_.grad_ux, &op_.grad_uy};
+    for (int q = 0; q < 3; ++q) {
+      whole[q]->B.resize(N, im_.size());
+      whole[q]->B.setFromTriplets(tB[q].begin(), tB[q].end());
+    }
   } else {
     Operators built = build_operators(pairs_, lat_, im_, W_);
     op_.swap(built);  // (not an assignment: that would copy)
     phi_st_lattice_ = find_row_stencil({&op_.grad_phix, &op_.grad_phiy});
+    vel_st_lattice_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
   }
-  vel_st_lattice_ = find_row_stencil({&op_.lap_u.A, &op_.grad_ux.A, &op_.grad_uy.A});
   operators_changed(&vel_st_lattice_, &phi_st_lattice_);
   conv_wall_x_ = conv_wall_y_ = Mat2::Zero(N, 2);  // the wall values' terms, once
   add_image_terms(op_.grad_ux.B, gx_b_rows_, c_wall_, conv_wall_x_);
@@ -80,14 +131,23 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
   // is asked for (phi()); the compact storage made that one above, while the Morris Laplacian existed.
   t0 = Profile::Clock::now();
-  cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
+  if (compact_) {  // the matrix I - a lap never made, lap made whole again only should that solver not apply
+    const StencilRows sr(vel_st_lattice_, N);
+    cn_ = lattice_crank_nicolson_solver(crank_nicolson_rows([&](int r0, int k) { return sr.rows(op_.lap_u.A, r0, k); },
+                                                            N, a_cn()),
+                                        N, prm_.cn_solver, lat_);
+    if (!cn_) {
+      SpMat lap = sr.rows(op_.lap_u.A, 0, N);
+      op_.lap_u.A.swap(lap);
+      cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
+      op_.lap_u.A.swap(lap);
+    }
+  } else {
+    cn_ = crank_nicolson_solver(crank_nicolson_matrix(), op_.lap_u.A, a_cn(), prm_.cn_solver, &lat_, Refactor::Once);
+  }
   if (compact_) {
     streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true, true, &div);
-    streams_->make_markers_solver();
-    keep_stencil_rows(op_.lap_u.A, vel_st_lattice_);
     streams_->make_solvers();
-    keep_stencil_rows(op_.grad_ux.A, vel_st_lattice_);
-    keep_stencil_rows(op_.grad_uy.A, vel_st_lattice_);
   } else if (exact()) {
     streams_ = std::make_unique<ExactProjection>(lat_, im_, op_, m, vel_st_, prm_.poisson_solver, true);
   } else {
@@ -116,11 +176,14 @@ const Operators& EulerianFluid::operators() const {
   return op_;
 }
 
+std::string EulerianFluid::phi_system() const {
+  return exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson";
+}
+
 void EulerianFluid::make_phi_solver() const {
   SpMat minus_lap = op_.lap_phi;  // -lap (negated in place: an assigned -A grows its own storage)
   negate(minus_lap);
-  auto s = singular_solver(exact() ? "Poisson (Morris Laplacian: phi and p of the exact projection)" : "Poisson",
-                           minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+  auto s = singular_solver(phi_system(), minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
   poisson_ = std::move(s.solver);
   poisson_unpinned_ = s.unpinned;
 }

@@ -7,6 +7,7 @@
 // function (exact_projection.hpp), and the floor of a step.
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "fluid/eulerian/exact_projection.hpp"
@@ -62,6 +63,7 @@ class EulerianFluid final : public ProjectionFluid {
   void restore_extra(const NamedArrays& st) override;
   bool exact() const { return prm_.projection == Projection::Exact; }
   void make_phi_solver() const;  // exact projection: the Morris Laplacian's, for phi~ (on demand)
+  std::string phi_system() const;  // its name (the solver's log line)
   void pairs_current() const override;  // the pair list again where the compact storage freed it
 
   // Compact storage (the exact projection with the lattice solvers, solver.* = auto or fft): the

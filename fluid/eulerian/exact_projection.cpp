@@ -1,6 +1,7 @@
 #include "fluid/eulerian/exact_projection.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -15,11 +16,27 @@ std::string wall_name(Side w) {
 }
 }  // namespace
 
-double ExactProjection::gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W) {
-  const int i = lat.nx / 2 + lat.nx * (lat.ny / 2);
+namespace {
+// m from the pairs k0 .. k1 - 1 of the lattice's middle particle (gradient_normalisation)
+double normalisation(const Lattice& lat, const PairList& pairs, int k0, int k1, const CubicSplineKernel& W) {
   double mx = 0;
-  for (int k = pairs.offset[i]; k < pairs.offset[i + 1]; ++k) mx -= lat.volume * W.F(pairs.r[k]) * pairs.rx[k] * pairs.rx[k];
+  for (int k = k0; k < k1; ++k) mx -= lat.volume * W.F(pairs.r[k]) * pairs.rx[k] * pairs.rx[k];
   return mx;
+}
+int middle(const Lattice& lat) { return lat.nx / 2 + lat.nx * (lat.ny / 2); }
+}  // namespace
+
+double ExactProjection::gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W) {
+  const int i = middle(lat);
+  return normalisation(lat, pairs, pairs.offset[i], pairs.offset[i + 1], W);
+}
+
+double ExactProjection::gradient_normalisation(const LatticePairs& pairs, const CubicSplineKernel& W) {
+  const Lattice& lat = pairs.lattice();
+  const int i = middle(lat);
+  PairList P;
+  pairs.rows(i, i + 1, P);
+  return normalisation(lat, P, 0, P.size(), W);
 }
 
 ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Operators& op, double m,
@@ -65,13 +82,27 @@ ExactProjection::Divergence ExactProjection::make_divergence(const SpMat& grad_p
   return d;
 }
 
-ExactProjection::Divergence ExactProjection::take_divergence(SpMat& grad_phix, SpMat& grad_phiy) {
+ExactProjection::Divergence ExactProjection::divergence_by_blocks(const SpMat& grad_phix, const SpMat& grad_phiy,
+                                                                   const RowStencil& st) {
+  const int N = static_cast<int>(grad_phix.rows()), block = product_block(N);
+  const StencilRows sr(st, N);
+  const std::vector<int> cols_x = sr.column_counts(grad_phix), cols_y = sr.column_counts(grad_phiy);
+  const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
+    for (int r0 = 0; r0 < N; r0 += block) {
+      const int m = std::min(block, N - r0);
+      const std::vector<int> at = reach_of(sr.rows(grad_phix, r0, m));  // (one pattern)
+      SpMat dx = transposed_rows(sr.rows(grad_phix, at), at, cols_x, r0, m, false);
+      SpMat dy = transposed_rows(sr.rows(grad_phiy, at), at, cols_y, r0, m, false);
+      negate(dx);  // D = -G^T
+      negate(dy);
+      f({&dx, &dy}, r0);
+    }
+  };
   Divergence d;
-  d.x = grad_phix.transpose();
-  release(grad_phix);
-  d.y = grad_phiy.transpose();
-  release(grad_phiy);
-  finish_divergence(d, true);
+  std::vector<SpMat> kept;
+  d.st = find_row_stencil(rows, N, kept);
+  d.x.swap(kept[0]);
+  d.y.swap(kept[1]);
   return d;
 }
 
@@ -95,11 +126,20 @@ void ExactProjection::make_markers_solver() {
   // wall, the constants its null space on a doubly periodic box.
   const Domain& d = lat_.domain;
   mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
-  SpMat minus_lap = op_.lap_u.A;  // -lap (negated in place: an assigned -A grows its own storage)
-  negate(minus_lap);
-  SystemSolver m = singular_solver("stream function of the markers (Morris Laplacian, odd images)", minus_lap,
-                                   mpsi_gauge_, kind_, &lat_, Refactor::Once);
-  release(minus_lap);
+  const std::string system = "stream function of the markers (Morris Laplacian, odd images)";
+  SystemSolver m;
+  const int N = lat_.size();
+  std::unique_ptr<StencilRows> sr;  // compact: lap_u.A by its stencil's rows only
+  if (compact_) {  // the lattice solver from -lap's rows (no negated copy, lap never whole)
+    sr = std::make_unique<StencilRows>(*vel_st_, N);
+    m = lattice_singular_solver(system, negated_rows([&](int r0, int k) { return sr->rows(op_.lap_u.A, r0, k); }, N),
+                                N, mpsi_gauge_, kind_, lat_);
+  }
+  if (!m.solver) {
+    SpMat minus_lap = sr ? sr->rows(op_.lap_u.A, 0, N) : op_.lap_u.A;  // -lap (negated in place: an
+    negate(minus_lap);                                                 // assigned -A grows its own storage)
+    m = singular_solver(system, minus_lap, mpsi_gauge_, kind_, &lat_, Refactor::Once);
+  }
   mpsi_solver_ = std::move(m.solver);
   mpsi_unpinned_ = m.unpinned;
 }
@@ -111,11 +151,73 @@ void ExactProjection::make_psi_solver() {
   // c1 the offsets of unit flux Q (2 on the images of the top wall, or of the right wall).
   const SpMat& Gx = op_.grad_ux.A;
   const SpMat& Gy = op_.grad_uy.A;
-  psi_ty_ = Gy.transpose();
-  psi_tx_ = Gx.transpose();
-  negate(psi_tx_);  // -Gx^T
-  psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
+  const int N = lat_.size(), block = product_block(N);
+  // The compact storage holds the velocity gradients by their stencil's rows only, and never their
+  // transposes whole: a block of the transposes' rows at a time (the same bits as the whole
+  // transposes' rows), from the gradients' rows that reach them made whole again (StencilRows), read
+  // twice for the transposes' stencil and kept rows, once for the flux's terms and up to three times
+  // by the lattice solver for G^T G; the gradients' rows themselves a block at a time.
+  std::unique_ptr<StencilRows> sr;
+  std::vector<int> cols_x, cols_y;
+  // the block's transposes, and the gradients' rows they reach (`local`: the transposes' columns
+  // numbered as those rows, for the products with them)
+  const auto transposes = [&](int r0, int m, SpMat& ty, SpMat& tx, SpMat* ry, SpMat* rx, bool local) {
+    const std::vector<int> at = reach_of(sr->rows(Gy, r0, m));  // (Gx's pattern is Gy's)
+    SpMat y = sr->rows(Gy, at), x = sr->rows(Gx, at);
+    ty = transposed_rows(y, at, cols_y, r0, m, local);
+    tx = transposed_rows(x, at, cols_x, r0, m, local);
+    negate(tx);  // -Gx^T
+    if (ry) ry->swap(y);
+    if (rx) rx->swap(x);
+  };
+  const auto by_blocks = [&](const std::function<void(int, int)>& f) {
+    for (int r0 = 0; r0 < N; r0 += block) f(r0, std::min(block, N - r0));
+  };
+  if (compact_) {
+    sr = std::make_unique<StencilRows>(*vel_st_, N);
+    cols_x = sr->column_counts(Gx);
+    cols_y = sr->column_counts(Gy);
+    const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
+      SpMat ty, tx;
+      by_blocks([&](int r0, int m) {
+        transposes(r0, m, ty, tx, nullptr, nullptr, false);
+        f({&ty, &tx}, r0);
+      });
+    };
+    std::vector<SpMat> kept;
+    psi_st_ = find_row_stencil(rows, N, kept);  // read from here on only through psi_st_
+    psi_ty_.swap(kept[0]);
+    psi_tx_.swap(kept[1]);
+  } else {
+    psi_ty_ = Gy.transpose();
+    psi_tx_ = Gx.transpose();
+    negate(psi_tx_);  // -Gx^T
+    psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
+  }
   const Domain& d = lat_.domain;
+  const int M = im_.size();
+  psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
+  const bool channel = d.periodic_x != d.periodic_y;
+  if (channel) {
+    const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
+    Vec c1 = Vec::Zero(M);
+    for (int m = 0; m < M; ++m)
+      if (im_.wall[m] == far) c1[m] = 2.0;
+    psi_by1_ = op_.grad_uy.B * c1;
+    psi_bx1_ = op_.grad_ux.B * c1;
+    if (compact_)  // by rows of the transposes: each row's sums as the whole products'
+      by_blocks([&](int r0, int m) {
+        SpMat ty, tx;
+        transposes(r0, m, ty, tx, nullptr, nullptr, false);
+        const Vec f = ty * psi_by1_ - tx * psi_bx1_;
+        psi_flux_.segment(r0, m) = f;
+      });
+    else
+      psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
+    mpsi_flux_ = op_.lap_u.B * c1;  // lap of psi_m's wall values per unit flux
+  } else {
+    mpsi_flux_ = Vec::Zero(N);
+  }
   psi_gauge_ = Gauge(lat_, NullSpace::GradientOddImages);
   // G^T G = Gy^T Gy + Gx^T Gx (Gx^T = -psi_tx_, exactly), a block of rows at a time: the same bits
   // as the whole products. The compact storage hands the lattice solver the blocks alone (G^T G,
@@ -123,32 +225,33 @@ void ExactProjection::make_psi_solver() {
   // the matrix is made from them.
   const std::string system = projection_ ? "Poisson (exact projection: the stream function, G^T G, odd images)"
                                          : "stream function (G^T G, odd images)";
-  const int N = lat_.size();
   SystemSolver s;
   if (compact_) {
     const MatrixRows gtg = [&](const std::function<void(const SpMat&, int)>& f) {
-      for (int r0 = 0, m = product_block(N); r0 < N; r0 += m)
-        f(rows_of_sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx, r0, std::min(m, N - r0)), r0);
+      by_blocks([&](int r0, int m) {
+        SpMat ty, tx, ry, rx;
+        transposes(r0, m, ty, tx, &ry, &rx, true);
+        f(rows_of_sum_of_products(ty, ry, -1.0, tx, rx, 0, m), r0);
+      });
     };
     s = lattice_singular_solver(system, gtg, N, psi_gauge_, kind_, lat_);
   }
   if (!s.solver) {
-    const SpMat A = sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx);
+    SpMat A;
+    if (compact_) {  // the gradients and their transposes whole again, for the matrix
+      const SpMat gx = sr->rows(Gx, 0, N), gy = sr->rows(Gy, 0, N);
+      SpMat ty = gy.transpose(), tx = gx.transpose();
+      negate(tx);
+      A = sum_of_products(ty, gy, -1.0, tx, gx);
+    } else {
+      A = sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx);
+    }
     s = singular_solver(system, A, psi_gauge_, kind_, &lat_, Refactor::Once);
   }
   psi_solver_ = std::move(s.solver);
   psi_unpinned_ = s.unpinned;
-  const int M = im_.size();
-  psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
   psi_r1_ = Mat2::Zero(N, 2);
-  if (d.periodic_x != d.periodic_y) {
-    const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
-    Vec c1 = Vec::Zero(M);
-    for (int m = 0; m < M; ++m)
-      if (im_.wall[m] == far) c1[m] = 2.0;
-    psi_by1_ = op_.grad_uy.B * c1;
-    psi_bx1_ = op_.grad_ux.B * c1;
-    psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
+  if (channel) {
     // The flux Q by least squares too: with C psi + Q b1 the velocity of (psi, Q) (b1 = (By c1,
     // -Bx c1)), the best Q for u is <u, r1> / <r1, r1> with r1 = (I - P_C) b1 = C psi1 + b1,
     // psi1 = -(C^T C)^{-1} C^T b1 (P_C the orthogonal projection onto the curls). (The flux from the
@@ -159,18 +262,21 @@ void ExactProjection::make_psi_solver() {
     if (!psi_unpinned_) psi_gauge_.pin_rhs(b);
     psi_solver_->solve(b.data(), psi1.data(), 1);
     psi_gauge_.project(psi1);
-    psi_r1_.col(0) = Gy * psi1 + psi_by1_;
-    psi_r1_.col(1) = -(Gx * psi1 + psi_bx1_);
+    if (compact_) {  // by blocks of the gradients' rows: each row's sums as the whole products'
+      by_blocks([&](int r0, int m) {
+        const SpMat gy = sr->rows(Gy, r0, m), gx = sr->rows(Gx, r0, m);
+        const Vec ry = gy * psi1 + psi_by1_.segment(r0, m);
+        const Vec rx = -(gx * psi1 + psi_bx1_.segment(r0, m));
+        psi_r1_.col(0).segment(r0, m) = ry;
+        psi_r1_.col(1).segment(r0, m) = rx;
+      });
+    } else {
+      psi_r1_.col(0) = Gy * psi1 + psi_by1_;
+      psi_r1_.col(1) = -(Gx * psi1 + psi_bx1_);
+    }
     psi_r1_ /= psi_r1_.squaredNorm();
-    mpsi_flux_ = op_.lap_u.B * c1;  // lap of psi_m's wall values per unit flux
-  } else {
-    mpsi_flux_ = Vec::Zero(N);
   }
   if (!mpsi_solver_) make_markers_solver();
-  if (compact_) {  // from here on read only through psi_st_
-    keep_stencil_rows(psi_ty_, psi_st_);
-    keep_stencil_rows(psi_tx_, psi_st_);
-  }
 }
 
 void ExactProjection::curl_transpose(const Mat2& u) {

@@ -39,9 +39,10 @@ class ExactProjection {
   // The lattice method's geometry (kept by reference: it outlives this), the lattice normalisation
   // m of its gradient (gradient_normalisation) and the Poisson solver kind. `projection`: the exact
   // projection is in use (else only the markers' stream function is). `compact` (EPSPH's compact
-  // storage, eulerian.hpp; with `projection`): the divergence and the transposed gradients keep only
-  // their stencils' rows (stencil_rows_only), and the solvers are made by make_solvers(), which the
-  // owner calls after freeing what it no longer needs.
+  // storage, eulerian.hpp; with `projection`): op's velocity operators hold only their stencil's
+  // rows (vel_st's: stencil_rows_only), the divergence and the transposed gradients keep only their
+  // stencils' rows, and the solvers are made by make_solvers(), which the owner calls after freeing
+  // what it no longer needs.
   // `div` (with `projection`): the divergence made beforehand by make_divergence from the phi
   // gradients, taken over (they may then be freed before this is made); else it is made from op's.
   struct Divergence {
@@ -53,15 +54,15 @@ class ExactProjection {
   // D = -G^T from the phi gradients (Gx, Gy: grad_phix, grad_phiy) and its stencil; `compact`: only
   // the stencil's rows kept (stencil_rows_only)
   static Divergence make_divergence(const SpMat& grad_phix, const SpMat& grad_phiy, bool compact);
-  // The same, compact, each gradient released (0 x 0) as soon as it is transposed (never both
-  // gradients and both transposes held at once)
-  static Divergence take_divergence(SpMat& grad_phix, SpMat& grad_phiy);
+  // The same, compact, from the phi gradients kept compact by their stencil `st` (stencil_rows_only):
+  // the transposes a block of rows at a time, never whole (the same stencil and kept rows)
+  static Divergence divergence_by_blocks(const SpMat& grad_phix, const SpMat& grad_phiy, const RowStencil& st);
   // The lattice normalisation of the SPH gradient, G x = m (m - 1 = -9.2e-3 at h = 1.2 dx, 3.0e-3 at
   // 1.525 dx, -2.2e-4 at 2.2 dx: tests/test_fluid.cpp), from an interior particle's pairs.
   static double gradient_normalisation(const Lattice& lat, const PairList& pairs, const CubicSplineKernel& W);
+  static double gradient_normalisation(const LatticePairs& pairs, const CubicSplineKernel& W);  // (the same)
   void make_solvers();  // the normal equations' and the markers' (a compact constructor's are deferred)
-  // The markers' solver alone (make_solvers makes it too if not made yet): the only reader of the
-  // whole lap_u.A, which a compact owner may then reduce to its stencil rows before make_solvers.
+  // The markers' solver alone (make_solvers makes it too if not made yet).
   void make_markers_solver();
 
   // The exact projection of u*, in three parts (timed apart by the caller):

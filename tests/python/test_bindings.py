@@ -110,6 +110,30 @@ class Membranes(unittest.TestCase):
         shape = sphib.measure(m.X, m.L0, m.T0)
         self.assertAlmostEqual(shape["area"], np.pi * 0.75 * 0.5, places=4)
 
+    def test_keys_that_need_membranes_wait_for_them(self):
+        # A scene built from keys gets its membranes afterwards: contact.strength and an observe.exact
+        # that needs a membrane are checked when the scene is used, with the membranes it has then.
+        keys = {"domain": {"x": [-2, 2], "y": [-1, 1], "periodic_x": True, "periodic_y": False},
+                "walls": {"top": [1.0, 0.0], "bottom": [-1.0, 0.0]}, "grid": {"nx": 64, "ny": 32},
+                "fluid": {"rho": 1, "mu": 1}, "time": {"dt": 2e-3, "end": 0.2}, "contact": {"strength": 0.1}}
+        s = sphib.Scene(keys)
+        with self.assertRaisesRegex(sphib.SceneError, "contact.strength: acts between membranes and off walls: this scene has 0"):
+            sphib.Simulation(s)
+        with self.assertRaisesRegex(sphib.SceneError, "contact.strength"):
+            s.check()
+        for c in ((-0.5, 0.3), (0.5, -0.3)):
+            s.add_membrane(sphib.circle(nb=64, r0=0.3, centre=c, law="skalak", Es=4.0, Eb=0.05))
+        sim = sphib.Simulation(s)
+        sim.step(2)
+        self.assertEqual(sim.membrane_count, 2)
+        osc = sphib.Scene({"domain": {"x": [-1.5, 1.5], "y": [-1.5, 1.5], "periodic_x": True, "periodic_y": False},
+                           "grid": {"nx": 32, "ny": 32}, "fluid": {"rho": 1, "mu": 0.1},
+                           "time": {"dt": 1e-3, "end": 0.01}, "observe": {"exact": "membrane_oscillation"}})
+        with self.assertRaisesRegex(sphib.SceneError, "observe.exact: \"membrane_oscillation\" needs a membrane"):
+            sphib.Simulation(osc)
+        osc.add_membrane(sphib.ellipse(nb=64, r0=0.5, rx=0.75, ry=0.5, T0=10.0))
+        sphib.Simulation(osc).step(1)
+
     def test_add_membrane_takes_the_force_scheme_as_a_file_does(self):
         # membrane.semi_implicit from Python: a stiffly bent ellipse (Eb = 10, 32 x 32, dt = 1e-3) runs
         # semi-implicitly by default and when asked, and blows up explicitly (measured: the energy
