@@ -289,7 +289,9 @@ bool Simulation::marker_velocity(const Mat2& X, Mat2& U, Jacobians* dU) const {
   }
   if (interp_ == MarkerInterpolation::SpreadingKernel) {  // Eq. (63) on psi with W(r, h*), the kernel of Eq. (53), then its curl
     const StreamFunction sf = fluid.stream_function();
-    interpolate_curl(*grid_, *W_interp_, *sf.psi, sf.mean, X, U, dU);
+    by_marker_blocks(X, U, dU, [&](const Mat2& Xb, Mat2& Ub, Jacobians* dUb) {
+      interpolate_curl(*grid_, *W_interp_, *sf.psi, sf.mean, Xb, Ub, dUb);
+    });
     return dU != nullptr;
   }
   if (interp_ == MarkerInterpolation::BSpline) {

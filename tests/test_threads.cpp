@@ -101,11 +101,11 @@ TEST(Threads, ReductionsByBlocksTakeEveryEntry) {
 
 // The markers' velocity by blocks of markers (Simulation::marker_velocity from 512 points, by the
 // threads) is each point's own interpolation: 1300 points of the flow after 4 steps, with their
-// gradients, bitwise those of one point at a time, for the divergence-free and the B-spline
-// interpolation, one and two threads. A point with no fluid particle near is named as one call names
+// gradients, bitwise those of one point at a time, for the divergence-free (with h and with the
+// spreading's h*) and the B-spline interpolation, one and two threads. A point with no fluid particle near is named as one call names
 // it: the first such point, numbered among all the points.
 TEST(Threads, MarkerVelocityByBlocksIsEachMarkersOwn) {
-  for (const char* interp : {"divergence_free", "bspline"}) {
+  for (const char* interp : {"divergence_free", "bspline", "spreading_kernel"}) {
     const std::vector<std::string> sets = {"grid.nx=96", "grid.ny=96", "membrane.nb=192", "time.dt=1e-3",
                                            "coupling.interpolation=" + std::string(interp)};
     const Scene scene = load_scene(std::string(SPHIB_SOURCE_DIR) + "/cases/membrane_oscillation.toml", sets);
