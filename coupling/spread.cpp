@@ -1,6 +1,13 @@
 #include "coupling/spread.hpp"
 
 #include "coupling/neighbourhood.hpp"
+#include "fluid/algebra/row_stencil.hpp"  // kParallelRows
+
+#include <exception>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 // Four-lane values (Lanes4) live only inside the inlined kernel of the AVX2 and default clones.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -63,15 +70,48 @@ namespace {
 namespace {
 
 // F += sum_k W(x_i - X_k, h*) (fx_k, fy_k), with fx_k = fx(k) (Eq. 53): the markers one after the other.
+// On the fixed lattice from kParallelMarkers markers and kParallelRows points, by the threads: each
+// owns a fixed range of the points and walks every marker in order, adding only into the lattice rows
+// that start in its range (a row whole to one thread), so every point receives its markers' terms
+// in the serial order: the same bits for any thread count.
+constexpr int kParallelMarkers = 256;
+
 template <class Fx, class Fy>
 void spread(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X, Fx&& fx_of, Fy&& fy_of, Mat2& F) {
   const double radius = W_star.support();
   if (grid.lattice_mode()) {
-    CellGrid::LatticeBox box;
-    for (int k = 0; k < X.rows(); ++k) {
-      grid.lattice_box(X(k, 0), X(k, 1), radius, box);
-      spread_box(box, W_star, fx_of(k), fy_of(k), F.col(0).data(), F.col(1).data());
+    const long N = F.rows();
+    const bool par = X.rows() >= kParallelMarkers && N >= kParallelRows;
+    (void)par;
+    std::exception_ptr fault;  // lattice_box's refusal (every thread meets it at the same marker)
+#pragma omp parallel if (par)
+    try {
+#ifdef _OPENMP
+      const long t = omp_get_thread_num(), T = omp_get_num_threads();
+#else
+      const long t = 0, T = 1;
+#endif
+      const long lo = N * t / T, hi = N * (t + 1) / T;  // the rows starting in [lo, hi)
+      CellGrid::LatticeBox box;
+      for (int k = 0; k < X.rows(); ++k) {
+        grid.lattice_box(X(k, 0), X(k, 1), radius, box);
+        if (T > 1) {  // this thread's rows of the box, in their order
+          int kept = 0;
+          for (int r = 0; r < box.nrow; ++r)
+            if (box.base[r] >= lo && box.base[r] < hi) {
+              box.base[kept] = box.base[r];
+              box.ry[kept++] = box.ry[r];
+            }
+          box.nrow = kept;
+          if (kept == 0) continue;
+        }
+        spread_box(box, W_star, fx_of(k), fy_of(k), F.col(0).data(), F.col(1).data());
+      }
+    } catch (...) {
+#pragma omp critical(sphib_spread_fault)
+      if (!fault) fault = std::current_exception();
     }
+    if (fault) std::rethrow_exception(fault);
     return;
   }
   Neighbourhood nb;

@@ -13,18 +13,15 @@ class FlowFigures final : public Analysis {
   void sample(const Simulation& sim, std::vector<double>& row) override {
     const FluidSolver& fl = sim.fluid();
     for (double v : {fl.time(), static_cast<double>(fl.steps()), fl.kinetic_energy(), fl.max_abs_divergence(),
-                     max_speed(fl)})
+                     fl.max_speed()})
       row.push_back(v);
   }
   void summarize(const Simulation& sim, const Series&, nlohmann::json& j) const override {
     const FluidSolver& fl = sim.fluid();
     j["kinetic_energy"] = fl.kinetic_energy();
     j["max_div_u"] = fl.max_abs_divergence();
-    j["max_speed"] = max_speed(fl);
+    j["max_speed"] = fl.max_speed();
   }
-
- private:
-  static double max_speed(const FluidSolver& fl) { return fl.u().rowwise().norm().maxCoeff(); }
 };
 
 }  // namespace

@@ -63,7 +63,7 @@ void Guards::check(const Simulation& sim) {
   const double v_min = fl.particles_move() ? fl.volumes().minCoeff() : v_min_;
   const double cfl = std::sqrt(2.0 * ke / (fp.rho * v_min)) * fp.dt / h_min_;
   if (cfl > 1.0) {
-    const double umax = fl.u().rowwise().norm().maxCoeff();
+    const double umax = fl.max_speed();
     if (umax * fp.dt > h_min_) {
       std::ostringstream m;
       m << "max |u| = " << umax << " moves a particle by " << umax * fp.dt / h_min_

@@ -215,7 +215,7 @@ const Vec& ProjectionFluid::p() const {
 double ProjectionFluid::max_abs_divergence() const {
   Vec d(size());
   divergence_with_images(u_, c_wall_, d);  // Eq. (30) with the no-slip images of u^n
-  return d.cwiseAbs().maxCoeff();
+  return max_abs(d);
 }
 
 std::vector<SolverInfo> ProjectionFluid::solver_info() const {

@@ -7,6 +7,7 @@
 
 #include "fluid/common/loads.hpp"
 #include "fluid/algebra/row_stencil.hpp"  // kParallelRows
+#include "fluid/common/threads.hpp"
 
 namespace sphib {
 
@@ -38,21 +39,28 @@ const Eigen::MatrixXd& state_entry(const NamedArrays& state, const std::string& 
 
 double FluidSolver::kinetic_energy() const {
   // sum_i |u_i|^2: below kParallelRows particles in one sum (Eigen's order); above, by the threads in
-  // kBlocks fixed blocks, each summed alone, the blocks' sums added in block order (the same bits
-  // for any thread count)
+  // fixed blocks (sum_by_blocks: the same bits for any thread count)
   const long n = u_.size();
   if (n < 2L * kParallelRows) return 0.5 * mass_ * u_.squaredNorm();
-  constexpr int kBlocks = 64;
-  const long len = (n + kBlocks - 1) / kBlocks;
-  double part[kBlocks];
-#pragma omp parallel for schedule(static)
-  for (int b = 0; b < kBlocks; ++b) {
-    const long at = std::min(n, b * len), m = std::min(n, at + len) - at;
-    part[b] = Eigen::Map<const Eigen::VectorXd>(u_.data() + at, m).squaredNorm();
-  }
-  double s = 0;
-  for (double v : part) s += v;
-  return 0.5 * mass_ * s;
+  return 0.5 * mass_ * sum_by_blocks(n, [&](long at, long m) {
+    return Eigen::Map<const Eigen::VectorXd>(u_.data() + at, m).squaredNorm();
+  });
+}
+
+double FluidSolver::max_speed() const {
+  // max_i |u_i|; above kParallelRows particles by the threads in fixed blocks of rows, as the root of
+  // the largest |u_i|^2 (one square root, not N: a correctly rounded root is monotone, so the same
+  // bits as the largest of Eigen's row norms; max_by_blocks: a maximum is exact)
+  const long N = u_.rows();
+  if (N < kParallelRows) return u_.rowwise().norm().maxCoeff();
+  return std::sqrt(
+      max_by_blocks(N, [&](long at, long m) { return u_.middleRows(at, m).rowwise().squaredNorm().maxCoeff(); }));
+}
+
+double FluidSolver::max_abs(const Vec& d) {
+  const long n = d.size();
+  if (n < kParallelRows) return d.cwiseAbs().maxCoeff();
+  return max_by_blocks(n, [&](long at, long m) { return d.segment(at, m).cwiseAbs().maxCoeff(); });
 }
 
 FluidSolver::FluidSolver(const FluidParams& params, bool particles_move, Profiler* profiler)

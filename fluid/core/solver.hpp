@@ -96,6 +96,8 @@ class FluidSolver {
   double time() const { return t_; }
   long steps() const { return n_; }
   double kinetic_energy() const;  // sum_i m |u_i|^2 / 2 (the same bits for any thread count)
+  double max_speed() const;       // max_i |u_i| (the same bits for any thread count)
+  static double max_abs(const Vec& d);  // max_i |d_i| (by the threads on a large lattice; exact)
   bool has_stream_function() const { return has_stream_function_; }
   bool supports_variable_viscosity() const { return variable_viscosity_; }
   // Its phases, set-up timings, report and floor (fluid/common/profile.hpp).

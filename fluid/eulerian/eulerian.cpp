@@ -277,7 +277,7 @@ double EulerianFluid::max_abs_divergence() const {
   if (!exact()) return ProjectionFluid::max_abs_divergence();
   Vec d(size());
   streams_->divergence(u_, d);  // the divergence the projection makes zero
-  return d.cwiseAbs().maxCoeff();
+  return max_abs(d);
 }
 
 StreamFunction EulerianFluid::stream_function() const {
