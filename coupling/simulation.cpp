@@ -240,8 +240,8 @@ void Simulation::contact_forces() {
 
 namespace {
 
-// Markers per block of the interpolation by the threads (by_marker_blocks): about 40 us of work each
-// at h = 1.2 dx, several times a fork and join.
+// Markers per block of the interpolation by the threads (by_marker_blocks): enough work per block to
+// outweigh a fork and join many times over.
 constexpr int kMarkerBlock = 256;
 
 // interp(X, U, dU) over the rows of X, from 2 kMarkerBlock markers by the threads in fixed blocks of
