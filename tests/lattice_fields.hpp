@@ -52,7 +52,8 @@ struct Random {
   }
 };
 
-inline bool bitwise_equal(const double* a, const double* b, long n) { return std::memcmp(a, b, sizeof(double) * n) == 0; }
+// (n = 0: equal; memcmp may not be handed the null data of an empty array)
+inline bool bitwise_equal(const double* a, const double* b, long n) { return n == 0 || std::memcmp(a, b, sizeof(double) * n) == 0; }
 // Two dense matrices of the same shape holding the same bits.
 template <class A, class B>
 bool bitwise_equal(const Eigen::PlainObjectBase<A>& a, const Eigen::PlainObjectBase<B>& b) {
