@@ -510,11 +510,12 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)", !r.documenting && m.reference != "circle" && m.shape == "circle");
   m.rx = r.positive(p + "rx", 0.75, "ellipse half-axis along x");
   m.ry = r.positive(p + "ry", 0.5, "ellipse half-axis along y");
-  m.spacing = r.choice(p + "spacing", "angle", {"angle", "arclength"},
-                       "the ellipse's markers: uniform in the angle theta, X = (rx cos, ry sin)(theta) (the paper's; "
-                       "stretched against a uniform rest spacing), or uniform in its arclength (an inextensible "
-                       "membrane whose rest length is the perimeter starts unstretched)");
-  if (!r.documenting && m.shape != "ellipse" && r.has(p + "spacing"))
+  if (r.documenting || m.shape == "ellipse")
+    m.spacing = r.choice(p + "spacing", "angle", {"angle", "arclength"},
+                         "the ellipse's markers: uniform in the angle theta, X = (rx cos, ry sin)(theta) (the paper's; "
+                         "stretched against a uniform rest spacing), or uniform in its arclength (an inextensible "
+                         "membrane whose rest length is the perimeter starts unstretched)");
+  else if (r.has(p + "spacing"))
     r.fail(p + "spacing", "applies to shape = \"ellipse\" only (circles and point lists are spaced by arclength)");
   m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
   m.h_star_over_h = r.positive(p + "h_star_over_h", 1.4, "h* / h when h_star is 0");

@@ -499,11 +499,18 @@ void bind_membranes(py::module_& m) {
           return SPHIB_MAT.membrane(circle(marker_count(nb), c.x(), c.y(), radius ? *radius : *r0), r0);
         }, py::arg("nb"), py::arg("r0") = py::none(), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
         SPHIB_MAT_ARGS, "A circle of the given radius (default r0: at rest) about centre.");
-  m.def("ellipse", [](long nb, R0 r0, double rx, double ry, std::vector<double> centre, SPHIB_MAT_PARAMS) {
+  m.def("ellipse", [](long nb, R0 r0, double rx, double ry, std::vector<double> centre, const std::string& spacing,
+                      SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = point2(centre, "centre");
-          return SPHIB_MAT.membrane(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0);
+          if (spacing != "angle" && spacing != "arclength")
+            throw py::value_error("spacing must be \"angle\" or \"arclength\" (got \"" + spacing + "\")");
+          const int n = marker_count(nb);
+          return SPHIB_MAT.membrane(spacing == "arclength" ? ellipse_by_arclength(n, c.x(), c.y(), rx, ry)
+                                                           : ellipse(n, c.x(), c.y(), rx, ry), r0);
         }, py::arg("nb"), py::arg("r0") = py::none(), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
-        SPHIB_MAT_ARGS, "An axis-aligned ellipse with half-axes rx, ry about centre.");
+        py::arg("spacing") = "angle", SPHIB_MAT_ARGS,
+        "An axis-aligned ellipse with half-axes rx, ry about centre, its markers uniform in the angle (spacing = "
+        "\"angle\", the paper's) or in its arclength (\"arclength\"), as membrane.spacing.");
   m.def("from_points", [](const Mat2& points, long nb, R0 r0, SPHIB_MAT_PARAMS) {
           return SPHIB_MAT.membrane(from_points(points, marker_count(nb)), r0);
         },

@@ -158,6 +158,10 @@ class Membranes(unittest.TestCase):
                          "end time")
         with self.assertRaisesRegex(sphib.SceneError, r"membranes\[0\].tension_cutoff: value -1 is out of range"):
             scene(tension_cutoff=-1.0)
+        # membrane.spacing's builder keyword
+        with self.assertRaisesRegex(ValueError, "spacing must be"):
+            sphib.ellipse(nb=48, r0=0.5, rx=0.75, ry=0.5, T0=10.0, spacing="chord")
+        sphib.ellipse(nb=48, r0=0.6312658, rx=0.75, ry=0.5, law="inextensible", Es=1000.0, spacing="arclength")
 
     def test_the_builders_take_r0_as_the_scene_reader_does(self):
         # membrane.r0 is the rest radius of reference = "circle": needed there, refused with "initial"
