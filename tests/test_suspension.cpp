@@ -158,6 +158,52 @@ TEST(Suspension, OneSetMarkerUpdateIsEachMembranesOwn) {
   EXPECT_GT(iterations.size(), 1u) << "the groups should differ in their iterations";
 }
 
+// The Newton step of the marker update (solver.marker_newton, coupling/marker_update.hpp) in a
+// sheared box with four capsules like the suspension case's (64^2, radius 5 dx, 64 markers, Ca 0.1,
+// dt = 0.5 dx/U, B-spline interpolation), 300 steps: with linear_step 1e-4 every step after the
+// first two is accepted after one interpolation; Eq. (59)'s true residual (U^{n+1} interpolated
+// again at X^{n+1}): measured max TRUE_G; the linearised U^{n+1}(X^{n+1}) against that interpolation:
+// measured TRUE_U; the markers against the fixed-point run with the library's defaults (eps 1e-12,
+// two interpolations per step): measured DX_FP apart. Tolerances: TOL_G, TOL_U, TOL_X.
+TEST(Suspension, NewtonStepMeetsTheToleranceWithOneInterpolation) {
+  const int n = 64;
+  const double a = 5.0 / n;
+  const std::vector<Eigen::Vector2d> c{{0.3, 0.3}, {0.45, 0.42}, {0.6, 0.58}, {0.75, 0.7}};
+  SimulationParams p = sheared_box(n, c, a, 64, a / 0.1);
+  p.fluid.dt = 0.5 / n;
+  p.interpolation = MarkerInterpolation::BSpline;
+  SimulationParams q = p;
+  p.markers.newton = true;
+  p.markers.linear_step = 1e-4;
+  Simulation sim(p), ref(q);
+  const int steps = 300;
+  double worst_g = 0, worst_U = 0;
+  int accepted = 0;
+  for (int s = 0; s < steps; ++s) {
+    sim.step();
+    ref.step();
+    for (const MembraneState& m : sim.membranes()) {
+      Mat2 U(m.m.nb(), 2);
+      sim.marker_velocity(m.m.X, U);
+      worst_U = std::max(worst_U, (U - m.U).cwiseAbs().maxCoeff());
+      worst_g = std::max(worst_g, (m.m.X - m.X_n - 0.5 * p.fluid.dt * (m.U_n + U)).rowwise().norm().maxCoeff());
+      accepted += s >= 2 && m.last.linearised && m.last.interpolations == 1;
+    }
+  }
+  double dX = 0, ref_interp = 0;
+  for (size_t k = 0; k < c.size(); ++k) {
+    dX = std::max(dX, (sim.membranes()[k].m.X - ref.membranes()[k].m.X).cwiseAbs().maxCoeff());
+    ref_interp += static_cast<double>(ref.membranes()[k].interpolations) / steps / c.size();
+  }
+  std::printf("Newton: true residual %.3g, U %.3g, markers %.3g from the fixed point's (%.3f interpolations "
+              "per step), %d of %d accepted after one\n", worst_g, worst_U, dX, ref_interp, accepted,
+              static_cast<int>((steps - 2) * c.size()));
+  EXPECT_EQ(accepted, static_cast<int>((steps - 2) * c.size()));
+  EXPECT_LT(worst_g, 1e-12);
+  EXPECT_LT(worst_U, 1e-12);
+  EXPECT_LT(dX, 1e-10);
+}
+
 TEST(Suspension, MarkerUpdateErrorsNameTheMembraneAndItsMarker) {
   // Marker 5 of the second of two membranes (one set) given a wild velocity history: the extrapolated
   // predictor moves it by more than a lattice spacing, and the update refuses it, naming it.
