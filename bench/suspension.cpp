@@ -123,6 +123,10 @@ int main(int argc, char** argv) {
     }
     std::printf("one set against one call per membrane (best CPU ms): spreading %.3f / %.3f, interpolation with "
                 "gradient %.3f / %.3f\n", 1e3 * sp1, 1e3 * spk, 1e3 * in1, 1e3 * ink);
+    // the markers' stream function the divergence-free interpolations need, once per step (its
+    // right-hand side and solve: the fluid's floor of it, best wall time)
+    std::printf("markers' stream function %.3f ms (best of 20)\n",
+                1e3 * susp.fluid().profiler().stream_function_floor_seconds(20));
     if (susp.contact()) {  // the contact force alone, and the membranes' elastic forces alone
       ContactForce c(susp.contact()->params(), susp.fluid().params().domain);
       std::vector<int> start{0};
