@@ -43,7 +43,7 @@ struct MarkerUpdateParams {
   // The largest |g| the linearised acceptance takes, as a fraction of max_move (above: 1e-6 keeps
   // the neglected quadratic terms ~1e-6 of the linear ones whatever the flow).
   double linear_step = 1e-6;
-  // The linearised step a Newton step (I - dt/2 dU/dX)^{-1} g instead of the fixed-point step g: its
+  // true: the linearised step is a Newton step (I - dt/2 dU/dX)^{-1} g, not the fixed-point step g: its
   // linear residual is zero, so the acceptance needs only the step below linear_step (the neglected
   // term dt/4 |grad grad U| |step|^2); coupling/marker_update.hpp.
   bool newton = false;
