@@ -736,6 +736,12 @@ void read_time_and_solvers(Reader& r, Scene& s) {
       "the largest |g| the marker update accepts by linearisation (one interpolation less), as a fraction of a lattice "
       "spacing: the neglected term dt/4 |grad grad U| |g|^2 must stay below solver.marker_eps/2",
       false, 0.0, true, 1.0);
+  s.sim.markers.newton = r.boolean(
+      "solver.marker_newton", false,
+      "linearised step of the marker update: a Newton step (I - dt/2 dU/dX)^{-1} g (zero linear residual: only "
+      "the quadratic term dt/4 |grad grad U| |step|^2 must stay below solver.marker_eps, one interpolation per step "
+      "at a solver.marker_linear_step of 1e-4) instead of the fixed-point step g; needs an interpolation with a "
+      "gradient (divergence_free, bspline, spreading_kernel)");
   s.sim.markers.extrapolate =
       r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
                "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "
