@@ -117,9 +117,11 @@ void MembraneForce::cut_tension(Vec& T) {
   const int mc = static_cast<int>(mcd);
   for (int m = 0; m <= mc; ++m) {
     double a = 0.0, b = 0.0;
-    for (int k = 0, j = 0; k < nb_; ++k, j = (j + m) % nb_) {
+    for (int k = 0, j = 0; k < nb_; ++k) {  // j = m k mod nb
       a += T[k] * cos_[j];
       b += T[k] * sin_[j];
+      j += m;
+      if (j >= nb_) j -= nb_;
     }
     tc_[m] = a;
     ts_[m] = b;
@@ -127,7 +129,11 @@ void MembraneForce::cut_tension(Vec& T) {
   const double inv = 1.0 / nb_;
   for (int k = 0; k < nb_; ++k) {
     double t = 0.5 * tc_[0];
-    for (int m = 1, j = k; m <= mc; ++m, j = (j + k) % nb_) t += tc_[m] * cos_[j] + ts_[m] * sin_[j];
+    for (int m = 1, j = k; m <= mc; ++m) {  // j = m k mod nb
+      t += tc_[m] * cos_[j] + ts_[m] * sin_[j];
+      j += k;
+      if (j >= nb_) j -= nb_;
+    }
     T[k] = 2.0 * t * inv;
   }
 }
