@@ -964,6 +964,12 @@ std::pair<std::string, std::string> program_membrane_problem(const ProgramMembra
   return {};
 }
 
+// A membrane's tension cutoff unless given: 2 lattice spacings for the inextensible penalty, whose
+// stretching modes shorter than the lattice carries it destabilises (docs/membrane_validation.md); none otherwise.
+double default_tension_cutoff(const std::string& law, double dx, double dy) {
+  return law == "inextensible" ? 2.0 * std::max(dx, dy) : 0.0;
+}
+
 // The membranes, built in the domain's coordinates, then a program's (checked as a file's).
 void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& program) {
   const FluidParams& f = s.sim.fluid;
@@ -985,7 +991,7 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
       mat.Eb = m.Eb;
       mat.spontaneous = m.spontaneous;
       mat.spontaneous_curvature = m.kappa0;
-      mat.tension_cutoff = m.tension_cutoff >= 0.0 ? m.tension_cutoff : m.law == "inextensible" ? 2.0 * std::max(dx, dy) : 0.0;
+      mat.tension_cutoff = m.tension_cutoff >= 0.0 ? m.tension_cutoff : default_tension_cutoff(m.law, dx, dy);
       setup.membrane = make_membrane(X, m.reference == "circle" ? circle_reference(m.r0) : initial_reference(X, m.prestretch),
                                      mat);
     } catch (const std::invalid_argument& e) {
@@ -1010,10 +1016,9 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     if (m.tension_cutoff && !(*m.tension_cutoff >= 0.0 && std::isfinite(*m.tension_cutoff)))
       r.fail(p + "tension_cutoff", "value " + fmt_num(*m.tension_cutoff) + " is out of range (allowed: >= 0)");
     Membrane mb = m.membrane;
-    mb.mat.tension_cutoff = m.tension_cutoff ? *m.tension_cutoff
+    mb.mat.tension_cutoff = m.tension_cutoff                ? *m.tension_cutoff
                             : mb.mat.tension_cutoff > 0.0 ? mb.mat.tension_cutoff
-                            : mb.mat.law == "inextensible" ? 2.0 * std::max(dx, dy)
-                                                           : 0.0;
+                                                          : default_tension_cutoff(mb.mat.law, dx, dy);
     s.sim.membranes.push_back({std::move(mb), m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, program_semi_implicit(m),
                                m.viscosity_ratio, m.stiff_residual});
   }
