@@ -117,6 +117,7 @@ void step(Simulation& sim) {
 
 struct Timing {
   double setup, loop;
+  double steps_loop;   // the loop less the run's opening and closing writes: what seconds_per_step divides
   long steps;          // taken by this run (a restart's count from the checkpoint)
   const Profile* run;  // the loop's own phases
 };
@@ -152,7 +153,7 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   j["wall_seconds"] = timing.loop + timing.setup;
   j["setup_seconds"] = timing.setup;
   j["loop_seconds"] = timing.loop;
-  j["seconds_per_step"] = timing.steps ? timing.loop / timing.steps : 0.0;
+  j["seconds_per_step"] = timing.steps ? timing.steps_loop / timing.steps : 0.0;
   j["threads"] = thread_count();  // limits.threads, OMP_NUM_THREADS or the machine's idle cores
   const Profile* profiles[] = {&fl.profiler(), &sim.profile(), timing.run};
   for (const Profile* P : profiles)
@@ -163,7 +164,7 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   // coupling, checks, output); with membranes, also against the fluid's and the coupling's floors
   // together (Simulation::coupling_floor_seconds), and the coupling's share of that whole floor.
   if (const double floor = timing.steps > 0 && end.fault.empty() ? fl.profiler().floor_seconds() : 0.0; floor > 0) {
-    const double step = timing.loop / timing.steps;
+    const double step = timing.steps_loop / timing.steps;
     j["floor_seconds_per_step"] = floor;
     j["fluid_step_over_floor"] = fl.profiler().step_seconds() / timing.steps / floor;
     j["step_over_floor"] = step / floor;
@@ -175,7 +176,7 @@ nlohmann::json run_summary(const Scene& scene, Simulation& sim, const Timing& ti
   }
   // The membranes and their coupling (force, spreading, interpolation, marker update with the
   // markers' stream function) as a share of the whole step.
-  if (!sim.membranes().empty() && timing.loop > 0) j["coupling_share"] = sim.profile().total() / timing.loop;
+  if (!sim.membranes().empty() && timing.steps_loop > 0) j["coupling_share"] = sim.profile().total() / timing.steps_loop;
   for (const auto& [k, v] : fl.profiler().report().figures) j[k] = v;
   return j;
 }
@@ -384,18 +385,28 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& opt) {
   Profile prof;  // the loop's own work
   RunOutput output(scene, sim, observers, target);
   Ending end;
+  // The run's opening and closing writes (the first snapshot and checkpoint, the last ones) are a
+  // phase of their own, outside the steps' time: seconds_per_step is the steps' cost at any run length.
+  const int k_ends = prof.phase("opening and closing writes");
   const auto t_loop = Profile::Clock::now();
+  double steps_loop = 0.0;
   try {
-    output.snapshot(sim);
-    if (!p.resumed_series) output.row(observers.sample(sim));
-    if (target.resume_from.empty()) output.checkpoint(sim);  // a restart point from the start: checkpoints work
+    {
+      ScopedTimer t(prof, k_ends);
+      output.snapshot(sim);
+      if (!p.resumed_series) output.row(observers.sample(sim));
+      if (target.resume_from.empty()) output.checkpoint(sim);  // a restart point from the start: checkpoints work
+    }
+    const auto t_steps = Profile::Clock::now();
     end = run_loop(sim, observers, output, plan, scene, opt, prof);
+    steps_loop = seconds_since(t_steps);
     if (end.write_error) stop_writing(output, end.fault, sim, opt.out_dir);
+    ScopedTimer t(prof, k_ends);
     output.finish(sim, end.fault.empty());
   } catch (const WriteError& e) {
     stop_writing(output, e.what(), sim, opt.out_dir);
   }
-  const Timing timing{p.seconds, seconds_since(t_loop), sim.steps() - first_step, &prof};
+  const Timing timing{p.seconds, seconds_since(t_loop), steps_loop, sim.steps() - first_step, &prof};
   nlohmann::json j = run_summary(scene, sim, timing, end, p.run_id);
   if (!end.fault.empty()) {  // the state is not trustworthy: no figures from it
     publish(output, j, sim, opt.out_dir);

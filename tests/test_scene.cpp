@@ -168,6 +168,13 @@ TEST(Scene, EveryCaseSmokeRuns) {
     EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "diagnostics.csv"));
     EXPECT_TRUE(fs::exists(fs::path(opt.out_dir) / "summary.json"));
     for (const char* k : {"steps", "wall_seconds", "seconds_per_step"}) EXPECT_TRUE(j.contains(k)) << k;
+    // The loop is the steps' time plus the opening and closing writes (timed apart), nothing counted twice
+    const double writes = j["profile_seconds"]["opening and closing writes"].get<double>();
+    const double steps = 3 * j["seconds_per_step"].get<double>(), loop = j["loop_seconds"].get<double>();
+    EXPECT_GT(writes, 0.0);
+    EXPECT_GT(steps, 0.0);
+    EXPECT_LE(steps + writes, loop);
+    EXPECT_GT(steps + writes, 0.95 * loop);
     fs::remove_all(opt.out_dir);
   }
   EXPECT_GE(n, 6);
