@@ -49,7 +49,8 @@ inline double cubic_G(const CubicSpline& k, double r) {
 // q = r (1/h) and the constant factors folded, so that W takes one square root and no division, F
 // and G one division between them. Within a few units in the last place of W(0) and F(0) of the
 // scalar forms (tests/test_kernels.cpp); 0 from 2h on. Every lane by the same expressions, so two
-// and four lanes give the same values.
+// and four lanes give the same values. Holds a reference to the scale: construct it from a
+// CubicSpline that outlives it.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 template <class L>
@@ -73,7 +74,7 @@ struct CubicSplineLanes {
     return select(inside & (q > c(0.0)), select(inner, g_in, g_out), c(0.0));
   }
   L qinv() const { return c(1.0) / q; }  // (inf at q = 0, in lanes not selected)
-  CubicSpline k;
+  const CubicSpline& k;  // (a reference: its constant factors stay out of the callers' loops)
   L q, t;
   typename LaneMaskOf<L>::type inner, inside;
 };

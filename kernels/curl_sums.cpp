@@ -15,6 +15,8 @@ template <bool kHessian>
   for (int i = 0; i < nb.pairs; ++i) {
     const CubicSplineLanes<Lanes2> k(K, Lanes2{nb.r2[2 * i], nb.r2[2 * i + 1]});
     const Lanes2 w = k.W(), F = k.F();  // W(X - x_j), (1/r) dW/dr
+    Lanes2 G{};
+    if constexpr (kHessian) G = k.G();  // (1/r) dF/dr (here, while k's values are in registers)
     const Lanes2 p{psi[nb.j[2 * i]], psi[nb.j[2 * i + 1]]};
     const Lanes2 dx{nb.dx[2 * i], nb.dx[2 * i + 1]}, dy{nb.dy[2 * i], nb.dy[2 * i + 1]};
     c.s += w;
@@ -25,7 +27,6 @@ template <bool kHessian>
     c.gpx += p * wx;
     c.gpy += p * wy;
     if constexpr (kHessian) {  // Hess W(X - x_j) = F I + G d d^T
-      const Lanes2 G = k.G();     // (1/r) dF/dr
       const Lanes2 Gx = G * dx, Gy = G * dy, Hxx = F + Gx * dx, Hxy = Gx * dy, Hyy = F + Gy * dy;
       c.hxx += Hxx;
       c.hxy += Hxy;

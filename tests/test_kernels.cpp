@@ -9,9 +9,11 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "kernels/alternating.hpp"
+#include "kernels/banded.hpp"
 #include "kernels/cubic_spline.hpp"
 #include "kernels/curl_sums.hpp"
 #include "kernels/sparse_rows.hpp"
@@ -282,4 +284,33 @@ TEST(Kernels, StencilBlockProductsEqualThePlainSumsBitForBit) {
         }
       }
   }
+}
+
+// The lattice Poisson solver's banded substitutions (kernels/banded.hpp): every value's terms in the
+// order of d in both forms, so bit for bit; half-bandwidths 1-4 (a value in a register) and 6 (whole-
+// row updates), real and complex rows, odd and even wavenumber counts, a sub-range of wavenumbers.
+// Random factors (not a Cholesky factor: the arithmetic is the same for any values).
+TEST(Kernels, BandedSubstitutionsEqualThePlainOnesBitForBit) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int ny = 17;
+  for (int w : {1, 2, 3, 4, 6})
+    for (bool pairs : {false, true})
+      for (int nk : {5, 8}) {
+        const int ldab = w + 1, n = pairs ? 2 * nk : nk;
+        std::vector<double> lrow(static_cast<size_t>(ny) * ldab * nk), lcol(lrow.size()), rdiag(ny * nk), h(ny * n);
+        for (double& v : lrow) v = 0.3 * u(rng);
+        for (double& v : lcol) v = 0.3 * u(rng);
+        for (double& v : rdiag) v = 1.0 + 0.5 * u(rng);
+        for (double& v : h) v = u(rng);
+        const BandedFactors f{ny, w, ldab, nk, pairs, lrow.data(), lcol.data(), rdiag.data()};
+        for (auto [k0, k1] : {std::pair<int, int>{0, nk}, std::pair<int, int>{2, nk - 1}}) {
+          std::vector<double> a = h, b = h;
+          substitute_bands(a.data(), f, k0, k1);
+          substitute_bands_plain(b.data(), f, k0, k1);
+          int differ = 0;
+          for (size_t i = 0; i < h.size(); ++i) differ += !same_bits(a[i], b[i]);
+          EXPECT_EQ(differ, 0) << "w " << w << " pairs " << pairs << " nk " << nk << " k " << k0 << ".." << k1;
+        }
+      }
 }

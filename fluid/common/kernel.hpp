@@ -30,14 +30,16 @@ struct CubicSplineKernel {
   L W2(L r2) const { return CubicSplineLanes<L>(scale(), r2).W(); }
   template <class L>
   void W_F2(L r2, L& w, L& f) const {
-    const CubicSplineLanes<L> p(scale(), r2);
+    const CubicSpline s = scale();
+    const CubicSplineLanes<L> p(s, r2);
     w = p.W();
     f = p.F();
   }
   // ... and G = (1/r) dF/dr: the Hessian of W(|x|) is F I + G x x^T (0 at r = 0, where G x x^T -> 0).
   template <class L>
   void W_F_G2(L r2, L& w, L& f, L& g) const {
-    const CubicSplineLanes<L> p(scale(), r2);
+    const CubicSpline s = scale();
+    const CubicSplineLanes<L> p(s, r2);
     w = p.W();
     f = p.F();
     g = p.G();
