@@ -6,7 +6,8 @@
 // rounds' ratios, the load average before and after, and the suspension's coupling phases (their
 // share of its step, from its profile's wall times).
 //   build/suspension [--rounds R] [--block K] [--count C] [--nb NB] [--nx N] [--contact-strength S]
-//                    [--interpolation bspline|divergence_free]
+//                    [--interpolation bspline|divergence_free|spreading_kernel] [--newton true|false]
+//                    [--linear-step S] [--marker-eps E] [--h-star R]
 #include <algorithm>
 
 #include "bench/common.hpp"
@@ -65,6 +66,19 @@ int main(int argc, char** argv) {
     std::printf("suspension step (wall, profiled): fluid %.1f%%", 100 * susp.fluid().profiler().step_seconds() / total);
     for (size_t k = 0; k < c.names().size(); ++k) std::printf(", %s %.1f%%", c.names()[k].c_str(), 100 * c.seconds(k) / total);
     std::printf("\n");
+    // The fluid's phases in both (wall ms per step of each phase over all steps, warm-up included;
+    // "stream function" is the markers' psi, made on demand by the marker update, not part of step())
+    const Profiler& pe = empty.fluid().profiler();
+    const Profiler& ps = susp.fluid().profiler();
+    const double ne = static_cast<double>(empty.fluid().steps()), ns = static_cast<double>(susp.fluid().steps());
+    std::printf("fluid phases, empty / suspension (wall ms per step):");
+    for (size_t k = 0; k < ps.names().size(); ++k) {
+      double e = 0.0;
+      for (size_t j = 0; j < pe.names().size(); ++j)
+        if (pe.names()[j] == ps.names()[k]) e = pe.seconds(static_cast<int>(j)) / ne;
+      std::printf(" %s %.3f / %.3f;", ps.names()[k].c_str(), 1e3 * e, 1e3 * ps.seconds(static_cast<int>(k)) / ns);
+    }
+    std::printf("\n");
     // The marker update's true residual: U^{n+1} interpolated again at X^{n+1} of every membrane
     double g_true = 0.0;
     for (const auto& m : susp.membranes()) {
@@ -109,6 +123,10 @@ int main(int argc, char** argv) {
     }
     std::printf("one set against one call per membrane (best CPU ms): spreading %.3f / %.3f, interpolation with "
                 "gradient %.3f / %.3f\n", 1e3 * sp1, 1e3 * spk, 1e3 * in1, 1e3 * ink);
+    // the markers' stream function the divergence-free interpolations need, once per step (its
+    // right-hand side and solve: the fluid's floor of it, best wall time)
+    std::printf("markers' stream function %.3f ms (best of 20)\n",
+                1e3 * susp.fluid().profiler().stream_function_floor_seconds(20));
     if (susp.contact()) {  // the contact force alone, and the membranes' elastic forces alone
       ContactForce c(susp.contact()->params(), susp.fluid().params().domain);
       std::vector<int> start{0};

@@ -299,7 +299,10 @@ for s in "${sections[@]}"; do
       I="--set membrane.law=inextensible --set membrane.Es=1000 --set membrane.r0=0.6312658"
       $L --out $OUT/area_laws/inextensible --vary membrane.Eb=0,0.01 $I
       $L --out $OUT/area_laws/inextensible_bspline --vary membrane.nb=96,128 --set coupling.interpolation=bspline $I
-      $L --out $OUT/area_laws/inextensible_bending_nb96 --vary membrane.nb=96 --set membrane.Eb=0.01 $I ;;
+      $L --out $OUT/area_laws/inextensible_bending_nb96 --vary membrane.nb=96 --set membrane.Eb=0.01 $I
+      # without the tension's cutoff (its default is 2 dx), and started at its rest spacing
+      $L --out $OUT/area_laws/inextensible_no_cutoff --vary membrane.Eb=0,0.01 --set membrane.tension_cutoff=0 $I
+      $L --out $OUT/area_laws/inextensible_arclength --vary membrane.Eb=0,0.01 --set membrane.spacing=arclength $I ;;
     stability_bending)
       build/stability_map --parts B --out $OUT/stability_bending ;;
     stiff)  # Eb = 24 Es r0^2 = 30.7: explicit stable at dt = 7.8e-5, not at 1.6e-4; the flow's step 0.0156 (CFL 0.25)

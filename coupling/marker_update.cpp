@@ -97,6 +97,40 @@ MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n,
       };
       if (!std::isfinite(g_max)) throw no_convergence();
       if (g_max <= prm.eps) continue;  // converged
+      if (gradient && prm.newton) {
+        // Newton step X^[I+1] = X^[I] + d, (I - dt/2 dU/dX) d = -g(X^[I]) (dU/dX at X^[I]): the root of g
+        // linearised at X^[I]; accepted when max |d| <= lim, U^{n+1}(X^[I+1]) = U^{n+1}(X^[I]) + dU/dX d
+        const double c = 0.5 * dt;
+        double d_max = 0.0;
+        for (int k = G[g]; k < G[g + 1]; ++k) {
+          const double J00 = w.dU(k, 0), J01 = w.dU(k, 1), J10 = w.dU(k, 2), J11 = w.dU(k, 3);
+          const double a00 = 1.0 - c * J00, a01 = -c * J01, a10 = -c * J10, a11 = 1.0 - c * J11;
+          const double det = a00 * a11 - a01 * a10;
+          const double gx = w.g(k, 0), gy = w.g(k, 1);
+          const double dx = -(a11 * gx - a01 * gy) / det, dy = -(a00 * gy - a10 * gx) / det;
+          w.g(k, 0) = dx;  // (g no longer needed: the step in its place)
+          w.g(k, 1) = dy;
+          X(k, 0) += dx;
+          X(k, 1) += dy;
+          const double d = std::sqrt(dx * dx + dy * dy);
+          if (!(d <= d_max)) d_max = d;  // (a NaN is the largest)
+        }
+        check_moves(G[g], G[g + 1]);
+        if (d_max <= lim) {
+          for (int k = G[g]; k < G[g + 1]; ++k) {
+            const double dx = w.g(k, 0), dy = w.g(k, 1);
+            U(k, 0) += w.dU(k, 0) * dx + w.dU(k, 1) * dy;
+            U(k, 1) += w.dU(k, 2) * dx + w.dU(k, 3) * dy;
+          }
+          res.iterations = I + 1;
+          res.residual = 0.0;  // its first-order value (the quadratic term is below dt/4 |grad grad U| lim^2)
+          res.linearised = true;
+          continue;
+        }
+        if (I == prm.max_iter) throw no_convergence();
+        w.active[kept++] = g;  // iterates on from the Newton iterate
+        continue;
+      }
       X.middleRows(G[g], G[g + 1] - G[g]) =  // fixed-point iteration X^[I+1] = X^[I] - g(X^[I])
           X_n.middleRows(G[g], G[g + 1] - G[g]) +
           0.5 * dt * (U_n.middleRows(G[g], G[g + 1] - G[g]) + U.middleRows(G[g], G[g + 1] - G[g]));

@@ -19,6 +19,15 @@
 // the linearised value (the next step's U^n(X^n)), exact to O(|g|^2) ~ 1e-22. One interpolation
 // (with its gradient) per step instead of two, the same root within eps.
 //
+// Newton step (prm.newton): where the first iterate is too far from the root for the above (beyond
+// linear_step at nearly every step of the suspension case, docs/suspensions.md), the step from X^[I]
+// is the root of g linearised there, X^[I+1] = X^[I] + d with (I - dt/2 dU/dX) d = -g(X^[I]), whose
+// linear residual is zero:
+//   g(X^[I+1]) = -dt/2 (U^{n+1}(X^[I+1]) - U^{n+1}(X^[I]) - dU/dX d) = O(dt/4 |grad grad U| |d|^2).
+// It is accepted without interpolating when max |d| <= linear_step max_move, U^{n+1}(X^{n+1}) the
+// linearised U^{n+1}(X^[I]) + dU/dX d; otherwise the iteration interpolates at X^[I+1] and takes
+// Newton steps on (quadratic convergence). linear_step then bounds only the quadratic term.
+//
 // Every marker's equation g(X_k) = 0 is its own (U^{n+1}(X_k) depends on X_k alone), so several
 // membranes advance as one set of markers, each membrane a group with its own decisions: a group
 // stops when its largest |g| is below eps or when the linearised acceptance holds for all its

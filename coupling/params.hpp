@@ -43,12 +43,16 @@ struct MarkerUpdateParams {
   // The largest |g| the linearised acceptance takes, as a fraction of max_move (above: 1e-6 keeps
   // the neglected quadratic terms ~1e-6 of the linear ones whatever the flow).
   double linear_step = 1e-6;
+  // true: the linearised step is a Newton step (I - dt/2 dU/dX)^{-1} g, not the fixed-point step g: its
+  // linear residual is zero, so the acceptance needs only the step below linear_step (the neglected
+  // term dt/4 |grad grad U| |step|^2); coupling/marker_update.hpp.
+  bool newton = false;
 };
 
 // What one marker update did (per membrane: MembraneState::last).
 struct MarkerUpdateResult {
   int iterations = 0;
-  double residual = 0;      // max_k |g_k| at the accepted iterate (linearised: its first-order value)
+  double residual = 0;      // max_k |g_k| at the accepted iterate (linearised: its first-order value, 0 after a Newton step)
   bool linearised = false;  // a marker was accepted by the linearised residual (its U^{n+1}(X^{n+1}) linearised)
   int interpolations = 0;   // marker velocity interpolations a marker went through (the most of any)
 };

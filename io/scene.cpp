@@ -467,6 +467,13 @@ void read_material(Reader& r, const std::string& p, MembraneScene& m) {
       if (own) m.law_params.push_back(v);
     }
   m.Eb = r.number(p + "Eb", 0.0, ">= 0", "bending modulus Eb: energy Eb/2 int (kappa - kappa0)^2 dl (0: no bending)", false, 0.0);
+  if (r.documenting || r.has(p + "tension_cutoff"))
+    m.tension_cutoff = r.number(p + "tension_cutoff", 0.0, ">= 0",
+                                "the tension's modes along the membrane shorter than this length are removed before the "
+                                "force, so stretching modes the lattice cannot carry exert none (default: 2 max(dx, dy) "
+                                "for law = \"inextensible\", whose stiff penalty they destabilise; 0 for the others; "
+                                "docs/membrane_validation.md)",
+                                false, 0.0);
   m.reference = r.choice(p + "reference", "circle", {"circle", "initial"},
                          "the stress-free shape: circle (of radius r0, markers uniform in its arclength: the paper's) or "
                          "initial (the initial shape shrunk by 1/prestretch)");
@@ -503,6 +510,13 @@ void read_membrane(Reader& r, const std::string& p, MembraneScene& m) {
   m.radius = r.positive(p + "radius", m.r0, "circle radius (default r0: at rest)", !r.documenting && m.reference != "circle" && m.shape == "circle");
   m.rx = r.positive(p + "rx", 0.75, "ellipse half-axis along x");
   m.ry = r.positive(p + "ry", 0.5, "ellipse half-axis along y");
+  if (r.documenting || m.shape == "ellipse")
+    m.spacing = r.choice(p + "spacing", "angle", {"angle", "arclength"},
+                         "the ellipse's markers: uniform in the angle theta, X = (rx cos, ry sin)(theta) (the paper's; "
+                         "stretched against a uniform rest spacing), or uniform in its arclength (an inextensible "
+                         "membrane whose rest length is the perimeter starts unstretched)");
+  else if (r.has(p + "spacing"))
+    r.fail(p + "spacing", "applies to shape = \"ellipse\" only (circles and point lists are spaced by arclength)");
   m.h_star = r.number(p + "h_star", 0.0, ">= 0", "spreading smoothing length h* (0: h_star_over_h * h)", false, 0.0);
   m.h_star_over_h = r.positive(p + "h_star_over_h", 1.4, "h* / h when h_star is 0");
   m.fixed = r.boolean(p + "fixed", false, "hold the markers in place (fixed membrane)");
@@ -722,6 +736,12 @@ void read_time_and_solvers(Reader& r, Scene& s) {
       "the largest |g| the marker update accepts by linearisation (one interpolation less), as a fraction of a lattice "
       "spacing: the neglected term dt/4 |grad grad U| |g|^2 must stay below solver.marker_eps/2",
       false, 0.0, true, 1.0);
+  s.sim.markers.newton = r.boolean(
+      "solver.marker_newton", false,
+      "linearised step of the marker update: a Newton step (I - dt/2 dU/dX)^{-1} g (zero linear residual: only "
+      "the quadratic term dt/4 |grad grad U| |step|^2 must stay below solver.marker_eps, one interpolation per step "
+      "at a solver.marker_linear_step of 1e-4) instead of the fixed-point step g; needs an interpolation with a "
+      "gradient (divergence_free, bspline, spreading_kernel)");
   s.sim.markers.extrapolate =
       r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
                "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "
@@ -955,7 +975,8 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     MembraneSetup setup;
     try {
       const Mat2 X = m.shape == "circle"    ? circle(m.nb, m.cx, m.cy, m.radius)
-                     : m.shape == "ellipse" ? ellipse(m.nb, m.cx, m.cy, m.rx, m.ry)
+                     : m.shape == "ellipse" ? (m.spacing == "arclength" ? ellipse_by_arclength(m.nb, m.cx, m.cy, m.rx, m.ry)
+                                                                        : ellipse(m.nb, m.cx, m.cy, m.rx, m.ry))
                                             : from_points(m.points, m.nb);
       Material mat;
       mat.law = m.law;
@@ -964,6 +985,7 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
       mat.Eb = m.Eb;
       mat.spontaneous = m.spontaneous;
       mat.spontaneous_curvature = m.kappa0;
+      mat.tension_cutoff = m.tension_cutoff >= 0.0 ? m.tension_cutoff : m.law == "inextensible" ? 2.0 * std::max(dx, dy) : 0.0;
       setup.membrane = make_membrane(X, m.reference == "circle" ? circle_reference(m.r0) : initial_reference(X, m.prestretch),
                                      mat);
     } catch (const std::invalid_argument& e) {
@@ -985,7 +1007,14 @@ void build_membranes(Reader& r, Scene& s, const std::vector<ProgramMembrane>& pr
     if (m.viscosity_ratio != 1.0 && s.method != FluidMethod::Eulerian)
       r.fail(p + "viscosity_ratio", "a viscosity contrast needs method \"eulerian\" (method \"" + std::string(to_string(s.method)) +
                                         "\" has one viscosity everywhere)");
-    s.sim.membranes.push_back({m.membrane, m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, program_semi_implicit(m),
+    if (m.tension_cutoff && !(*m.tension_cutoff >= 0.0 && std::isfinite(*m.tension_cutoff)))
+      r.fail(p + "tension_cutoff", "value " + fmt_num(*m.tension_cutoff) + " is out of range (allowed: >= 0)");
+    Membrane mb = m.membrane;
+    mb.mat.tension_cutoff = m.tension_cutoff ? *m.tension_cutoff
+                            : mb.mat.tension_cutoff > 0.0 ? mb.mat.tension_cutoff
+                            : mb.mat.law == "inextensible" ? 2.0 * std::max(dx, dy)
+                                                           : 0.0;
+    s.sim.membranes.push_back({std::move(mb), m.h_star > 0 ? m.h_star : m.h_star_over_h * h, m.fixed, program_semi_implicit(m),
                                m.viscosity_ratio, m.stiff_residual});
   }
   size_t second = 0;

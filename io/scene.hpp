@@ -21,12 +21,14 @@ struct SceneError : std::runtime_error {
 
 struct MembraneScene {
   std::string shape = "circle";  // circle | ellipse | points
+  std::string spacing = "angle";  // ellipse: markers uniform in angle (the paper's) | arclength
   double radius = 0.5, rx = 0.5, ry = 0.5, cx = 0.0, cy = 0.0;
   double r0 = 0.5;
   std::string law = "hookean";     // membrane/law.hpp's registry
   double Es = 1.0;                 // the law's modulus (hookean: T0)
   std::vector<double> law_params;  // the law's own (skalak: C)
   double Eb = 0.0;                 // bending modulus
+  double tension_cutoff = -1.0;    // Material::tension_cutoff; < 0: 2 dx for law inextensible, else 0
   std::string reference = "circle";  // circle (radius r0) | initial (the initial shape / prestretch)
   double prestretch = 1.0;
   bool spontaneous = false;        // kappa0 given: uniform spontaneous curvature
@@ -84,6 +86,9 @@ struct ProgramMembrane {
   // hookean) and membrane.stiff_residual (needs the semi-implicit force)
   std::optional<bool> semi_implicit;
   bool stiff_residual = false;
+  // as membrane.tension_cutoff (unset: the membrane's own Material::tension_cutoff if > 0, else its
+  // default, 2 max(dx, dy) for law inextensible and 0 for the others)
+  std::optional<double> tension_cutoff;
 };
 
 // load_scene (path not empty) or parse_scene of an empty text named `name`, plus membranes built by

@@ -14,6 +14,10 @@
 
 namespace sphib {
 
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
 KnotGeometry::KnotGeometry(int nb, double L0)
     : sx(nb, L0), sy(nb, L0), bx(nb, L0), by(nb, L0), X_s(nb, 2), X_ss(nb, 2), norm(nb), kappa(nb) {}
 
@@ -69,6 +73,9 @@ Membrane make_membrane(Mat2 X, Reference ref, Material mat) {
                                   std::to_string(info.params[i].max) + "]");
   if (!std::isfinite(mat.spontaneous_curvature))
     throw std::invalid_argument("membrane: the spontaneous curvature must be finite");
+  if (!(mat.tension_cutoff >= 0.0) || !std::isfinite(mat.tension_cutoff))
+    throw std::invalid_argument("membrane: tension_cutoff = " + std::to_string(mat.tension_cutoff) +
+                                " must be >= 0 and finite");
   return {std::move(X), std::move(ref), std::move(mat)};
 }
 
@@ -81,9 +88,55 @@ MembraneForce::MembraneForce(const Membrane& m, HookeanScheme scheme)
     throw std::invalid_argument("MembraneForce: the Analytic scheme is the paper's Hookean law's only");
   if (!ref_.uniform()) ax_.fit(ref_.stretch0.data());
   if (ref_.kappa0.size()) kx_.fit(ref_.kappa0.data());
+  if (mat_.tension_cutoff > 0.0) {
+    cos_.resize(nb_);
+    sin_.resize(nb_);
+    for (int j = 0; j < nb_; ++j) {
+      const double th = 2.0 * kPi * j / nb_;
+      cos_[j] = std::cos(th);
+      sin_[j] = std::sin(th);
+    }
+    tc_.resize(nb_ / 2 + 1);
+    ts_.resize(nb_ / 2 + 1);
+  }
 }
 
-bool MembraneForce::paper_hookean() const { return mat_.law == "hookean" && ref_.uniform() && mat_.Eb == 0.0; }
+bool MembraneForce::paper_hookean() const {
+  return mat_.law == "hookean" && ref_.uniform() && mat_.Eb == 0.0 && mat_.tension_cutoff == 0.0;
+}
+
+// The tension's Fourier modes in the label s (markers uniform in s) whose wavelength along the current
+// length L is below the cutoff, m > L / tension_cutoff, removed: T_k = sum_{|m| <= mc} T^_m e^{2 pi i m k/nb}.
+// Cost O(nb mc) with the tabulated cos, sin (mc < nb/2).
+void MembraneForce::cut_tension(Vec& T) {
+  double L = 0.0;
+  for (int k = 0; k < nb_; ++k) L += geo_.norm[k];
+  L *= ds();
+  const double mcd = std::floor(L / mat_.tension_cutoff);
+  if (2.0 * mcd >= nb_) return;  // the markers carry no mode that short
+  const int mc = static_cast<int>(mcd);
+  for (int m = 0; m <= mc; ++m) {
+    double a = 0.0, b = 0.0;
+    for (int k = 0, j = 0; k < nb_; ++k) {  // j = m k mod nb
+      a += T[k] * cos_[j];
+      b += T[k] * sin_[j];
+      j += m;
+      if (j >= nb_) j -= nb_;
+    }
+    tc_[m] = a;
+    ts_[m] = b;
+  }
+  const double inv = 1.0 / nb_;
+  for (int k = 0; k < nb_; ++k) {
+    double t = 0.5 * tc_[0];
+    for (int m = 1, j = k; m <= mc; ++m) {  // j = m k mod nb
+      t += tc_[m] * cos_[j] + ts_[m] * sin_[j];
+      j += k;
+      if (j >= nb_) j -= nb_;
+    }
+    T[k] = 2.0 * t * inv;
+  }
+}
 
 void MembraneForce::compute(const Mat2& X, Mat2& f, Vec& T) {
   if (X.rows() != nb_)
@@ -131,6 +184,7 @@ void MembraneForce::compute(const Mat2& X, Mat2& f, Vec& T) {
       lambda_[k] = geo_.norm[k] / ref_.a(k);  // stretch against the reference
       T[k] = law_->tension(lambda_[k]);
     }
+    if (mat_.tension_cutoff > 0.0) cut_tension(T);
     if (bending) {
       for (int k = 0; k < n; ++k) m_[k] = bending_moment(mat_.Eb, geo_.kappa[k], kappa0(k));
       mspline_.fit(m_.data());

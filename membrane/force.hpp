@@ -95,6 +95,9 @@ class MembraneForce {
   PeriodicSpline ax_, kx_;  // of the reference's a and kappa0 along s (energy; when not uniform)
   Mat2 W_;                  // (T + T_b) tau + Q n at the knots (ProductSpline) or X_ss (Analytic)
   Vec m_, m_s_, lambda_;
+  Vec cos_, sin_;           // cos, sin (2 pi j/nb): the tension's discrete Fourier transform (tension_cutoff)
+  Vec tc_, ts_;             // its cosine and sine coefficients
+  void cut_tension(Vec& T);  // Material::tension_cutoff
 };
 
 }  // namespace sphib

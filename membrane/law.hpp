@@ -56,6 +56,10 @@ struct Material {
   double Eb = 0.0;                 // bending modulus, energy Eb/2 int (kappa - kappa0)^2 dl
   bool spontaneous = false;        // true: kappa0 = spontaneous_curvature everywhere
   double spontaneous_curvature = 0.0;
+  // > 0: the tension T(lambda) loses its modes along the membrane shorter than this length before it
+  // makes the force (MembraneForce::compute), so stretching modes finer than the fluid's lattice carries
+  // (wavelength < 2 dx) produce no force; 0: the tension as the law gives it.
+  double tension_cutoff = 0.0;
 };
 
 /// The parameters of a material's law: its own, or the law's defaults when it gives none (a Material

@@ -96,6 +96,39 @@ Mat2 ellipse(int nb, double cx, double cy, double rx, double ry) {
   return X;
 }
 
+Mat2 ellipse_by_arclength(int nb, double cx, double cy, double rx, double ry) {
+  const Mat2 E = ellipse(nb, cx, cy, rx, ry);  // checks nb, rx, ry
+  // s(theta) = int_0^theta |C'(t)| dt, |C'| = sqrt(rx^2 sin^2 + ry^2 cos^2), tabulated on q panels of
+  // Gauss 5-point (the integrand is analytic: the table is exact to round-off), then inverted per
+  // marker by Newton's method inside its panel.
+  auto speed = [&](double t) { return std::hypot(rx * std::sin(t), ry * std::cos(t)); };
+  auto panel = [&](double a, double b) {
+    double sum = 0.0;
+    for (int g = 0; g < 5; ++g) sum += gauss5::w[g] * speed(0.5 * (a + b) + 0.5 * (b - a) * gauss5::x[g]);
+    return 0.5 * (b - a) * sum;
+  };
+  const int q = 16 * nb;
+  const double dth = 2.0 * kPi / q;
+  std::vector<double> cum(q + 1, 0.0);
+  for (int i = 0; i < q; ++i) cum[i + 1] = cum[i] + panel(i * dth, (i + 1) * dth);
+  const double length = cum[q];
+  Mat2 X = E;
+  int i = 0;
+  for (int k = 1; k < nb; ++k) {
+    const double sigma = length * k / nb;
+    while (cum[i + 1] < sigma) ++i;
+    double th = i * dth + dth * (sigma - cum[i]) / (cum[i + 1] - cum[i]);
+    for (int it = 0; it < 20; ++it) {
+      const double step = (cum[i] + panel(i * dth, th) - sigma) / speed(th);
+      th -= step;
+      if (std::abs(step) < 1e-15) break;
+    }
+    X(k, 0) = cx + rx * std::cos(th);
+    X(k, 1) = cy + ry * std::sin(th);
+  }
+  return X;
+}
+
 Mat2 from_points(const Mat2& points, int nb) {
   check_markers("from_points", nb);
   if (!points.allFinite())

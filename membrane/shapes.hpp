@@ -17,6 +17,11 @@ Mat2 circle(int nb, double cx, double cy, double radius);
 /// stretch |X_s| is non-uniform along the membrane, as in the paper.
 Mat2 ellipse(int nb, double cx, double cy, double rx, double ry);
 
+/// The same ellipse with its markers uniform in its own arclength (X_k at arclength k L/nb from
+/// (cx + rx, cy), L the perimeter; to ~1e-13 of L): the rest spacing of a membrane whose rest
+/// length is the ellipse's perimeter (an inextensible membrane starts without a stretch).
+Mat2 ellipse_by_arclength(int nb, double cx, double cy, double rx, double ry);
+
 /// An arbitrary closed curve through points (m x 2, anticlockwise, first point not repeated
 /// at the end, though a repeated closing point is dropped): a periodic cubic spline in the
 /// chord-length parameter, resampled at nb markers uniformly spaced in its arclength.

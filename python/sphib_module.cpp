@@ -499,11 +499,18 @@ void bind_membranes(py::module_& m) {
           return SPHIB_MAT.membrane(circle(marker_count(nb), c.x(), c.y(), radius ? *radius : *r0), r0);
         }, py::arg("nb"), py::arg("r0") = py::none(), py::arg("radius") = py::none(), py::arg("centre") = std::vector<double>{0, 0},
         SPHIB_MAT_ARGS, "A circle of the given radius (default r0: at rest) about centre.");
-  m.def("ellipse", [](long nb, R0 r0, double rx, double ry, std::vector<double> centre, SPHIB_MAT_PARAMS) {
+  m.def("ellipse", [](long nb, R0 r0, double rx, double ry, std::vector<double> centre, const std::string& spacing,
+                      SPHIB_MAT_PARAMS) {
           const Eigen::Vector2d c = point2(centre, "centre");
-          return SPHIB_MAT.membrane(ellipse(marker_count(nb), c.x(), c.y(), rx, ry), r0);
+          if (spacing != "angle" && spacing != "arclength")
+            throw py::value_error("spacing must be \"angle\" or \"arclength\" (got \"" + spacing + "\")");
+          const int n = marker_count(nb);
+          return SPHIB_MAT.membrane(spacing == "arclength" ? ellipse_by_arclength(n, c.x(), c.y(), rx, ry)
+                                                           : ellipse(n, c.x(), c.y(), rx, ry), r0);
         }, py::arg("nb"), py::arg("r0") = py::none(), py::arg("rx"), py::arg("ry"), py::arg("centre") = std::vector<double>{0, 0},
-        SPHIB_MAT_ARGS, "An axis-aligned ellipse with half-axes rx, ry about centre.");
+        py::arg("spacing") = "angle", SPHIB_MAT_ARGS,
+        "An axis-aligned ellipse with half-axes rx, ry about centre, its markers uniform in the angle (spacing = "
+        "\"angle\", the paper's) or in its arclength (\"arclength\"), as membrane.spacing.");
   m.def("from_points", [](const Mat2& points, long nb, R0 r0, SPHIB_MAT_PARAMS) {
           return SPHIB_MAT.membrane(from_points(points, marker_count(nb)), r0);
         },
@@ -592,17 +599,21 @@ void bind_scene(py::module_& m) {
              s = std::move(trial);
            }, py::arg("keys") = py::none(), "set({'fluid.mu': 0.05}): change scene keys (validated)")
       .def("add_membrane", [](PyScene& s, const Membrane& mb, std::optional<double> h_star, double h_star_over_h, bool fixed,
-                              double viscosity_ratio, std::optional<bool> semi_implicit, bool stiff_residual) {
+                              double viscosity_ratio, std::optional<bool> semi_implicit, bool stiff_residual,
+                              std::optional<double> tension_cutoff) {
              PyScene trial = s;
-             trial.added.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed, viscosity_ratio, semi_implicit, stiff_residual});
+             trial.added.push_back({mb, h_star.value_or(0.0), h_star_over_h, fixed, viscosity_ratio, semi_implicit, stiff_residual,
+                                    tension_cutoff});
              trial.validate();  // checked with the scene's own membranes; refused: the scene stays as it was
              s = std::move(trial);
            }, py::arg("membrane"), py::arg("h_star") = py::none(), py::arg("h_star_over_h") = 1.4, py::arg("fixed") = false,
            py::arg("viscosity_ratio") = 1.0, py::arg("semi_implicit") = py::none(), py::arg("stiff_residual") = false,
+           py::arg("tension_cutoff") = py::none(),
            "Adds a membrane (sphib.circle, ellipse, polar, curve, from_points) with spreading radius h* (default "
            "1.4 h) and the viscosity ratio mu_in / mu_out of the fluid it encloses (method eulerian), checked as a "
            "scene file's membranes are (values, crossings, observe.exact). semi_implicit and stiff_residual are the "
-           "scene's membrane.semi_implicit (default: with bending or a law other than hookean) and membrane.stiff_residual.")
+           "scene's membrane.semi_implicit (default: with bending or a law other than hookean) and membrane.stiff_residual; "
+           "tension_cutoff is membrane.tension_cutoff (default: 2 dx for law inextensible, 0 for the others).")
       .def("observe", [](PyScene& s, const std::string& name, py::function fn) {
              if (name.empty()) throw py::value_error("an observer needs a name");
              for (const auto& o : s.observers)

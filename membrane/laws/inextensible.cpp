@@ -5,7 +5,8 @@
 // T/Es, reported as the diagnostics column m<k>_strain_max (max_k |lambda_k - 1|). Chosen over a tension
 // multiplier, whose solve needs the fluid's response at every marker: the penalty's stiffness is what
 // the stiff-force filter (coupling/stiff_force.hpp) takes implicitly, so a stiff Es runs at the step
-// the flow needs.
+// the flow needs. A scene gives this law a tension cutoff of 2 dx by default (Material::tension_cutoff):
+// the penalty's stretching modes shorter than the lattice carries are otherwise slowly unstable.
 #include "membrane/law.hpp"
 
 namespace sphib {

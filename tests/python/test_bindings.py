@@ -153,6 +153,15 @@ class Membranes(unittest.TestCase):
                 sphib.run(scene(semi_implicit=False), out=os.path.join(d, "c"))
         with self.assertRaisesRegex(sphib.SceneError, r"membranes\[0\].stiff_residual: refines the semi-implicit force"):
             scene(semi_implicit=False, stiff_residual=True)
+        # tension_cutoff as membrane.tension_cutoff: >= 0, refused by name otherwise
+        self.assertEqual(sphib.run(scene(tension_cutoff=0.2), out=os.path.join(tempfile.gettempdir(), "sphib_py_cutoff"))["stop_reason"],
+                         "end time")
+        with self.assertRaisesRegex(sphib.SceneError, r"membranes\[0\].tension_cutoff: value -1 is out of range"):
+            scene(tension_cutoff=-1.0)
+        # membrane.spacing's builder keyword
+        with self.assertRaisesRegex(ValueError, "spacing must be"):
+            sphib.ellipse(nb=48, r0=0.5, rx=0.75, ry=0.5, T0=10.0, spacing="chord")
+        sphib.ellipse(nb=48, r0=0.6312658, rx=0.75, ry=0.5, law="inextensible", Es=1000.0, spacing="arclength")
 
     def test_the_builders_take_r0_as_the_scene_reader_does(self):
         # membrane.r0 is the rest radius of reference = "circle": needed there, refused with "initial"
