@@ -1,11 +1,10 @@
 #pragma once
 // The fluid particles within the kernel support of one marker, for the markers' spreading (Eq. 53)
 // and interpolation (Eqs. 61-63): gathered first (CellGrid::gather_near: on the fixed lattice
-// without a branch per point), then taken two at a time by the kernel's branch-free two-lane form
-// (CubicSplineKernel::W_F2). A marker's 20-50 points fall on either side of q = 1 in no predictable
-// order, which made the branches of a per-point loop its largest cost.
-#include "fluid/common/kernel.hpp"
+// without a branch per point), then handed to the markers' kernels (kernels/spread.hpp,
+// kernels/curl_sums.hpp) (MarkerPoints), which take them two at a time.
 #include "fluid/common/neighbours.hpp"
+#include "kernels/marker_points.hpp"
 
 namespace sphib {
 
@@ -25,12 +24,8 @@ class Neighbourhood {
     }
   }
   int pairs = 0;  // the pairs gathered
-  // pair i: particle indices, offsets q - x_j and squared distances
-  int j0(int i) const { return p_.j[2 * i]; }
-  int j1(int i) const { return p_.j[2 * i + 1]; }
-  Lanes2 dx(int i) const { return Lanes2{p_.dx[2 * i], p_.dx[2 * i + 1]}; }
-  Lanes2 dy(int i) const { return Lanes2{p_.dy[2 * i], p_.dy[2 * i + 1]}; }
-  Lanes2 r2(int i) const { return Lanes2{p_.r2[2 * i], p_.r2[2 * i + 1]}; }
+  // the points: particle indices, offsets q - x_j and squared distances (valid until the next gather)
+  MarkerPoints points() const { return {pairs, p_.j.data(), p_.dx.data(), p_.dy.data(), p_.r2.data()}; }
 
  private:
   NearPoints p_;

@@ -2,6 +2,7 @@
 #include "fluid/common/profile.hpp"
 #include "fluid/algebra/products.hpp"  // kParallelRows
 #include "fluid/common/threads.hpp"
+#include "kernels/banded.hpp"
 
 #include <fftw3.h>
 #ifdef _OPENMP
@@ -323,129 +324,6 @@ fftw_r2r_kind forward_kind(XKind x) { return x == XKind::Even ? FFTW_REDFT10 : F
 fftw_r2r_kind inverse_kind(XKind x) { return x == XKind::Even ? FFTW_REDFT01 : FFTW_RODFT01; }
 
 // ================================================================================================
-// The banded substitutions of BandedSolver, all wavenumbers at once
-// ================================================================================================
-
-// One row of a substitution over the n values of h's row i (every wavenumber, real and imaginary
-// parts alike): h_i = (h_i - l_1 h_{i -+ 1} - ... - l_D h_{i -+ D}) / L(i, i), the terms subtracted
-// one by one in the order of d, then the product by 1 / L(i, i): the arithmetic of a loop over d of
-// whole-row updates, each value kept in a register instead of the row stored after every d.
-template <int D>
-[[gnu::always_inline]] inline void substitute_row(double* __restrict hi, const double* const* hj, const double* const* l,
-                                                  const double* __restrict r, int n) {
-  const double* __restrict h1 = hj[0];
-  const double* __restrict h2 = hj[D > 1 ? 1 : 0];
-  const double* __restrict h3 = hj[D > 2 ? 2 : 0];
-  const double* __restrict h4 = hj[D > 3 ? 3 : 0];
-  const double* __restrict l1 = l[0];
-  const double* __restrict l2 = l[D > 1 ? 1 : 0];
-  const double* __restrict l3 = l[D > 2 ? 2 : 0];
-  const double* __restrict l4 = l[D > 3 ? 3 : 0];
-  for (int m = 0; m < n; ++m) {
-    double a = hi[m];
-    if (D > 0) a -= l1[m] * h1[m];
-    if (D > 1) a -= l2[m] * h2[m];
-    if (D > 2) a -= l3[m] * h3[m];
-    if (D > 3) a -= l4[m] * h4[m];
-    hi[m] = a * r[m];
-  }
-}
-
-#pragma GCC diagnostic ignored "-Wpsabi"  // (Pair4 lives only inside the inlined rows: no call passes one)
-typedef double Pair4 __attribute__((vector_size(32)));
-typedef double Pair4u __attribute__((vector_size(32), aligned(8), may_alias));
-// (f[0], f[0], f[1], f[1]): two wavenumbers' factor for their real and imaginary parts
-[[gnu::always_inline]] inline Pair4 twice(const double* f) { return Pair4{f[0], f[0], f[1], f[1]}; }
-[[gnu::always_inline]] inline Pair4 load_pair4(const double* p) { return *reinterpret_cast<const Pair4u*>(p); }
-
-// substitute_row for complex rows, (re, im) of wavenumber k at 2k and 2k + 1, whose factors are
-// the same for both parts and stored once per wavenumber (k): two wavenumbers at a time, each
-// value by substitute_row's expressions (the same bits), the factors read once instead of twice.
-template <int D>
-[[gnu::always_inline]] inline void substitute_row_pairs(double* __restrict hi, const double* const* hj,
-                                                        const double* const* l, const double* __restrict r,
-                                                        int nk) {
-  int k = 0;
-  for (; k + 2 <= nk; k += 2) {
-    const int m = 2 * k;
-    Pair4 a = load_pair4(hi + m);
-    if (D > 0) a = a - twice(l[0] + k) * load_pair4(hj[0] + m);
-    if (D > 1) a = a - twice(l[1] + k) * load_pair4(hj[1] + m);
-    if (D > 2) a = a - twice(l[2] + k) * load_pair4(hj[2] + m);
-    if (D > 3) a = a - twice(l[3] + k) * load_pair4(hj[3] + m);
-    *reinterpret_cast<Pair4u*>(hi + m) = a * twice(r + k);
-  }
-  for (; k < nk; ++k)
-    for (int m = 2 * k; m < 2 * k + 2; ++m) {
-      double a = hi[m];
-      for (int d = 0; d < D; ++d) a -= l[d][k] * hj[d][m];
-      hi[m] = a * r[k];
-    }
-}
-
-// L y = b, then L' x = y, in place, for every wavenumber: h row i at h + i n (n values per row),
-// the factors as BandedSolver::arrange_factors stores them (nk per row and band: with pairs, h's
-// rows hold (re, im) of each of nk wavenumbers, n = 2 nk; else n = nk). Rows reaching more than 4 neighbours
-// (half-bandwidths above 4: wide kernels) take the loop over d of whole-row updates (the same
-// arithmetic). Only the wavenumbers k0 <= k < k1 (k0 even): every wavenumber's values are computed
-// alone, so disjoint ranges may run on different threads and give the bits of the whole range.
-[[gnu::target_clones("avx2", "default")]] void substitute_bands(double* h, int ny, int w, int ldab, int nk_all,
-                                                                bool pairs, const double* lrow, const double* lcol,
-                                                                const double* rdiag, int k0, int k1) {
-  const int stride = pairs ? 2 * nk_all : nk_all;  // a row of h
-  const int nk = k1 - k0, n = pairs ? 2 * nk : nk;  // with pairs, value m of a row has factor m / 2
-  h += pairs ? 2 * k0 : k0;
-  rdiag += k0;
-  lrow += k0;
-  lcol += k0;
-  auto row = [&](int i, int dir, const double* f, int dmax) __attribute__((always_inline)) {
-    double* hi = h + static_cast<std::size_t>(i) * stride;
-    const double* r = rdiag + static_cast<std::size_t>(i) * nk_all;
-    auto hd = [&](int d) { return h + static_cast<std::size_t>(i + dir * d) * stride; };      // h_{i -+ d}
-    auto ld = [&](int d) { return f + (static_cast<std::size_t>(i) * ldab + d) * nk_all; };  // l_d
-    if (dmax > 4 && pairs) {  // whole-row updates, two wavenumbers (four values) at a time
-      const int k2 = nk / 2 * 2;
-      for (int d = 1; d <= dmax; ++d) {
-        const double *hj = hd(d), *l = ld(d);
-        for (int k = 0; k < k2; k += 2)
-          *reinterpret_cast<Pair4u*>(hi + 2 * k) = load_pair4(hi + 2 * k) - twice(l + k) * load_pair4(hj + 2 * k);
-        for (int m = 2 * k2; m < n; ++m) hi[m] -= l[m >> 1] * hj[m];
-      }
-      for (int k = 0; k < k2; k += 2) *reinterpret_cast<Pair4u*>(hi + 2 * k) = load_pair4(hi + 2 * k) * twice(r + k);
-      for (int m = 2 * k2; m < n; ++m) hi[m] *= r[m >> 1];
-      return;
-    }
-    if (dmax > 4) {
-      for (int d = 1; d <= dmax; ++d) {
-        const double *hj = hd(d), *l = ld(d);
-        for (int m = 0; m < n; ++m) hi[m] -= l[m] * hj[m];
-      }
-      for (int m = 0; m < n; ++m) hi[m] *= r[m];
-      return;
-    }
-    const double* hj[4] = {hi, hi, hi, hi};
-    const double* l[4] = {r, r, r, r};
-    for (int d = 1; d <= dmax; ++d) {
-      hj[d - 1] = hd(d);
-      l[d - 1] = ld(d);
-    }
-    auto depth = [&](auto D) __attribute__((always_inline)) {  // D: dmax as a constant
-      if (pairs) substitute_row_pairs<decltype(D)::value>(hi, hj, l, r, nk);
-      else substitute_row<decltype(D)::value>(hi, hj, l, r, n);
-    };
-    switch (dmax) {
-      case 0: depth(std::integral_constant<int, 0>{}); break;
-      case 1: depth(std::integral_constant<int, 1>{}); break;
-      case 2: depth(std::integral_constant<int, 2>{}); break;
-      case 3: depth(std::integral_constant<int, 3>{}); break;
-      default: depth(std::integral_constant<int, 4>{});
-    }
-  };
-  for (int i = 0; i < ny; ++i) row(i, -1, lrow, std::min(w, i));                // L y = b
-  for (int i = ny - 1; i >= 0; --i) row(i, +1, lcol, std::min(w, ny - 1 - i));  // L' x = y
-}
-
-// ================================================================================================
 // The solvers
 // ================================================================================================
 
@@ -753,7 +631,7 @@ class BandedSolver final : public LatticeSolver {
       // B_k x = b for wavenumbers k0 .. k1 - 1 (B_k is real: real and imaginary parts alike): L y = b,
       // then L' x = y, in place. By hand rather than LAPACK dpbtrs, whose Level-2 calls on bands of
       // 2-5 cost 4x the rest of the solve (perf: 70 of 85 us per step at 64 x 64).
-      if (k1 > k0) substitute_bands(ws.hat, ny_, w_, ldab_, nk_, complex_, lrow_.data(), lcol_.data(), rdiag_.data(), k0, k1);
+      if (k1 > k0) substitute_bands(ws.hat, {ny_, w_, ldab_, nk_, complex_, lrow_.data(), lcol_.data(), rdiag_.data()}, k0, k1);
 #pragma omp barrier
 #pragma omp for schedule(static)
       for (int blk = 0; blk < blocks_; ++blk) inverse_rows(ws, x, blk, x_direct);

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "fluid/algebra/row_stencil.hpp"  // kParallelRows
+#include "kernels/alternating.hpp"
 
 namespace sphib {
 
@@ -24,37 +25,6 @@ Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
 }
 
 namespace {
-
-// The even- and odd-column sums e[l], o[l] of rows iy + l, l < m (each summed along its row). Four
-// rows are summed side by side: eight independent chains instead of two, the same sums (a single
-// chain waits on each add's latency).
-void row_sums(const double* f, int nx, int iy, int m, double* e, double* o) {
-  const int pairs = nx / 2;  // columns 2 p and 2 p + 1; an odd nx leaves the last column to e
-  int l0 = 0;
-  for (; l0 + 4 <= m; l0 += 4) {
-    const double* r[4];
-    double es[4] = {}, os[4] = {};
-    for (int l = 0; l < 4; ++l) r[l] = f + static_cast<std::size_t>(nx) * (iy + l0 + l);
-    for (int p = 0; p < pairs; ++p)
-      for (int l = 0; l < 4; ++l) {
-        es[l] += r[l][2 * p];
-        os[l] += r[l][2 * p + 1];
-      }
-    for (int l = 0; l < 4; ++l) {
-      if (nx % 2) es[l] += r[l][nx - 1];
-      e[l0 + l] = es[l];
-      o[l0 + l] = os[l];
-    }
-  }
-  for (; l0 < m; ++l0) {
-    const double* r = f + static_cast<std::size_t>(nx) * (iy + l0);
-    double es = 0, os = 0;
-    for (int p = 0; p < pairs; ++p) { es += r[2 * p]; os += r[2 * p + 1]; }
-    if (nx % 2) es += r[nx - 1];
-    e[l0] = es;
-    o[l0] = os;
-  }
-}
 
 // c[sy][sx] = <f, (-1)^{sx i_x + sy i_y}> / N from the even- and odd-column sums of each row, the
 // rows' sums added in row order. On a large lattice the rows' sums are shared among the threads
@@ -98,17 +68,11 @@ void row_values(const Modes& modes, const double c[2][2], double w, int iy, doub
 
 // f += v[i_y mod 2][i_x mod 2] (v: the values added at even and odd i_x of even and odd rows)
 // (rows shared among the threads on a large lattice: each value is computed alone)
-[[gnu::target_clones("avx2", "default")]] void add_alternating(double* f, int nx, int ny, const double (*v)[2]) {
+void add_alternating(double* f, int nx, int ny, const double (*v)[2]) {
   const bool par = static_cast<long>(nx) * ny >= kParallelRows;
   (void)par;
 #pragma omp parallel for schedule(static) if (par)
-  for (int iy = 0; iy < ny; ++iy) {
-    const double even = v[iy & 1][0], odd = v[iy & 1][1];
-    double* r = f + static_cast<std::size_t>(nx) * iy;
-    int ix = 0;
-    for (; ix + 1 < nx; ix += 2) { r[ix] += even; r[ix + 1] += odd; }
-    if (ix < nx) r[ix] += even;
-  }
+  for (int iy = 0; iy < ny; ++iy) add_alternating_row(f + static_cast<std::size_t>(nx) * iy, nx, v[iy & 1][0], v[iy & 1][1]);
 }
 
 // f += w * sum over `modes` of c[sy][sx] (-1)^{sx i_x + sy i_y} (row_values depends on i_y only by

@@ -1,6 +1,7 @@
 #include "fluid/algebra/products.hpp"
 
 #include "fluid/algebra/stencil_kernels.hpp"
+#include "kernels/stencil_products.hpp"  // the block kernels
 
 #include <algorithm>
 #include <cstdint>
@@ -103,45 +104,9 @@ void add_blocks(int cls, const std::vector<int>& rows, std::vector<RowStencil::B
   }
 }
 
-// The kernels, compiled twice (SSE2 and AVX2, chosen at load time; no FMA, so both give the same
-// bits): y = A x for two columns; the four derivatives; the divergence; a scalar's gradient. Each
-// accumulates a block and stores it (`sum`: the divergence, out = acc_0 + acc_1).
 using Cls = RowStencil::Class;
 using Blk = RowStencil::Block;
-
-[[gnu::always_inline]] inline void store_sum(const double (*acc)[kBlock], double* const* out, int b, int m, int st) {
-  for (int t = 0; t < m; ++t) out[0][b + t * st] = acc[0][t] + acc[1][t];
-}
-[[gnu::target_clones("avx2", "default")]] void block_apply2(const Cls& cl, const Blk& k, const double* const* w,
-                                                           const double* const* in, double* const* out) {
-  double acc[2][kBlock];
-  stencil::accumulate_block<2, 1, false>(cl, k, w, in, acc);
-  stencil::store<2>(acc, out, k.begin, k.count, k.stride);
-}
-[[gnu::target_clones("avx2", "default")]] void block_apply1(const Cls& cl, const Blk& k, const double* const* w,
-                                                           const double* const* in, double* const* out) {
-  double acc[1][kBlock];
-  stencil::accumulate_block<1, 1, false>(cl, k, w, in, acc);
-  stencil::store<1>(acc, out, k.begin, k.count, k.stride);
-}
-[[gnu::target_clones("avx2", "default")]] void block_gradient2(const Cls& cl, const Blk& k, const double* const* w,
-                                                              const double* const* in, double* const* out) {
-  double acc[4][kBlock];
-  stencil::accumulate_block<2, 2, false>(cl, k, w, in, acc);
-  stencil::store<4>(acc, out, k.begin, k.count, k.stride);
-}
-[[gnu::target_clones("avx2", "default")]] void block_divergence(const Cls& cl, const Blk& k, const double* const* w,
-                                                               const double* const* in, double* const* out) {
-  double acc[2][kBlock];
-  stencil::accumulate_block<2, 2, true>(cl, k, w, in, acc);
-  store_sum(acc, out, k.begin, k.count, k.stride);
-}
-[[gnu::target_clones("avx2", "default")]] void block_gradient(const Cls& cl, const Blk& k, const double* const* w,
-                                                             const double* const* in, double* const* out) {
-  double acc[2][kBlock];
-  stencil::accumulate_block<1, 2, false>(cl, k, w, in, acc);
-  stencil::store<2>(acc, out, k.begin, k.count, k.stride);
-}
+using stencil::store_sum;
 
 // One product through stencil::pass: `kernel` for the blocks, the same store for the other rows
 // (Diag: the divergence's sum).

@@ -4,6 +4,8 @@
 // (stencil_kernels.hpp).
 #include <vector>
 
+#include "kernels/stencil_block.hpp"
+
 namespace sphib {
 
 // Rows from which the products use the threads: below, a fork and join (~1-3 us) costs more than
@@ -11,18 +13,12 @@ namespace sphib {
 constexpr int kParallelRows = 8192;
 
 struct RowStencil {
-  // A class of rows: translates of its reference row (the same column offsets j - i and, in every
-  // operator, the same coefficient bits). Class 0 holds the most common row (the interior); the
-  // others the rows near walls and periodic seams that repeat along them.
-  struct Class {
-    int ref = -1;             // the reference row
-    std::vector<int> offset;  // its column offsets j - ref, in the row's own (column) order
-  };
-  // Rows begin + k stride, k < count, all of one class: the work units of the products and their
-  // threads (at most 256 rows; stride 1 along a wall, the lattice's row length along a seam).
-  struct Block {
-    int cls, begin, count, stride;
-  };
+  // A class of rows: translates of its reference row. Class 0 holds the most common row (the
+  // interior); the others the rows near walls and periodic seams that repeat along them.
+  using Class = StencilClass;
+  // The work units of the products and their threads (at most 256 rows; stride 1 along a wall, the
+  // lattice's row length along a seam).
+  using Block = StencilBlock;
   std::vector<Class> classes;
   std::vector<Block> blocks;
   std::vector<int> rest;  // every other row, applied from the compressed arrays

@@ -7,6 +7,7 @@
 
 #include "fluid/common/interpolation.hpp"
 #include "fluid/algebra/solver_policy.hpp"
+#include "kernels/sparse_rows.hpp"
 
 namespace sphib {
 
@@ -20,29 +21,6 @@ void check_params(const FluidParams& p) {
     throw std::invalid_argument("fluid: LPSPH has the approximate projection only (fluid.projection = \"approximate\")");
 }
 
-// products_ahead's pass: rows [i0, i1) of three operators of one pattern (o, col; values lap, cn, ph),
-// out[0..3] = the lap and cn sums over x4 (lanes: u, v, the two Crank-Nicolson starts), out[4] = ph
-// times phi as Eigen's product gives it (0 + the sum).
-struct Rows3 {
-  const int *o, *col;
-  const double *lap, *cn, *ph, *x4, *phi;
-};
-#pragma GCC diagnostic ignored "-Wpsabi"  // Lanes4 only inside this function (no call passes one)
-[[gnu::target_clones("avx2", "default")]] void rows3(const Rows3& in, double* const* out, int i0, int i1) {
-  using U4 = double __attribute__((vector_size(32), aligned(8), may_alias));
-  for (int i = i0; i < i1; ++i) {
-    Lanes4 s{0.0, 0.0, 0.0, 0.0};
-    double t = 0.0;
-    for (int p = in.o[i]; p < in.o[i + 1]; ++p) {
-      const int c = in.col[p];
-      const double a = in.lap[p], b = in.cn[p];
-      s = s + Lanes4{a, a, b, b} * *reinterpret_cast<const U4*>(in.x4 + 4 * c);
-      t += in.ph[p] * in.phi[c];
-    }
-    for (int m = 0; m < 4; ++m) out[m][i] = s[m];
-    out[4][i] = 0.0 + t;
-  }
-}
 }  // namespace
 
 // The Verlet skin (neighbours.hpp), adaptive between 0.01 and 0.3 of the support 2h. Measured on
@@ -150,9 +128,8 @@ bool LagrangianFluid::geometry(bool jump, bool sums, RebuildSeconds* s, bool ahe
 // products they begin with (start_product): A_cn times the extrapolation 2 u*_{n-1} - u*_{n-2}
 // that viscous_predictor computes, A_phi times phi^n. The same bits as those passes (the solver's
 // product: linear_solver.hpp, start_product).
-// One pass over the rows' common pattern: the four velocity sums as the lanes of one vector (the
-// inputs interleaved by rebuild, x4_), phi's beside them; each lane's arithmetic is its scalar sum's,
-// term by term (no FMA), as apply2's plain rows and Eigen's row-major product compute it.
+// One pass over the rows' common pattern (kernels/sparse_rows.hpp; the inputs interleaved by
+// rebuild, x4_).
 void LagrangianFluid::products_ahead(int i0, int i1) {
   const int N = size();
   const SpMat& L = op_.lap_u.A;
