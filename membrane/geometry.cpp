@@ -6,11 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "kernels/lanes.hpp"  // two segments' values, lane by lane
 #include "membrane/polygon.hpp"
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace sphib {
 
@@ -70,18 +67,6 @@ double MembraneDiagnostics::length() const {
   });
 }
 
-namespace {
-using Pair = double __attribute__((vector_size(16)));  // two segments' values, lane by lane
-Pair pair(double a) { return Pair{a, a}; }
-Pair pair_sqrt(Pair x) {
-#if defined(__SSE2__)
-  return _mm_sqrt_pd(x);
-#else
-  return Pair{std::sqrt(x[0]), std::sqrt(x[1])};
-#endif
-}
-}  // namespace
-
 // integrate() of (|X_s| - 1)^2 (T/T0, Eq. (47)), half T0 times it: the run-time guard's every step.
 // The same expressions and the same sum, in integrate()'s order; the points' values are made first,
 // two segments side by side (SSE2 square roots), a chunk of segments at a time.
@@ -105,13 +90,13 @@ double elastic_energy(const PeriodicSpline& sx, const PeriodicSpline& sy, double
     for (int j = m; j < (m + 1) / 2 * 2; ++j) x1[j] = x2[j] = x3[j] = y1[j] = y2[j] = y3[j] = 0.0;  // an odd tail's pad
     for (int j = 0; j < m; j += 2)
       for (int q = 0; q < 5; ++q) {
-        const Pair tq = pair(t[q]);
-        const Pair xs = Pair{x1[j], x1[j + 1]} + tq * (pair(2.0) * Pair{x2[j], x2[j + 1]} +
-                                                            pair(3.0) * tq * Pair{x3[j], x3[j + 1]});
-        const Pair ys = Pair{y1[j], y1[j + 1]} + tq * (pair(2.0) * Pair{y2[j], y2[j + 1]} +
-                                                            pair(3.0) * tq * Pair{y3[j], y3[j + 1]});
-        const Pair e = pair_sqrt(xs * xs + ys * ys) - pair(1.0);  // T/T0, Eq. (47)
-        const Pair e2 = e * e;
+        const Lanes2 tq = lanes2(t[q]);
+        const Lanes2 xs = Lanes2{x1[j], x1[j + 1]} + tq * (lanes2(2.0) * Lanes2{x2[j], x2[j + 1]} +
+                                                            lanes2(3.0) * tq * Lanes2{x3[j], x3[j + 1]});
+        const Lanes2 ys = Lanes2{y1[j], y1[j + 1]} + tq * (lanes2(2.0) * Lanes2{y2[j], y2[j + 1]} +
+                                                            lanes2(3.0) * tq * Lanes2{y3[j], y3[j + 1]});
+        const Lanes2 e = sqrt2(xs * xs + ys * ys) - lanes2(1.0);  // T/T0, Eq. (47)
+        const Lanes2 e2 = e * e;
         g[j][q] = e2[0];
         g[j + 1][q] = e2[1];
       }

@@ -61,9 +61,9 @@ TEST(FusedPasses, PredictorRhsEqualsTheSeparateProducts) {
       for (const RowStencil* s : {&st, static_cast<const RowStencil*>(nullptr)}) {
         Mat2 fused_old = conv_prev, fused_rhs = Mat2::Constant(N, 2, 7.0);
         const Mat2 zero = Mat2::Zero(N, 2);
-        predictor_rhs({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A, s, &images, u.data(), F.data(), bc.data(),
-                       lw.data(), cwx.data(), cwy.data(), a, k, kc, first, conv_on ? fused_old.data() : nullptr,
-                       zero.data(), fused_rhs.data()});
+        predictor_rhs({&op.lap_u.A, &op.grad_ux.A, &op.grad_uy.A, s, &images,
+                       {0, u.data(), F.data(), bc.data(), lw.data(), cwx.data(), cwy.data(), a, k, kc, first,
+                        conv_on ? fused_old.data() : nullptr, zero.data(), fused_rhs.data()}});
         EXPECT_TRUE(bitwise_equal(fused_rhs, rhs)) << box.n << " variant " << variant << (s ? " stencil" : " rows");
         EXPECT_TRUE(bitwise_equal(fused_old, old)) << box.n << " variant " << variant << (s ? " stencil" : " rows");
       }
@@ -91,7 +91,7 @@ TEST(FusedPasses, CurlTransposeRhsEqualsTheSeparateProducts) {
       b_m = (cu + Q * mflux) * scale;
       for (const RowStencil* s : {&st, static_cast<const RowStencil*>(nullptr)}) {
         Vec fcu(N), fb(N), fm(N);
-        curl_transpose_rhs({&ty, &tx, s, u.data(), Q, scale, flux.data(), mflux.data(), fcu.data(), fb.data(), fm.data()});
+        curl_transpose_rhs({&ty, &tx, s, u.data(), {Q, scale, flux.data(), mflux.data(), fcu.data(), fb.data(), fm.data()}});
         EXPECT_TRUE(bitwise_equal(fcu, cu) && bitwise_equal(fb, b_psi) && bitwise_equal(fm, b_m))
             << box.n << " Q " << Q << (s ? " stencil" : " rows");
       }
@@ -128,8 +128,9 @@ TEST(FusedPasses, CurlVelocityEqualsTheSeparateProducts) {
       const Mat2 grad_phi = r * (u_star - u);
       for (const RowStencil* s : {&st, static_cast<const RowStencil*>(nullptr)}) {
         Mat2 fu(N, 2), fg(N, 2);
-        curl_velocity({&op.grad_ux.A, &op.grad_uy.A, s, &images, psi.data(), Q, r, by1.data(), bx1.data(),
-                       u_star.data(), par.data(), L.nx, modes.addends(u_star), fu.data(), fg.data()});
+        curl_velocity({&op.grad_ux.A, &op.grad_uy.A, s, &images, psi.data(),
+                       {0, L.nx, Q, r, by1.data(), bx1.data(), u_star.data(), par.data(), modes.addends(u_star),
+                        fu.data(), fg.data()}});
         EXPECT_TRUE(bitwise_equal(fu, u) && bitwise_equal(fg, grad_phi)) << box.n << " Q " << Q << (s ? " stencil" : " rows");
       }
     }

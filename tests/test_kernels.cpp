@@ -16,6 +16,8 @@
 #include "kernels/banded.hpp"
 #include "kernels/cubic_spline.hpp"
 #include "kernels/curl_sums.hpp"
+#include "kernels/fused_rows.hpp"
+#include "kernels/lanes.hpp"
 #include "kernels/sparse_rows.hpp"
 #include "kernels/stencil_products.hpp"
 #include "kernels/spread.hpp"
@@ -54,6 +56,21 @@ RandomPoints random_points(std::mt19937& rng, int n, int N, double h) {
 }
 
 }  // namespace
+
+// sqrt2 (kernels/lanes.hpp) against std::sqrt lane by lane: both the correctly rounded square root
+// (IEEE 754), so bit for bit, over magnitudes 1e-300-1e300, exact squares and zero.
+TEST(Kernels, TwoLaneSquareRootEqualsStdSqrtBitForBit) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> mant(1.0, 10.0), expo(-300.0, 300.0);
+  int differ = 0, n = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double a = mant(rng) * std::pow(10.0, expo(rng)), b = k < 100 ? double(k) * k : mant(rng);
+    const Lanes2 r = sqrt2(Lanes2{a, b});
+    differ += !same_bits(r[0], std::sqrt(a)) + !same_bits(r[1], std::sqrt(b));
+    n += 2;
+  }
+  EXPECT_EQ(differ, 0) << "of " << n;
+}
 
 // The lane form of G = (1/r) dF/dr against the plain one, relative to max(|G(r)|, G(h)) (G grows as
 // 1/r towards r = 0): measured 1.4e-15 (h = 0.05625, 0.7, 3.7; 20001 radii over [0, 2.2h]);
@@ -313,4 +330,141 @@ TEST(Kernels, BandedSubstitutionsEqualThePlainOnesBitForBit) {
           EXPECT_EQ(differ, 0) << "w " << w << " pairs " << pairs << " nk " << nk << " k " << k0 << ".." << k1;
         }
       }
+}
+
+// EPSPH's fused passes (kernels/fused_rows.hpp): every row's sums term by term in the class's order
+// and every line of the row's arithmetic in the same order in both forms, so bit for bit (measured:
+// no value differs; without FMA, which the default flags do not enable, that holds in both clones).
+// A 40 x 300 lattice, stencils of radius 1 and 2, blocks of 1-256 rows along and across lattice rows,
+// starting at both column parities (the curl velocity's four-row path takes the parity's modes).
+namespace {
+
+struct FusedCase {
+  int nx = 40, ny = 300, n = nx * ny;
+  StencilClass cl;
+  std::vector<double> w[3];
+  std::vector<StencilBlock> blocks;
+};
+FusedCase fused_case(std::mt19937& rng, int radius) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  FusedCase f;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) f.cl.offset.push_back(dy * f.nx + dx);
+  for (auto& w : f.w)
+    for (size_t s = 0; s < f.cl.offset.size(); ++s) w.push_back(u(rng));
+  for (int count : {1, 3, 4, 7, 8, 13, 32, 33, 255, 256})
+    for (int stride : {1, f.nx})
+      for (int ix : {radius + 1, radius + 2}) {
+        if (stride == f.nx && count > f.ny - 2 * radius - 2) continue;
+        f.blocks.push_back({0, radius * f.nx + ix, count, stride});
+      }
+  return f;
+}
+std::vector<double> random_field(std::mt19937& rng, int n) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x(n);
+  for (double& v : x) v = u(rng);
+  return x;
+}
+int differing(const std::vector<double>& a, const std::vector<double>& b) {
+  int d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += !same_bits(a[i], b[i]);
+  return d;
+}
+
+}  // namespace
+
+TEST(Kernels, FusedPredictorEqualsThePlainRowsBitForBit) {
+  std::mt19937 rng(29);
+  for (int radius : {1, 2}) {
+    const FusedCase f = fused_case(rng, radius);
+    const int N = f.n;
+    const std::vector<double> u = random_field(rng, 2 * N), F = random_field(rng, 2 * N), conv = random_field(rng, 2 * N),
+                              old = random_field(rng, 2 * N), zero(2 * N, 0.0);
+    const double* in[2] = {u.data(), u.data() + N};
+    const double* w[3] = {f.w[0].data(), f.w[1].data(), f.w[2].data()};
+    for (bool images : {false, true}) {
+      // the image terms: random where the block may have them, the zeros the callers keep elsewhere
+      const std::vector<double> bc = images ? random_field(rng, 2 * N) : zero, lw = images ? random_field(rng, 2 * N) : zero,
+                                cwx = images ? random_field(rng, 2 * N) : zero, cwy = images ? random_field(rng, 2 * N) : zero;
+      for (bool convective : {false, true})
+        for (bool first : {false, true})
+          for (const StencilBlock& k : f.blocks) {
+            std::vector<double> old_a = old, old_b = old, rhs_a(2 * N, 7.0), rhs_b(2 * N, 7.0);
+            PredictorRows p{N, u.data(), F.data(), bc.data(), lw.data(), cwx.data(), cwy.data(), 0.31, 0.017, 0.0023,
+                            first, nullptr, conv.data(), nullptr};
+            PredictorRows q = p;
+            p.conv_old = convective ? old_a.data() : nullptr;
+            q.conv_old = convective ? old_b.data() : nullptr;
+            p.rhs = rhs_a.data();
+            q.rhs = rhs_b.data();
+            block_predictor(p, images, f.cl, k, w, in);
+            block_predictor_plain(q, f.cl, k, w, in);
+            EXPECT_EQ(differing(rhs_a, rhs_b) + differing(old_a, old_b), 0)
+                << "radius " << radius << " images " << images << " convective " << convective << " first " << first
+                << " block " << k.begin << "+" << k.count << "x" << k.stride;
+          }
+    }
+  }
+}
+
+TEST(Kernels, FusedCurlTransposeEqualsThePlainRowsBitForBit) {
+  std::mt19937 rng(31);
+  for (int radius : {1, 2}) {
+    const FusedCase f = fused_case(rng, radius);
+    const int N = f.n;
+    const std::vector<double> u = random_field(rng, 2 * N), flux = random_field(rng, N), mflux = random_field(rng, N);
+    const double* in[2] = {u.data(), u.data() + N};
+    const double* w[2] = {f.w[0].data(), f.w[1].data()};
+    for (double Q : {0.0, 0.37})
+      for (bool markers : {false, true})
+        for (const StencilBlock& k : f.blocks) {
+          std::vector<double> a(3 * N, 7.0), b(3 * N, 7.0);
+          const CurlTransposeRows p{Q, 1.9, flux.data(), mflux.data(), a.data(), a.data() + N,
+                                    markers ? a.data() + 2 * N : nullptr};
+          const CurlTransposeRows q{Q, 1.9, flux.data(), mflux.data(), b.data(), b.data() + N,
+                                    markers ? b.data() + 2 * N : nullptr};
+          block_curl_transpose(p, f.cl, k, w, in);
+          block_curl_transpose_plain(q, f.cl, k, w, in);
+          EXPECT_EQ(differing(a, b), 0) << "radius " << radius << " Q " << Q << " markers " << markers << " block "
+                                        << k.begin << "+" << k.count << "x" << k.stride;
+        }
+  }
+}
+
+TEST(Kernels, FusedCurlVelocityEqualsThePlainRowsBitForBit) {
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int radius : {1, 2}) {
+    const FusedCase f = fused_case(rng, radius);
+    const int N = f.n;
+    const std::vector<double> psi = random_field(rng, N), u_star = random_field(rng, 2 * N), zero(N, 0.0);
+    std::vector<unsigned char> par(N);
+    for (int i = 0; i < N; ++i) par[i] = static_cast<unsigned char>(2 * ((i / f.nx) & 1) + ((i % f.nx) & 1));
+    const double* in[1] = {psi.data()};
+    const double* w[2] = {f.w[0].data(), f.w[1].data()};
+    for (bool images : {false, true}) {
+      const std::vector<double> by1 = images ? random_field(rng, N) : zero, bx1 = images ? random_field(rng, N) : zero;
+      for (int has : {0, 1, 3}) {
+        ParityModes modes;
+        modes.has[0] = has & 1;
+        modes.has[1] = (has & 2) != 0;
+        for (auto& c : modes.value)
+          for (auto& y : c)
+            for (double& v : y) v = uni(rng);
+        for (double Q : {0.0, 0.37})
+          for (const StencilBlock& k : f.blocks) {
+            std::vector<double> a(4 * N, 7.0), b(4 * N, 7.0);
+            const CurlVelocityRows p{N, f.nx, Q, 2.3, by1.data(), bx1.data(), u_star.data(), par.data(), modes,
+                                     a.data(), a.data() + 2 * N};
+            const CurlVelocityRows q{N, f.nx, Q, 2.3, by1.data(), bx1.data(), u_star.data(), par.data(), modes,
+                                     b.data(), b.data() + 2 * N};
+            block_curl_velocity(p, images, f.cl, k, w, in);
+            block_curl_velocity_plain(q, f.cl, k, w, in);
+            EXPECT_EQ(differing(a, b), 0) << "radius " << radius << " images " << images << " modes " << has << " Q "
+                                          << Q << " block " << k.begin << "+" << k.count << "x" << k.stride;
+          }
+      }
+    }
+  }
 }

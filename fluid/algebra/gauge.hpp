@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "fluid/common/lattice.hpp"
+#include "kernels/parity_modes.hpp"
 
 namespace sphib {
 
@@ -67,10 +68,7 @@ class VelocityModes {
   void add_components(const Mat2& from, Mat2& to) const;
   // What add_components(from, .) adds, as a table: to(i, c) += value[c][i_y & 1][i_x & 1] for the
   // components with has[c] (the same bits: the modes alternate with the parities only).
-  struct Addends {
-    bool has[2] = {false, false};
-    double value[2][2][2] = {};
-  };
+  using Addends = ParityModes;
   Addends addends(const Mat2& from) const;
 
  private:

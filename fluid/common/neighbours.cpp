@@ -1,6 +1,7 @@
 #include "fluid/common/neighbours.hpp"
 
 #include "fluid/common/kernel.hpp"
+#include "kernels/lanes.hpp"  // sqrt2
 
 #include <algorithm>
 #include <cmath>

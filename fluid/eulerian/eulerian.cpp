@@ -201,19 +201,19 @@ void EulerianFluid::viscous_rhs(const Mat2& F) {
   p.gy = &op_.grad_uy.A;
   p.st = vel_st_;
   p.images = &vel_images_;
-  p.u = u_.data();
-  p.F = F.data();
-  p.bc = lap_star_.data();
-  p.lw = lap_wall_.data();
-  p.cwx = conv_wall_x_.data();
-  p.cwy = conv_wall_y_.data();
-  p.a = a_cn();
-  p.k = prm_.dt / prm_.rho;
-  p.kc = convective_ ? prm_.dt : 0.0;
-  p.first = first_;
-  p.conv_old = convective_ ? conv_old_.data() : nullptr;
-  p.conv = conv_.data();
-  p.rhs = rhs_.data();
+  p.rows.u = u_.data();
+  p.rows.F = F.data();
+  p.rows.bc = lap_star_.data();
+  p.rows.lw = lap_wall_.data();
+  p.rows.cwx = conv_wall_x_.data();
+  p.rows.cwy = conv_wall_y_.data();
+  p.rows.a = a_cn();
+  p.rows.k = prm_.dt / prm_.rho;
+  p.rows.kc = convective_ ? prm_.dt : 0.0;
+  p.rows.first = first_;
+  p.rows.conv_old = convective_ ? conv_old_.data() : nullptr;
+  p.rows.conv = conv_.data();
+  p.rows.rhs = rhs_.data();
   predictor_rhs(p);
   // A variable viscosity: its difference from the constant operator and its cross term, in the rows
   // where the viscosity is not uniformly mu (fluid/eulerian/variable_viscosity.hpp).

@@ -303,8 +303,9 @@ void ExactProjection::rhs(const Mat2& u_star, long revision) {
   const Domain& d = lat_.domain;
   Q_ = d.periodic_x != d.periodic_y ? u_star.cwiseProduct(psi_r1_).sum() : 0.0;
   const bool bm = markers_in_one_pass();
-  curl_transpose_rhs({&psi_ty_, &psi_tx_, &psi_st_, u_star.data(), Q_, mpsi_scale_, psi_flux_.data(),
-                      mpsi_flux_.data(), cu_.data(), b_psi_.data(), bm ? b_m_.data() : nullptr});
+  curl_transpose_rhs({&psi_ty_, &psi_tx_, &psi_st_, u_star.data(),
+                      {Q_, mpsi_scale_, psi_flux_.data(), mpsi_flux_.data(), cu_.data(), b_psi_.data(),
+                       bm ? b_m_.data() : nullptr}});
   bm_revision_ = bm ? revision : -1;
   psi_gauge_.project(b_psi_);  // G^T of a uniform flow is 0 on a periodic box: its mean is the stream function's U
   if (!psi_unpinned_) psi_gauge_.pin_rhs(b_psi_);
@@ -326,16 +327,16 @@ void ExactProjection::velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, 
   p.st = vel_st_;
   p.images = &vel_images_;
   p.psi = psi_.data();
-  p.Q = Q_;
-  p.r = 1.0 / dt_over_rho;
-  p.by1 = psi_by1_.data();
-  p.bx1 = psi_bx1_.data();
-  p.u_star = u_star.data();
-  p.par = parity_.data();
-  p.nx = lat_.nx;
-  p.modes = vmodes_.addends(u_star);
-  p.u = u.data();
-  p.grad_phi = grad_phi.data();
+  p.rows.Q = Q_;
+  p.rows.r = 1.0 / dt_over_rho;
+  p.rows.by1 = psi_by1_.data();
+  p.rows.bx1 = psi_bx1_.data();
+  p.rows.u_star = u_star.data();
+  p.rows.par = parity_.data();
+  p.rows.nx = lat_.nx;
+  p.rows.modes = vmodes_.addends(u_star);
+  p.rows.u = u.data();
+  p.rows.grad_phi = grad_phi.data();
   curl_velocity(p);
 }
 

@@ -1,7 +1,5 @@
 #include "fluid/eulerian/fused_passes.hpp"
 
-#include <type_traits>
-
 #include "fluid/algebra/stencil_kernels.hpp"
 
 namespace sphib {
@@ -26,115 +24,41 @@ ImageRows::ImageRows(const RowStencil* st, int n, std::initializer_list<const Sp
   }
 }
 
-// --- Eqs. (28), (39)-(41): the predictor's right-hand side ------------------------------------
+// Each pass: the stencil's blocks by the kernel (kernels/fused_rows.hpp), the other rows by their
+// sums from the compressed arrays and the kernel's row epilogue.
 
 namespace {
 
-// Rows b + t st, t < m: acc = (lap u, lap v[, d/dx u, d/dx v, d/dy u, d/dy v]) of those rows.
-// Images: the rows may have image terms (read bc, lw, cwx, cwy); otherwise those are zero.
-template <bool Conv, bool Images, bool Strided>
-[[gnu::always_inline]] inline void predictor_rows(const PredictorRhs& p, int N, const double (*acc)[kBlock], int b,
-                                                  int m, int stride) {
-  const int st = Strided ? stride : 1;
-  const double a = p.a, k = p.k, kc = p.kc;
-  const bool first = p.first;
-  const double *__restrict u0 = p.u + b, *__restrict u1 = p.u + N + b;
-  for (int c = 0; c < 2; ++c) {
-    const int o = c * N + b;  // row b of column c of the N x 2 fields
-    const double *__restrict u = p.u + o, *__restrict F = p.F + o;
-    const double *__restrict bc = p.bc + o, *__restrict lw = p.lw + o;
-    const double *__restrict cwx = p.cwx + o, *__restrict cwy = p.cwy + o;
-    const double* __restrict conv_in = Conv ? nullptr : p.conv + o;
-    double* __restrict conv_old = Conv ? p.conv_old + o : nullptr;
-    double* __restrict rhs = p.rhs + o;
-    const double *__restrict lap = acc[c], *__restrict dx = acc[Conv ? 2 + c : 0], *__restrict dy = acc[Conv ? 4 + c : 0];
-    for (int t = 0; t < m; ++t) {
-      const int i = t * st;
-      double conv;
-      if (Conv) {
-        const double n = (dx[t] + (Images ? cwx[i] : 0.0)) * u0[i] + (dy[t] + (Images ? cwy[i] : 0.0)) * u1[i];  // Eqs. (40)-(41)
-        conv = 1.5 * n - 0.5 * (first ? n : conv_old[i]);  // Eq. (39), AB2
-        conv_old[i] = n;
-      } else {
-        conv = conv_in[i];
-      }
-      rhs[i] = ((lap[t] + (Images ? bc[i] : 0.0)) + (Images ? lw[i] : 0.0)) * a + u[i] + k * F[i] - kc * conv;  // Eq. (28)
-    }
-  }
-}
-
-template <bool Conv, bool Images>
-[[gnu::always_inline]] inline void predictor_block(const PredictorRhs& p, int N, const Cls& cl, const Blk& k,
-                                                   const double* const* w, const double* const* in) {
-  double acc[Conv ? 6 : 2][kBlock];
-  stencil::accumulate_block<2, Conv ? 3 : 1, false>(cl, k, w, in, acc);
-  if (k.stride == 1) predictor_rows<Conv, Images, false>(p, N, acc, k.begin, k.count, 1);
-  else predictor_rows<Conv, Images, true>(p, N, acc, k.begin, k.count, k.stride);
-}
-
-[[gnu::target_clones("avx2", "default")]] void block_predictor(const PredictorRhs& p, int N, bool images,
-                                                              const Cls& cl, const Blk& k, const double* const* w,
-                                                              const double* const* in) {
-  const bool conv = p.conv_old != nullptr;
-  if (conv && images) predictor_block<true, true>(p, N, cl, k, w, in);
-  else if (conv) predictor_block<true, false>(p, N, cl, k, w, in);
-  else if (images) predictor_block<false, true>(p, N, cl, k, w, in);
-  else predictor_block<false, false>(p, N, cl, k, w, in);
+// Eq. (28)'s pass with NW operators of the velocity pattern: lap (NW = 1), or lap, Gx, Gy (NW = 3).
+template <int NW>
+void predictor_pass(const PredictorRhs& p, const PredictorRows& r, const double* const* val) {
+  const double* in[2] = {r.u, r.u + r.n};
+  const RowStencil* st = p.st;
+  stencil::pass<2, NW, false>(
+      *p.lap, val, in, st,
+      [&](const Cls& cl, const Blk& k, const double* const* w) {
+        block_predictor(r, p.images->block[&k - st->blocks.data()] != 0, cl, k, w, in);
+      },
+      [&](const double (*acc)[kBlock], int i, int, int) {
+        const double* sums[2 * NW];
+        for (int a = 0; a < 2 * NW; ++a) sums[a] = acc[a];
+        predictor_row(r, sums, i);
+      });
 }
 
 }  // namespace
 
 void predictor_rhs(const PredictorRhs& p) {
-  const int N = static_cast<int>(p.lap->rows());
-  const double* in[2] = {p.u, p.u + N};
-  const RowStencil* st = p.st;
-  auto block = [&](const Cls& cl, const Blk& k, const double* const* w) {
-    block_predictor(p, N, p.images->block[&k - st->blocks.data()] != 0, cl, k, w, in);
-  };
-  if (p.conv_old) {
+  PredictorRows r = p.rows;
+  r.n = static_cast<int>(p.lap->rows());
+  if (r.conv_old) {
     const double* val[3] = {p.lap->valuePtr(), p.gx->valuePtr(), p.gy->valuePtr()};
-    stencil::pass<2, 3, false>(*p.lap, val, in, st, block, [&](const double (*acc)[kBlock], int b, int m, int s) {
-      predictor_rows<true, true, false>(p, N, acc, b, m, s);
-    });
+    predictor_pass<3>(p, r, val);
   } else {
     const double* val[1] = {p.lap->valuePtr()};
-    stencil::pass<2, 1, false>(*p.lap, val, in, st, block, [&](const double (*acc)[kBlock], int b, int m, int s) {
-      predictor_rows<false, true, false>(p, N, acc, b, m, s);
-    });
+    predictor_pass<1>(p, r, val);
   }
 }
-
-// --- the exact projection: C^T u* and the stream functions' right-hand sides --------------------
-
-namespace {
-
-template <bool Strided>
-[[gnu::always_inline]] inline void curl_transpose_rows(const CurlTransposeRhs& p, const double (*acc)[kBlock], int b,
-                                                       int m, int stride) {
-  const int st = Strided ? stride : 1;
-  const double Q = p.Q, scale = p.scale;
-  const double *__restrict flux = p.flux + b, *__restrict mflux = p.mflux + b;
-  double *__restrict cu = p.cu + b, *__restrict b_psi = p.b_psi + b, *__restrict b_m = p.b_m ? p.b_m + b : nullptr;
-  const double *__restrict ty = acc[0], *__restrict tx = acc[1];
-  for (int t = 0; t < m; ++t) {
-    const int i = t * st;
-    const double c = ty[t] + tx[t];  // Gy^T u - Gx^T v
-    cu[i] = c;
-    b_psi[i] = Q != 0.0 ? c - Q * flux[i] : c;
-    if (b_m) b_m[i] = (c + Q * mflux[i]) * scale;
-  }
-}
-
-[[gnu::target_clones("avx2", "default")]] void block_curl_transpose(const CurlTransposeRhs& p, const Cls& cl,
-                                                                   const Blk& k, const double* const* w,
-                                                                   const double* const* in) {
-  double acc[2][kBlock];
-  stencil::accumulate_block<2, 2, true>(cl, k, w, in, acc);
-  if (k.stride == 1) curl_transpose_rows<false>(p, acc, k.begin, k.count, 1);
-  else curl_transpose_rows<true>(p, acc, k.begin, k.count, k.stride);
-}
-
-}  // namespace
 
 void curl_transpose_rhs(const CurlTransposeRhs& p) {
   const int N = static_cast<int>(p.ty->rows());
@@ -142,121 +66,28 @@ void curl_transpose_rhs(const CurlTransposeRhs& p) {
   const double* in[2] = {p.u, p.u + N};
   stencil::pass<2, 2, true>(
       *p.ty, val, in, p.st,
-      [&](const Cls& cl, const Blk& k, const double* const* w) { block_curl_transpose(p, cl, k, w, in); },
-      [&](const double (*acc)[kBlock], int b, int m, int s) { curl_transpose_rows<false>(p, acc, b, m, s); });
+      [&](const Cls& cl, const Blk& k, const double* const* w) { block_curl_transpose(p.rows, cl, k, w, in); },
+      [&](const double (*acc)[kBlock], int i, int, int) {
+        const double* sums[2] = {acc[0], acc[1]};
+        curl_transpose_row(p.rows, sums, i);
+      });
 }
-
-// --- the exact projection: u^{n+1} and grad phi from the curl of psi ----------------------------
-
-namespace {
-
-using stencil::v4d;
-using stencil::v4d_unaligned;
-
-template <class T>
-[[gnu::always_inline]] inline T splat(double x) {
-  if constexpr (std::is_same_v<T, double>) return x;
-  else return T{x, x, x, x};
-}
-template <class T>
-[[gnu::always_inline]] inline T load(const double* p) {
-  if constexpr (std::is_same_v<T, double>) return *p;
-  else return *reinterpret_cast<const v4d_unaligned*>(p);
-}
-template <class T>
-[[gnu::always_inline]] inline void put(double* p, T x) {
-  if constexpr (std::is_same_v<T, double>) *p = x;
-  else *reinterpret_cast<v4d_unaligned*>(p) = x;
-}
-
-// One row (T = double) or four (T = v4d) of u^{n+1} and grad phi: md0, md1 the modes' values.
-template <class T, bool Images>
-[[gnu::always_inline]] inline void curl_velocity_math(const CurlVelocity& p, T gx, T gy, T by1, T bx1, T us0, T us1,
-                                                      T md0, T md1, T& u0, T& u1, T& g0, T& g1) {
-  const T qz = splat<T>(p.Q * 0.0);  // Q by1 where by1 is zero (no image terms)
-  T a = gy + (Images ? p.Q * by1 : qz);
-  T c = -(gx + (Images ? p.Q * bx1 : qz));
-  if (p.modes.has[0]) a = a + md0;  // u*'s alternating modes
-  if (p.modes.has[1]) c = c + md1;
-  u0 = a;
-  u1 = c;
-  g0 = p.r * (us0 - a);  // Eq. (34): G phi = rho/dt (u* - u^{n+1})
-  g1 = p.r * (us1 - c);
-}
-
-// Rows b + t st, t < m, from acc = (Gx psi, Gy psi). The modes' values, by the parity class of each
-// row, alternate with t along a lattice row and down a column (alt[c][t & 1]): such contiguous
-// blocks go four rows at a time.
-template <bool Images, bool Strided>
-[[gnu::always_inline]] inline void curl_velocity_rows(const CurlVelocity& p, int N, const double (*acc)[kBlock], int b,
-                                                      int m, int stride) {
-  const int st = Strided ? stride : 1;
-  const int nx = p.nx, iy = b / nx, ix = b - iy * nx;
-  const auto& mv = p.modes.value;
-  bool alternating = false;
-  double alt[2][2] = {};
-  if ((st == 1 && ix + m <= nx) || st == nx) {  // along lattice row iy, or down lattice column ix
-    alternating = true;
-    for (int c = 0; c < 2; ++c) {
-      alt[c][0] = mv[c][iy & 1][ix & 1];
-      alt[c][1] = st == 1 ? mv[c][iy & 1][(ix + 1) & 1] : mv[c][(iy + 1) & 1][ix & 1];
-    }
-  }
-  double *u0 = p.u, *u1 = p.u + N, *g0 = p.grad_phi, *g1 = p.grad_phi + N;
-  const double *us0 = p.u_star, *us1 = p.u_star + N;
-  int t = 0;
-  if (!Strided && alternating) {
-    const v4d md0 = {alt[0][0], alt[0][1], alt[0][0], alt[0][1]}, md1 = {alt[1][0], alt[1][1], alt[1][0], alt[1][1]};
-    for (; t + 4 <= m; t += 4) {
-      const int i = b + t;
-      v4d a, c, ga, gc;
-      curl_velocity_math<v4d, Images>(p, load<v4d>(acc[0] + t), load<v4d>(acc[1] + t), load<v4d>(p.by1 + i),
-                                      load<v4d>(p.bx1 + i), load<v4d>(us0 + i), load<v4d>(us1 + i), md0, md1, a, c,
-                                      ga, gc);
-      put(u0 + i, a);
-      put(u1 + i, c);
-      put(g0 + i, ga);
-      put(g1 + i, gc);
-    }
-  }
-  for (; t < m; ++t) {
-    const int i = b + t * st, q = p.par[i];
-    const double md0 = alternating ? alt[0][t & 1] : mv[0][q >> 1][q & 1];
-    const double md1 = alternating ? alt[1][t & 1] : mv[1][q >> 1][q & 1];
-    curl_velocity_math<double, Images>(p, acc[0][t], acc[1][t], p.by1[i], p.bx1[i], us0[i], us1[i], md0, md1, u0[i],
-                                       u1[i], g0[i], g1[i]);
-  }
-}
-
-template <bool Images>
-[[gnu::always_inline]] inline void curl_velocity_block(const CurlVelocity& p, int N, const Cls& cl, const Blk& k,
-                                                       const double* const* w, const double* const* in) {
-  double acc[2][kBlock];
-  stencil::accumulate_block<1, 2, false>(cl, k, w, in, acc);
-  if (k.stride == 1) curl_velocity_rows<Images, false>(p, N, acc, k.begin, k.count, 1);
-  else curl_velocity_rows<Images, true>(p, N, acc, k.begin, k.count, k.stride);
-}
-
-[[gnu::target_clones("avx2", "default")]] void block_curl_velocity(const CurlVelocity& p, int N, bool images,
-                                                                  const Cls& cl, const Blk& k, const double* const* w,
-                                                                  const double* const* in) {
-  if (images) curl_velocity_block<true>(p, N, cl, k, w, in);
-  else curl_velocity_block<false>(p, N, cl, k, w, in);
-}
-
-}  // namespace
 
 void curl_velocity(const CurlVelocity& p) {
-  const int N = static_cast<int>(p.gx->rows());
+  CurlVelocityRows r = p.rows;
+  r.n = static_cast<int>(p.gx->rows());
   const double* val[2] = {p.gx->valuePtr(), p.gy->valuePtr()};
   const double* in[1] = {p.psi};
   const RowStencil* st = p.st;
   stencil::pass<1, 2, false>(
       *p.gx, val, in, st,
       [&](const Cls& cl, const Blk& k, const double* const* w) {
-        block_curl_velocity(p, N, p.images->block[&k - st->blocks.data()] != 0, cl, k, w, in);
+        block_curl_velocity(r, p.images->block[&k - st->blocks.data()] != 0, cl, k, w, in);
       },
-      [&](const double (*acc)[kBlock], int b, int m, int s) { curl_velocity_rows<true, false>(p, N, acc, b, m, s); });
+      [&](const double (*acc)[kBlock], int i, int, int) {
+        const double* sums[2] = {acc[0], acc[1]};
+        curl_velocity_row(r, sums, i);
+      });
 }
 
 }  // namespace sphib
