@@ -140,6 +140,8 @@ class CellGrid {
   }
 
   // Lattice mode: the unwrapped index ranges [lo, hi] of the lattice points in the query's box.
+  template <bool Ranged>
+  void lattice_box_rows(double qx, double qy, double radius, long base_lo, long base_hi, LatticeBox& box) const;
   void lattice_range(double qx, double qy, double radius, int lo[2], int hi[2]) const {
     const double q[2] = {qx, qy};
     for (int a = 0; a < 2; ++a) {
