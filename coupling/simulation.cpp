@@ -14,6 +14,7 @@
 #include "coupling/viscosity_contrast.hpp"
 #include "fluid/factory.hpp"
 #include "fluid/common/neighbours.hpp"
+#include "fluid/common/threads.hpp"
 #include "fluid/algebra/row_stencil.hpp"  // kParallelRows
 
 namespace sphib {
@@ -247,12 +248,13 @@ constexpr int kMarkerBlock = 256;
 // interp(X, U, dU) over the rows of X, from 2 kMarkerBlock markers by the threads in fixed blocks of
 // kMarkerBlock rows (each marker's velocity is its own sum: the same bits as one call, for any thread
 // count). A failing marker (MarkerError) is reported as one call reports it: the first in X,
-// numbered in X.
+// numbered in X. On one thread: one call over X (no copies of the blocks).
 template <class Interp>
 void by_marker_blocks(const Mat2& X, Mat2& U, Jacobians* dU, Interp&& interp) {
   const int n = static_cast<int>(X.rows());
   if (n < 2 * kMarkerBlock) return interp(X, U, dU);
   U.resize(n, 2);
+  if (thread_count() == 1) return interp(X, U, dU);
   if (dU) dU->resize(n, 4);
   const int blocks = (n + kMarkerBlock - 1) / kMarkerBlock;
   std::vector<std::exception_ptr> fault(blocks);

@@ -40,17 +40,9 @@ void spread(const CellGrid& grid, const CubicSplineKernel& W_star, const Mat2& X
       const long lo = N * t / T, hi = N * (t + 1) / T;  // the rows starting in [lo, hi)
       CellGrid::LatticeBox box;
       for (int k = 0; k < X.rows(); ++k) {
-        grid.lattice_box(X(k, 0), X(k, 1), radius, box);
-        if (T > 1) {  // this thread's rows of the box, in their order
-          int kept = 0;
-          for (int r = 0; r < box.nrow; ++r)
-            if (box.base[r] >= lo && box.base[r] < hi) {
-              box.base[kept] = box.base[r];
-              box.ry[kept++] = box.ry[r];
-            }
-          box.nrow = kept;
-          if (kept == 0) continue;
-        }
+        if (T == 1) grid.lattice_box(X(k, 0), X(k, 1), radius, box);
+        else grid.lattice_box(X(k, 0), X(k, 1), radius, lo, hi, box);  // this thread's rows of the box, in their order
+        if (box.nrow == 0) continue;
         const LatticeRows rows{box.ncol, box.nrow, box.col, box.cdx, box.base, box.ry};
         spread_rows(rows, W_star.scale(), fx_of(k), fy_of(k), F.col(0).data(), F.col(1).data());  // Eq. (53)
       }

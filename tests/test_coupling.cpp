@@ -212,6 +212,52 @@ TEST(Coupling, GatherNearMatchesForEachNear) {
   }
 }
 
+// CellGrid::lattice_box with a range of row bases (a thread's share of the spreading) gives the whole
+// box's rows whose base lies in the range, in their order, and the whole box's columns when a row is
+// kept: 300 random queries per case, split at random points of the lattice. Exact equality.
+TEST(Coupling, LatticeBoxRowRangeIsTheWholeBoxsRowsInRange) {
+  std::mt19937 gen(12);
+  std::uniform_real_distribution<double> U(-0.2, 1.2), R(0.02, 0.3), S(0.0, 1.0);
+  struct Case { bool px, py; int nx, ny; };
+  for (const Case& c : {Case{true, false, 16, 12}, Case{true, true, 20, 20}, Case{false, false, 10, 14},
+                        Case{false, true, 12, 16}}) {
+    Domain d;
+    d.periodic_x = c.px;
+    d.periodic_y = c.py;
+    const Lattice L = make_lattice(d, c.nx, c.ny);
+    CellGrid g(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), c.px, c.py, std::min(L.dx, L.dy));
+    g.use_lattice(L);
+    const long N = static_cast<long>(c.nx) * c.ny;
+    CellGrid::LatticeBox whole, part;
+    int mismatches = 0, kept = 0, empty = 0;
+    for (int q = 0; q < 300; ++q) {
+      const double qx = U(gen), qy = U(gen), radius = std::min(R(gen), 0.45);
+      long lo = static_cast<long>(S(gen) * N), hi = static_cast<long>(S(gen) * N);
+      if (lo > hi) std::swap(lo, hi);
+      g.lattice_box(qx, qy, radius, whole);
+      g.lattice_box(qx, qy, radius, lo, hi, part);
+      int r = 0;
+      for (int w = 0; w < whole.nrow; ++w) {
+        if (whole.base[w] < lo || whole.base[w] >= hi) continue;
+        mismatches += r >= part.nrow || part.base[r] != whole.base[w] || part.ry[r] != whole.ry[w];
+        ++r;
+      }
+      mismatches += r != part.nrow;
+      if (part.nrow == 0) {
+        ++empty;
+        continue;
+      }
+      ++kept;
+      mismatches += part.ncol != whole.ncol;
+      for (int k = 0; k < std::min(part.ncol, whole.ncol); ++k)
+        mismatches += part.col[k] != whole.col[k] || part.cdx[k] != whole.cdx[k];
+    }
+    EXPECT_EQ(mismatches, 0) << "periodic " << c.px << c.py;
+    EXPECT_GT(kept, 10) << "periodic " << c.px << c.py;
+    EXPECT_GT(empty, 10) << "periodic " << c.px << c.py;
+  }
+}
+
 namespace {
 
 // The markers' sums as they were written before the two-lane loops: W() and F() per point inside

@@ -91,25 +91,42 @@ inline int wrap_index(int i, int n) {
 }  // namespace
 
 void CellGrid::lattice_box(double qx, double qy, double radius, LatticeBox& box) const {
+  lattice_box_rows<false>(qx, qy, radius, 0, 0, box);
+}
+
+void CellGrid::lattice_box(double qx, double qy, double radius, long base_lo, long base_hi, LatticeBox& box) const {
+  lattice_box_rows<true>(qx, qy, radius, base_lo, base_hi, box);
+}
+
+// The whole box (Ranged false: its columns first, as they come) or only the rows with a base in
+// [base_lo, base_hi) (Ranged: the rows first, the columns only when a row is kept).
+template <bool Ranged>
+void CellGrid::lattice_box_rows(double qx, double qy, double radius, long base_lo, long base_hi, LatticeBox& box) const {
   int lo[2], hi[2];
   lattice_range(qx, qy, radius, lo, hi);
   const int nx = lat_.n[0], ny = lat_.n[1];
   box.ncol = std::max(hi[0] - lo[0] + 1, 0);
   if (box.ncol > LatticeBox::kMax || hi[1] - lo[1] + 1 > LatticeBox::kMax)
     throw std::invalid_argument("CellGrid: a marker's query spans more than 256 lattice columns or rows");
-  int iw = periodic_[0] ? wrap_index(lo[0], nx) : lo[0];
-  for (int c = 0; c < box.ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
-    box.col[c] = iw;
-    box.cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
-  }
+  auto columns = [&] {
+    int iw = periodic_[0] ? wrap_index(lo[0], nx) : lo[0];
+    for (int c = 0; c < box.ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
+      box.col[c] = iw;
+      box.cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
+    }
+  };
+  if (!Ranged) columns();
   const double r2max = radius * radius;
   box.nrow = 0;
   for (int b = lo[1]; b <= hi[1]; ++b) {
     const double ry = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]);
     if (ry * ry >= r2max) continue;
-    box.base[box.nrow] = nx * (periodic_[1] ? wrap_index(b, ny) : b);
+    const int base = nx * (periodic_[1] ? wrap_index(b, ny) : b);
+    if (Ranged && (base < base_lo || base >= base_hi)) continue;
+    box.base[box.nrow] = base;
     box.ry[box.nrow++] = ry;
   }
+  if (Ranged && box.nrow > 0) columns();
 }
 
 void CellGrid::build(const Mat2& points) {

@@ -57,6 +57,10 @@ class CellGrid {
   };
   bool lattice_mode() const { return lat_.n[0] > 0; }
   void lattice_box(double qx, double qy, double radius, LatticeBox& box) const;  // throws past kMax
+  // The same box with only the rows whose base (nx times the wrapped row) is in [base_lo, base_hi),
+  // in their order; without such rows box.nrow = 0 and the columns are left unset (a thread that owns
+  // a range of the lattice's rows skips the markers that do not reach it without their columns).
+  void lattice_box(double qx, double qy, double radius, long base_lo, long base_hi, LatticeBox& box) const;
 
   template <class F>
   void for_each_near(double qx, double qy, double radius, F&& f) const {
@@ -136,6 +140,8 @@ class CellGrid {
   }
 
   // Lattice mode: the unwrapped index ranges [lo, hi] of the lattice points in the query's box.
+  template <bool Ranged>
+  void lattice_box_rows(double qx, double qy, double radius, long base_lo, long base_hi, LatticeBox& box) const;
   void lattice_range(double qx, double qy, double radius, int lo[2], int hi[2]) const {
     const double q[2] = {qx, qy};
     for (int a = 0; a < 2; ++a) {
