@@ -170,12 +170,10 @@ TEST(Coupling, LatticeQueriesMatchBruteForce) {
   }
 }
 
-// CellGrid::gather_near (the markers' loops) returns exactly the points of for_each_near, in its
-// order, with the same offsets and r2 = dx^2 + dy^2, in lattice mode (no branch per point) and
-// with cells: 300 random queries per case, radii up to 0.3. Exact equality: the same expressions.
-TEST(Coupling, GatherNearMatchesForEachNear) {
-  std::mt19937 gen(11);
-  std::uniform_real_distribution<double> U(-0.2, 1.2), R(0.02, 0.3);
+// The four ways a lattice meets the unit box (periodic or walled along each axis), each with a cell
+// grid on it: f(px, py, lattice, grid).
+template <class F>
+void for_each_boundary_case(F&& f) {
   struct Case { bool px, py; int nx, ny; };
   for (const Case& c : {Case{true, false, 16, 12}, Case{true, true, 20, 20}, Case{false, false, 10, 14},
                         Case{false, true, 12, 16}}) {
@@ -183,8 +181,20 @@ TEST(Coupling, GatherNearMatchesForEachNear) {
     d.periodic_x = c.px;
     d.periodic_y = c.py;
     const Lattice L = make_lattice(d, c.nx, c.ny);
+    CellGrid g(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), c.px, c.py, std::min(L.dx, L.dy));
+    f(c.px, c.py, L, g);
+  }
+}
+
+// CellGrid::gather_near (the markers' loops) returns exactly the points of for_each_near, in its
+// order, with the same offsets and r2 = dx^2 + dy^2, in lattice mode (no branch per point) and
+// with cells: 300 random queries per case, radii up to 0.3. Exact equality: the same expressions.
+TEST(Coupling, GatherNearMatchesForEachNear) {
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> U(-0.2, 1.2), R(0.02, 0.3);
+  for_each_boundary_case([&](bool px, bool py, const Lattice& L, const CellGrid& empty) {
     for (bool lattice : {true, false}) {
-      CellGrid g(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), c.px, c.py, std::min(L.dx, L.dy));
+      CellGrid g = empty;
       if (lattice) g.use_lattice(L);
       else g.build(L.x);
       NearPoints near;
@@ -206,10 +216,10 @@ TEST(Coupling, GatherNearMatchesForEachNear) {
         mismatches += static_cast<int>(near.j.size()) <= near.n;  // room for a padding point
         points += near.n;
       }
-      EXPECT_EQ(mismatches, 0) << "periodic " << c.px << c.py << " lattice " << lattice;
-      EXPECT_GT(points, 300) << "periodic " << c.px << c.py;
+      EXPECT_EQ(mismatches, 0) << "periodic " << px << py << " lattice " << lattice;
+      EXPECT_GT(points, 300) << "periodic " << px << py;
     }
-  }
+  });
 }
 
 // CellGrid::lattice_box with a range of row bases (a thread's share of the spreading) gives the whole
@@ -218,16 +228,9 @@ TEST(Coupling, GatherNearMatchesForEachNear) {
 TEST(Coupling, LatticeBoxRowRangeIsTheWholeBoxsRowsInRange) {
   std::mt19937 gen(12);
   std::uniform_real_distribution<double> U(-0.2, 1.2), R(0.02, 0.3), S(0.0, 1.0);
-  struct Case { bool px, py; int nx, ny; };
-  for (const Case& c : {Case{true, false, 16, 12}, Case{true, true, 20, 20}, Case{false, false, 10, 14},
-                        Case{false, true, 12, 16}}) {
-    Domain d;
-    d.periodic_x = c.px;
-    d.periodic_y = c.py;
-    const Lattice L = make_lattice(d, c.nx, c.ny);
-    CellGrid g(Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), c.px, c.py, std::min(L.dx, L.dy));
+  for_each_boundary_case([&](bool px, bool py, const Lattice& L, CellGrid& g) {
     g.use_lattice(L);
-    const long N = static_cast<long>(c.nx) * c.ny;
+    const long N = static_cast<long>(L.nx) * L.ny;
     CellGrid::LatticeBox whole, part;
     int mismatches = 0, kept = 0, empty = 0;
     for (int q = 0; q < 300; ++q) {
@@ -252,10 +255,10 @@ TEST(Coupling, LatticeBoxRowRangeIsTheWholeBoxsRowsInRange) {
       for (int k = 0; k < std::min(part.ncol, whole.ncol); ++k)
         mismatches += part.col[k] != whole.col[k] || part.cdx[k] != whole.cdx[k];
     }
-    EXPECT_EQ(mismatches, 0) << "periodic " << c.px << c.py;
-    EXPECT_GT(kept, 10) << "periodic " << c.px << c.py;
-    EXPECT_GT(empty, 10) << "periodic " << c.px << c.py;
-  }
+    EXPECT_EQ(mismatches, 0) << "periodic " << px << py;
+    EXPECT_GT(kept, 10) << "periodic " << px << py;
+    EXPECT_GT(empty, 10) << "periodic " << px << py;
+  });
 }
 
 namespace {
