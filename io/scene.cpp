@@ -565,7 +565,7 @@ void read_domain(Reader& r, Scene& s) {
       if (k == 4) r.fail("domain.open", "allowed side names: left, right, bottom, top");
       if (f.domain.is_periodic(static_cast<Side>(k)))
         r.fail("domain.open", std::string("the ") + sides[k] + " side is periodic (domain.periodic_" + (k < 2 ? "x" : "y") + ")");
-      f.domain.open[k] = true;
+      f.domain.bounded[k] = SideKind::Open;
     }
   }
   for (int k = 0; k < 4; ++k) {
@@ -573,7 +573,7 @@ void read_domain(Reader& r, Scene& s) {
     const bool given = r.has(key);
     f.domain.wall_velocity[k] = r.pair(key, Eigen::Vector2d::Zero(), std::string("velocity of the ") + sides[k] + " wall");
     if (given && !f.domain.is_wall(static_cast<Side>(k)))
-      r.fail(key, f.domain.open[k] ? "a wall velocity is given on an open side" : "a wall velocity is given on a periodic side");
+      r.fail(key, f.domain.is_open(static_cast<Side>(k)) ? "a wall velocity is given on an open side" : "a wall velocity is given on a periodic side");
     if (const std::string why = wall_moves_normally(f.domain, k); !why.empty()) r.fail(key, why);
   }
 }

@@ -206,9 +206,11 @@ bool model_even(const Model& m, std::string& why) {
   return true;
 }
 
-// The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parity found
-// from the rows (even tried first); false (and why) when A has no such structure.
-bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px, bool py, Model& m, std::string& why) {
+// The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parity given by
+// the boundary rule (x_parity: +1 even, -1 odd; unused along a periodic x); false (and why) when A
+// does not have that structure.
+bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px, bool py, int x_parity, Model& m,
+             std::string& why) {
   if (rows != static_cast<long>(nx) * ny || cols != static_cast<long>(nx) * ny) return refuse(why, "the matrix is not n_x n_y square");
   m.nx = nx;
   m.ny = ny;
@@ -219,10 +221,10 @@ bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px,
     m.x = XKind::Periodic;
     if (!rows_match(A, m, 1, why)) return false;
   } else {
-    std::string we, wo;
-    if (rows_match(A, m, +1, we)) m.x = XKind::Even;
-    else if (rows_match(A, m, -1, wo)) m.x = XKind::Odd;
-    else return refuse(why, "neither even nor odd images at the x walls: " + we + "; " + wo);
+    if (x_parity != 1 && x_parity != -1)
+      return refuse(why, "the boundary rule gives the x walls no common image parity (no transform for it)");
+    if (!rows_match(A, m, x_parity, why)) return false;
+    m.x = x_parity > 0 ? XKind::Even : XKind::Odd;
   }
   return model_even(m, why);
 }
@@ -371,8 +373,8 @@ class LatticeSolver : public LinearSolver {
   bool refactorize(const SpMat& A) override {
     std::string why;
     Model m;
-    bool ok = analyse(whole(A), A.rows(), A.cols(), nx_, ny_, x_ == XKind::Periodic, y_periodic_, m, why);
-    if (ok && m.x != x_) ok = refuse(why, "the x images changed parity (the transforms are planned for the first)");
+    const int x_parity = x_ == XKind::Odd ? -1 : 1;  // the rule's, as planned
+    bool ok = analyse(whole(A), A.rows(), A.cols(), nx_, ny_, x_ == XKind::Periodic, y_periodic_, x_parity, m, why);
     if (!ok || !factor(m.nnz, m, why)) throw std::runtime_error("linear solver: system '" + info_.system + "': " + why);
     return true;
   }
@@ -783,7 +785,7 @@ class DiagonalSolver final : public LatticeSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L,
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L, Field field,
                                               bool singular, std::string* why) {
   SpMat compressed;
   const SpMat* a = &A;
@@ -792,15 +794,19 @@ std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const S
     compressed.makeCompressed();
     a = &compressed;
   }
-  return make_fft_solver(system, whole(*a), a->rows(), L, singular, why);
+  return make_fft_solver(system, whole(*a), a->rows(), L, field, singular, why);
 }
 
 std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
-                                              bool singular, std::string* why) {
+                                              Field field, bool singular, std::string* why) {
   const auto t0 = Clock::now();
   std::string w;
   Model m;
-  if (analyse(A, n, n, L.nx, L.ny, L.domain.periodic_x, L.domain.periodic_y, m, w)) {
+  // The transform along x from the boundary rule: the field's image parity at the x walls (both
+  // sides the same: even -> DCT-II, odd -> DST-II); along y the banded systems take any folds.
+  const Domain& d = L.domain;
+  const int left = d.parity(Left, field), x_parity = left == d.parity(Right, field) ? left : 0;
+  if (analyse(A, n, n, L.nx, L.ny, d.periodic_x, d.periodic_y, x_parity, m, w)) {
     const double t_analyse = seconds_since(t0);
     const auto t1 = Clock::now();
     std::unique_ptr<LatticeSolver> s;

@@ -25,8 +25,9 @@
 namespace sphib {
 
 // Which null space an operator has: none, the constants (the Morris Laplacian), or that of G^T G
-// with even images at walls (phi) or odd images (a stream function).
-enum class NullSpace { None, Constants, GradientEvenImages, GradientOddImages };
+// on phi (a scalar: the walls' Field::Scalar parities, even at no-slip walls) or on a stream function
+// (Field::Stream, odd), the parities from the boundary rule (fluid/common/boundary_rule.hpp).
+enum class NullSpace { None, Constants, GradientScalar, GradientStream };
 
 class Gauge {
  public:

@@ -84,7 +84,7 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
       const auto t1 = Profile::Clock::now();
       const StencilRows sr(lap_phi_st_lattice_, N);
       SystemSolver s = lattice_singular_solver(
-          phi_system(), negated_rows([&](int r0, int k) { return sr.rows(op_.lap_phi, r0, k); }, N), N, gauge_,
+          phi_system(), Field::Scalar, negated_rows([&](int r0, int k) { return sr.rows(op_.lap_phi, r0, k); }, N), N, gauge_,
           prm_.poisson_solver, lat_);
       if (s.solver) {
         poisson_ = std::move(s.solver);
@@ -183,7 +183,7 @@ std::string EulerianFluid::phi_system() const {
 void EulerianFluid::make_phi_solver() const {
   SpMat minus_lap = op_.lap_phi;  // -lap (negated in place: an assigned -A grows its own storage)
   negate(minus_lap);
-  auto s = singular_solver(phi_system(), minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+  auto s = singular_solver(phi_system(), Field::Scalar, minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
   poisson_ = std::move(s.solver);
   poisson_unpinned_ = s.unpinned;
 }
