@@ -248,6 +248,60 @@ TEST(FftSolver, AlignedAndMisalignedArraysGiveTheSameBits) {
   }
 }
 
+// Walls of different parities (the quarter-wave transforms, DCT-IV and DST-IV): phi's Laplacian
+// with its images at the right wall made odd (even left, odd right) and the velocity's
+// Crank-Nicolson matrix with its images at the right wall made even (odd left, even right), on a
+// closed box (banded in y) and on walls in x with y periodic (diagonal), n_x even and odd, against
+// CHOLMOD. Tolerances as MatchesCholmodOnEveryDomainAndSystem's (measured here: eta <= 6.8e-16,
+// |x_fft - x_cholmod| / |x| <= 1.7 kappa u, kappa 93-756).
+TEST(FftSolver, MixedWallParitiesTakeTheQuarterWaveTransforms) {
+  struct Size { int nx, ny; };
+  for (const DomainCase& dc : {kDomains[1], kDomains[3]})
+    for (const Size& sz : {Size{24, 20}, Size{17, 22}}) {
+      Domain dom;
+      dom.periodic_x = dc.px;
+      dom.periodic_y = dc.py;
+      const Lattice L = make_lattice(dom, sz.nx, sz.ny);
+      const CubicSplineKernel W(1.2 * 0.5 * (L.dx + L.dy));
+      Images im = make_images(L, W.support());
+      for (int k = 0; k < im.size(); ++k)  // the right wall's images (and corners beyond it) flip parity
+        if (im.x(k, 0) > dom.x1) {
+          im.s_sign[k] = -im.s_sign[k];
+          im.v_sign[k] = -im.v_sign[k];
+        }
+      const Operators op = build_operators(find_pairs(L, im.x, W.support()), L, im, W);
+      const int N = L.size();
+      SpMat I(N, N);
+      I.setIdentity();
+      struct Mixed { std::string name; SpMat A; XParities xp; const char* transform; };
+      const Mixed systems[] = {{"Poisson, even left, odd right", -op.lap_phi, {1, -1}, "DCT-IV in x"},
+                               {"Crank-Nicolson, odd left, even right", I - 0.3 * op.lap_u.A, {-1, 1}, "DST-IV in x"}};
+      for (const Mixed& sys : systems) {
+        SCOPED_TRACE(std::string(dc.name) + ", " + sys.name + ", n_x = " + std::to_string(sz.nx));
+        std::string why;
+        auto fft = make_fft_solver(sys.name, sys.A, L, sys.xp, false, &why);
+        ASSERT_TRUE(fft) << why;
+        EXPECT_NE(fft->info().method.find(sys.transform), std::string::npos) << fft->info().method;
+        // the same matrix with the parities of one wall only is refused, naming them
+        EXPECT_FALSE(make_fft_solver(sys.name, sys.A, L, XParities{sys.xp.left, sys.xp.left}, false, &why));
+        const Gauge none;
+        const double kappa = condition(sys.A, *fft, none);
+        const double a_inf = (sys.A.cwiseAbs() * Vec::Ones(N)).maxCoeff();
+        auto chol = factorize(sys.name, sys.A, SolverKind::CholmodSimplicial);
+        for (unsigned r = 0; r < 2; ++r) {
+          const Vec b = random_vector(N, 21 + r);
+          Vec x = Vec::Zero(N), y = Vec::Zero(N);
+          fft->solve(b.data(), x.data(), 1);
+          chol->solve(b.data(), y.data(), 1);
+          const double eta = (sys.A * x - b).cwiseAbs().maxCoeff() / (a_inf * x.cwiseAbs().maxCoeff());
+          const double diff = (x - y).cwiseAbs().maxCoeff() / y.cwiseAbs().maxCoeff();
+          EXPECT_LT(eta, 1e-14);
+          EXPECT_LT(diff, 400 * kappa * 1.1e-16) << "kappa " << kappa;
+        }
+      }
+    }
+}
+
 // The structure check can fail, and says where: a channel's matrix that is not a translate along x
 // (one coefficient moved); one coefficient of a closed box's corner row (row 0:
 // both x and y images folded in) or of a wall row moved by 1e-6; a matrix whose x images are not the
