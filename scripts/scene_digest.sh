@@ -25,6 +25,7 @@ scenes=(
   "wcsph_couette|cases/wcsph_couette.toml|time.end=3e-3 output.diagnostics_every=1"
   "still_tank_isph|cases/still_tank_isph.toml|time.end=3e-3 output.diagnostics_every=1"
   "vesicle_shear_contrast|cases/vesicle_shear.toml|time.end=0.02 membrane.viscosity_ratio=5.0 output.diagnostics_every=1"
+  "capsule_open_channel|cases/capsule_open_channel.toml|time.end=0.03 output.diagnostics_every=1"
 )
 for entry in "${scenes[@]}"; do
   IFS='|' read -r name scene settings <<< "$entry"

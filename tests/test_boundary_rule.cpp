@@ -19,6 +19,16 @@ TEST(BoundaryRule, ParitiesOfEachKind) {
   EXPECT_EQ(image_parity(SideKind::NoSlip, Field::Scalar), +1);
   EXPECT_EQ(image_parity(SideKind::NoSlip, Field::Stream), -1);
   EXPECT_EQ(velocity_parity(SideKind::NoSlip), -1);
+  // inflow: velocity Dirichlet (odd), phi Neumann (even); outflow: velocity zero-gradient (even), phi = 0 (odd)
+  EXPECT_EQ(velocity_parity(SideKind::Inflow), -1);
+  EXPECT_EQ(image_parity(SideKind::Inflow, Field::Scalar), +1);
+  EXPECT_EQ(velocity_parity(SideKind::Outflow), +1);
+  EXPECT_EQ(image_parity(SideKind::Outflow, Field::Scalar), -1);
+  for (SideKind k : {SideKind::Inflow, SideKind::Outflow}) {
+    EXPECT_TRUE(makes_images(k));
+    EXPECT_FALSE(is_wall_kind(k));
+    EXPECT_EQ(image_parity(k, Field::Stream), 0);
+  }
   for (SideKind k : {SideKind::Periodic, SideKind::Open})
     for (Field f : {Field::VelocityNormal, Field::VelocityTangential, Field::Scalar, Field::Stream})
       EXPECT_EQ(image_parity(k, f), 0) << side_kind_name(k);
@@ -82,6 +92,44 @@ TEST(BoundaryRule, ImagesCarryTheRulesParities) {
   }
 }
 
+// An inflow's images carry 2 u_in(y) - u with the parabolic profile at the image's height, an
+// outflow's u (no prescribed part), phi odd there; the corner of an outflow and a wall at rest
+// carries -u with no offset.
+TEST(BoundaryRule, InflowAndOutflowImages) {
+  Domain d;
+  d.periodic_x = d.periodic_y = false;
+  d.bounded[Left] = SideKind::Inflow;
+  d.bounded[Right] = SideKind::Outflow;
+  d.inflow_profile = InflowProfile::Parabolic;
+  d.wall_velocity[Left] = Eigen::Vector2d(2.0, 0.0);
+  const Lattice L = make_lattice(d, 16, 8);
+  const Images im = make_images(L, 2.0 * L.dx);
+  Mat2 c(im.size(), 2);
+  image_velocity_offsets(im, d, nullptr, 0.0, c);
+  int left = 0, right = 0;
+  for (int k = 0; k < im.size(); ++k) {
+    const double y = im.x(k, 1);
+    if (im.wall[k] == Left) {
+      ++left;
+      EXPECT_EQ(im.v_sign[k], -1.0);
+      EXPECT_EQ(im.s_sign[k], 1.0);
+      EXPECT_NEAR(c(k, 0), 2.0 * 2.0 * 4.0 * y * (1.0 - y), 1e-14);
+      EXPECT_EQ(c(k, 1), 0.0);
+    } else if (im.wall[k] == Right) {
+      ++right;
+      EXPECT_EQ(im.v_sign[k], 1.0);
+      EXPECT_EQ(im.s_sign[k], -1.0);
+      EXPECT_EQ(c(k, 0), 0.0);
+    } else if (im.wall[k] < 0 && im.x(k, 0) > d.x1) {  // outflow-wall corner
+      EXPECT_EQ(im.v_sign[k], -1.0);
+      EXPECT_EQ(im.s_sign[k], -1.0);
+      EXPECT_EQ(c(k, 0), 0.0);
+    }
+  }
+  EXPECT_GT(left, 0);
+  EXPECT_GT(right, 0);
+}
+
 // The gauge's null vectors follow the rule's parity across the walls: on a closed box G^T G of phi
 // (even images) keeps the constant, of a stream function (odd) the alternating (-1)^{i_x + i_y}; a
 // wall facing an open side has no common parity: refused.
@@ -105,4 +153,9 @@ TEST(BoundaryRule, GaugeTakesTheParitiesFromTheRule) {
   Domain open = d;
   open.bounded[Right] = SideKind::Open;
   EXPECT_THROW(Gauge(make_lattice(open, 6, 6), NullSpace::GradientScalar), std::invalid_argument);
+  // the Morris Laplacian of phi keeps the constant (walls) unless phi's images are odd somewhere (an outflow)
+  EXPECT_EQ(Gauge(L, NullSpace::Constants).dimension(), 1);
+  Domain outflow = d;
+  outflow.bounded[Right] = SideKind::Outflow;
+  EXPECT_EQ(Gauge(make_lattice(outflow, 6, 6), NullSpace::Constants).dimension(), 0);
 }

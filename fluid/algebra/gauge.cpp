@@ -12,6 +12,9 @@ namespace sphib {
 
 Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
   if (ns == NullSpace::None) return;
+  if (ns == NullSpace::Constants)  // the constant continues only through even images of phi
+    for (Side s : {Left, Right, Bottom, Top})
+      if (L.domain.parity(s, Field::Scalar) < 0) return;
   // The factors along one axis: 0 = constant, 1 = alternating. Across a wall the constant continues
   // through even images, the alternating mode through odd ones (the rule's parity of the field).
   const Field field = ns == NullSpace::GradientScalar ? Field::Scalar : Field::Stream;

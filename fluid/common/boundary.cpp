@@ -1,5 +1,6 @@
 #include "fluid/common/boundary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -29,7 +30,7 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
   for (int w = 0; w < 4; ++w) {
     const Side side = static_cast<Side>(w);
     if (d.is_periodic(side)) continue;
-    if (!d.is_wall(side))
+    if (!makes_images(d.kind(side)))
       throw std::invalid_argument(std::string("walls: the ") + side_name(side) + " side is " +
                                   side_kind_name(d.kind(side)) + ": no image particles there (free-surface methods)");
     v_par[w] = velocity_parity(d.kind(side));
@@ -99,18 +100,37 @@ void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const 
   }
 }
 
+Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x) {
+  const Eigen::Vector2d& u = d.wall_velocity[w];
+  if (d.kind(w) != SideKind::Inflow || d.inflow_profile != InflowProfile::Parabolic) return u;
+  const bool vertical = w == Left || w == Right;  // the side runs along y
+  const double a = vertical ? d.y0 : d.x0, b = vertical ? d.y1 : d.x1;
+  const double s = std::clamp(((vertical ? x.y() : x.x()) - a) / (b - a), 0.0, 1.0);
+  return (4.0 * s * (1.0 - s)) * u;
+}
+
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
-    if (w < 0) {  // corner image: u_img = +-u_p, the mean of the two orders of reflection (see header)
-      offset(k, 0) = 0.0;
-      offset(k, 1) = 0.0;
+    if (w < 0) {
+      // corner image: the mean of the two orders of reflection, across the x side (parity px, value
+      // gx) then the y side and the reverse: px py u + ((1 - px)(1 + py) gx + (1 - py)(1 + px) gy) / 2
+      // (0 between two no-slip walls: u_img = u_p, see header)
+      const Eigen::Vector2d xk = im.x.row(k).transpose();
+      const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
+      const double px = d.parity(sx, Field::VelocityNormal), py = d.parity(sy, Field::VelocityNormal);
+      const double cx = 0.5 * (1.0 - px) * (1.0 + py), cy = 0.5 * (1.0 - py) * (1.0 + px);
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      if (cx != 0.0) c += cx * side_velocity(d, sx, xk);
+      if (cy != 0.0) c += cy * side_velocity(d, sy, xk);
+      offset(k, 0) = c.x();
+      offset(k, 1) = c.y();
       continue;
     }
     const Side side = static_cast<Side>(w);
     const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall
-    Eigen::Vector2d g = d.wall_velocity[w];            // u_b
+    Eigen::Vector2d g = side_velocity(d, side, im.x.row(k).transpose());  // u_b (an inflow: its profile)
     if (grad_phi && d.parity(side, Field::VelocityTangential) < 0) {
       // tangential correction dt/rho (tau . grad phi~) tau with phi~ = phi^n (Kim & Moin) where the
       // tangential velocity is prescribed (odd images), Eq. (42)

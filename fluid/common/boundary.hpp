@@ -9,7 +9,8 @@
 // image parity of the wall's kind (fluid/common/boundary_rule.hpp), the offset its prescribed part:
 //  - velocity, one wall w:  u_img = parity u_p + (1 - parity) g_w; for a no-slip wall (parity -1)
 //                           u_img = 2 g_w - u_p,  g_w = u_w + dt/rho (tau.grad phi~) tau  (Eq. 42)
-//  - velocity, corner:      the product of the two walls' parities; reflecting across w1 then w2
+//  - velocity, corner:      the product of the two sides' parities, the mean of the two orders'
+//                           offsets (image_velocity_offsets); reflecting across w1 then w2
 //                           gives u_p + 2 (g_w2 - g_w1) for two no-slip walls, and the other order
 //                           the opposite offset; they agree (u_img = u_p) for walls at rest, and we
 //                           take their mean, u_img = u_p, also when the walls move differently (the
@@ -44,6 +45,10 @@ Images make_images(const Domain& domain, const Mat2& x, double reach);
 // naming the method, the particle, the side, where it is now and the time t, then `hint` (what to
 // change) for a wall crossed.
 void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint);
+
+// The velocity a side prescribes at x (on or beyond it): its wall velocity, an inflow's shaped by
+// Domain::inflow_profile at x's place along the side.
+Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x);
 
 // The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
 // plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.

@@ -12,6 +12,22 @@ int image_parity(SideKind k, Field f) {
         case Field::Stream: return -1;              // psi_img = 2 psi_w - psi
       }
       break;
+    case SideKind::Inflow:
+      switch (f) {
+        case Field::VelocityNormal:
+        case Field::VelocityTangential: return -1;  // u_img = 2 u_in - u: u = u_in on the side (Eq. 42's form)
+        case Field::Scalar: return +1;              // dphi/dn = 0
+        case Field::Stream: return 0;               // psi is not constant along it
+      }
+      break;
+    case SideKind::Outflow:
+      switch (f) {
+        case Field::VelocityNormal:
+        case Field::VelocityTangential: return +1;  // du/dn = 0 (zero gradient)
+        case Field::Scalar: return -1;              // phi = 0 (the pressure's reference)
+        case Field::Stream: return 0;
+      }
+      break;
     case SideKind::Periodic:
     case SideKind::Open: return 0;
   }
@@ -23,6 +39,8 @@ const char* side_kind_name(SideKind k) {
     case SideKind::Periodic: return "periodic";
     case SideKind::NoSlip: return "no_slip";
     case SideKind::Open: return "open";
+    case SideKind::Inflow: return "inflow";
+    case SideKind::Outflow: return "outflow";
   }
   return "?";
 }

@@ -16,7 +16,7 @@
 // transforms (fluid/algebra/fft_poisson.cpp: even images -> DCT-II, odd -> DST-II, periodic -> DFT).
 //
 // A new kind of side: its enumerator below, its row in image_parity (boundary_rule.cpp), its scene
-// key (io/scene.cpp), and its check against the methods that cannot do it (io/scene_checks.cpp).
+// key and its refusal by the methods that cannot do it (io/scene.cpp).
 
 namespace sphib {
 
@@ -24,7 +24,14 @@ enum class SideKind {
   Periodic,  // the opposite side continues the domain (no images)
   NoSlip,    // a wall with a prescribed velocity (at rest, a moving lid, a Couette wall)
   Open,      // free space beyond it (no images; free-surface methods only)
+  Inflow,    // a prescribed velocity profile enters (velocity Dirichlet, phi Neumann)
+  Outflow,   // the flow leaves (velocity zero-gradient, phi = 0)
 };
+
+// The shape of an inflow's velocity along its side: the side's velocity (Domain::wall_velocity)
+// times 1 (uniform) or 4 s (1 - s) (parabolic, s in [0, 1] along the side: zero at its ends, the
+// side's velocity at its middle).
+enum class InflowProfile { None, Uniform, Parabolic };
 
 // The fields an image carries, by their role at the wall: the velocity component normal to the
 // wall, the tangential one, a scalar with homogeneous Neumann data (phi, the pressure), a stream
@@ -35,8 +42,13 @@ enum class Field { VelocityNormal, VelocityTangential, Scalar, Stream };
 // images (periodic, open).
 int image_parity(SideKind k, Field f);
 
-// Whether the kind is a wall (it makes image particles, or virtual wall particles).
-inline bool is_wall_kind(SideKind k) { return k != SideKind::Periodic && k != SideKind::Open; }
+// Whether the kind is a solid wall (image particles, or the moving methods' virtual wall particles;
+// wall loads).
+inline bool is_wall_kind(SideKind k) { return k == SideKind::NoSlip; }
+// Whether the kind makes image particles (walls, inflow, outflow).
+inline bool makes_images(SideKind k) { return k == SideKind::NoSlip || k == SideKind::Inflow || k == SideKind::Outflow; }
+// Whether the flow crosses a side of this kind (inflow, outflow).
+inline bool is_through_kind(SideKind k) { return k == SideKind::Inflow || k == SideKind::Outflow; }
 
 // The velocity's parity across a side of this kind when both components share one (every kind so
 // far: no-slip -1); 0 when they differ or the kind makes no images.
@@ -49,7 +61,7 @@ inline int velocity_parity(SideKind k) {
 // component, a stream function's wall value) counts twice on odd images, not at all on even ones.
 inline double image_prescribed(int parity, double g) { return (1.0 - parity) * g; }
 
-// "periodic", "no_slip", "open".
+// "periodic", "no_slip", "open", "inflow", "outflow".
 const char* side_kind_name(SideKind k);
 
 }  // namespace sphib

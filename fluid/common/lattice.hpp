@@ -21,8 +21,10 @@ struct Domain {
   std::array<Eigen::Vector2d, 4> wall_velocity{Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
                                                Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
   // by Side, the kind of a side on a bounded axis (a periodic axis's sides are periodic whatever
-  // this holds): SideKind::NoSlip or SideKind::Open
+  // this holds): SideKind::NoSlip, Open, Inflow (velocity wall_velocity[side] shaped by
+  // inflow_profile) or Outflow
   std::array<SideKind, 4> bounded{SideKind::NoSlip, SideKind::NoSlip, SideKind::NoSlip, SideKind::NoSlip};
+  InflowProfile inflow_profile = InflowProfile::None;
   double Lx() const { return x1 - x0; }
   double Ly() const { return y1 - y0; }
   bool is_periodic(Side s) const { return (s == Left || s == Right) ? periodic_x : periodic_y; }
@@ -30,6 +32,10 @@ struct Domain {
   bool is_wall(Side s) const { return is_wall_kind(kind(s)); }
   bool is_open(Side s) const { return kind(s) == SideKind::Open; }
   bool any_open() const { return is_open(Left) || is_open(Right) || is_open(Bottom) || is_open(Top); }
+  bool any_through() const {  // an inflow or outflow side
+    return is_through_kind(kind(Left)) || is_through_kind(kind(Right)) || is_through_kind(kind(Bottom)) ||
+           is_through_kind(kind(Top));
+  }
   // The image parity of field f across side s (boundary_rule.hpp; 0 on a periodic or open side).
   int parity(Side s, Field f) const { return image_parity(kind(s), f); }
 };

@@ -9,7 +9,8 @@
 namespace sphib {
 
 EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : ProjectionFluid(params, false, profiler) {
-  if (prm_.projection == Projection::Auto) prm_.projection = Projection::Exact;
+  if (prm_.projection == Projection::Auto)  // exact, but its stream function needs walls or periodic sides
+    prm_.projection = prm_.domain.any_through() ? Projection::Approximate : Projection::Exact;
   const int N = lat_.size();
 
   // Neighbours: images and the pair list, once (the compact storage: the pairs a block of rows at a
@@ -156,7 +157,10 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   add_setup("factorisation", seconds_since(t0) + factorisation);
   k_psi_ = prof_.on_demand_phase("stream function");
   convective_ = prm_.convection;
-  has_stream_function_ = variable_viscosity_ = true;
+  // the markers' stream function is constant along walls: none with flow through a side (the markers
+  // then interpolate by SPH, coupling/interpolate.hpp)
+  has_stream_function_ = !prm_.domain.any_through();
+  variable_viscosity_ = true;
   prof_.set_reporter([this](FluidReport& r) { report(r); });
   prof_.set_floor([this](FloorTimer& t) { floor_kernels(t); });
   prof_.set_stream_function_floor([this](FloorTimer& t) { stream_function_floor_kernels(t); });

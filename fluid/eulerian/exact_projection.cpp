@@ -49,7 +49,12 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Ope
   // every resolution).
   mpsi_scale_ = 1.0 / m;
   // The stream functions take the velocity's operators (their images): the boundary rule's stream
-  // function parity must be the velocity's at every wall (no-slip: both odd).
+  // function parity must be the velocity's at every wall (no-slip: both odd); flow through a side
+  // (inflow, outflow) has no stream function constant along it.
+  if (lat_.domain.any_through())
+    throw std::invalid_argument(
+        "fluid.projection: the exact projection needs walls or periodic sides (its stream function is constant "
+        "along a wall); with domain.inflow or domain.outflow use \"approximate\"");
   for (int k = 0; k < 4; ++k) {
     const Side w = static_cast<Side>(k);
     if (lat_.domain.is_wall(w) && velocity_parity(lat_.domain.kind(w)) != lat_.domain.parity(w, Field::Stream))
