@@ -111,27 +111,39 @@ Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x)
 
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
+  // Per side, out of the loop (this runs every step): whether the tangential velocity is prescribed
+  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile; and
+  // whether any corner has an offset (a side with even velocity images, an outflow, next to another).
+  bool tangential_odd[4], shaped[4], corner_offsets = false;
+  for (int w = 0; w < 4; ++w) {
+    const Side side = static_cast<Side>(w);
+    tangential_odd[w] = d.parity(side, Field::VelocityTangential) < 0;
+    shaped[w] = d.kind(side) == SideKind::Inflow && d.inflow_profile == InflowProfile::Parabolic;
+    corner_offsets = corner_offsets || d.parity(side, Field::VelocityNormal) > 0;
+  }
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
     if (w < 0) {
       // corner image: the mean of the two orders of reflection, across the x side (parity px, value
       // gx) then the y side and the reverse: px py u + ((1 - px)(1 + py) gx + (1 - py)(1 + px) gy) / 2
-      // (0 between two no-slip walls: u_img = u_p, see header)
-      const Eigen::Vector2d xk = im.x.row(k).transpose();
-      const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
-      const double px = d.parity(sx, Field::VelocityNormal), py = d.parity(sy, Field::VelocityNormal);
-      const double cx = 0.5 * (1.0 - px) * (1.0 + py), cy = 0.5 * (1.0 - py) * (1.0 + px);
+      // (0 between two sides with odd images, two no-slip walls: u_img = u_p, see header)
       Eigen::Vector2d c = Eigen::Vector2d::Zero();
-      if (cx != 0.0) c += cx * side_velocity(d, sx, xk);
-      if (cy != 0.0) c += cy * side_velocity(d, sy, xk);
+      if (corner_offsets) {
+        const Eigen::Vector2d xk = im.x.row(k).transpose();
+        const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
+        const double px = d.parity(sx, Field::VelocityNormal), py = d.parity(sy, Field::VelocityNormal);
+        const double cx = 0.5 * (1.0 - px) * (1.0 + py), cy = 0.5 * (1.0 - py) * (1.0 + px);
+        if (cx != 0.0) c += cx * side_velocity(d, sx, xk);
+        if (cy != 0.0) c += cy * side_velocity(d, sy, xk);
+      }
       offset(k, 0) = c.x();
       offset(k, 1) = c.y();
       continue;
     }
-    const Side side = static_cast<Side>(w);
     const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall
-    Eigen::Vector2d g = side_velocity(d, side, im.x.row(k).transpose());  // u_b (an inflow: its profile)
-    if (grad_phi && d.parity(side, Field::VelocityTangential) < 0) {
+    // u_b: the wall's velocity, an inflow's profile at the image
+    Eigen::Vector2d g = shaped[w] ? side_velocity(d, static_cast<Side>(w), im.x.row(k).transpose()) : d.wall_velocity[w];
+    if (grad_phi && tangential_odd[w]) {
       // tangential correction dt/rho (tau . grad phi~) tau with phi~ = phi^n (Kim & Moin) where the
       // tangential velocity is prescribed (odd images), Eq. (42)
       g[t] += dt_over_rho * (*grad_phi)(im.parent[k], t);
