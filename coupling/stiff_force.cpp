@@ -17,6 +17,15 @@ constexpr double kStiff = 0.1;
 // (docs/membranes.md, "Accuracy"): larger weights or a lower threshold diverge on some of the scenes
 // measured there.
 constexpr double kRelax = 0.2, kResolved = 0.9;
+// The residual's gain on stiff modes: G's weight falls as kRelax min(1, kLag / (dt K B)) where the
+// mode is stiff (dt K B > kLag) and either tangential, or normal and viscous (its velocity lost
+// within a step, A < kViscous), so that the loop residual -> G -> f~ -> U, of gain about
+// 1 - w b/B on a stiff mode (b the fluid's true response), stays below 1 when B underestimates b;
+// a steady state still receives f^n (any weight gives the same fixed point). And |G| is capped at
+// kCap B |f^n| per mode (a steady state has |G| = B |f^n|). Chosen by measurement
+// (docs/membranes.md, "The residual's gain"): without the lag the Skalak law with Es >= 1000 at
+// mu = 0.1 is unstable below the explicit step; without the cap a viscous bending mode drifts.
+constexpr double kLag = 1.0, kViscous = 0.2, kCap = 1.5;
 using C = std::complex<double>;
 
 // An upper bound of the cubic-spline kernel's 2-D Fourier transform at q = k h: within 1.25x of
@@ -95,8 +104,13 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
     if (!residual_ || s <= kResolved) {
       G[m] = G[nm_ + m] = 0.0;
     } else if (record && have_prev_) {
-      G[m] += kRelax * (Un[m] - A * Up[m] - Bn * Fp[m] - G[m]);
-      G[nm_ + m] += kRelax * (Ut[m] - A * Up[nm_ + m] - Bt * Fp[nm_ + m] - G[nm_ + m]);
+      const double wn = kRelax * std::min(1.0, std::max(kLag / (dt * Kaa * Bn), A / kViscous));
+      const double wt = kRelax * std::min(1.0, kLag / (dt * Kbb * Bt));
+      G[m] += wn * (Un[m] - A * Up[m] - Bn * Fp[m] - G[m]);
+      G[nm_ + m] += wt * (Ut[m] - A * Up[nm_ + m] - Bt * Fp[nm_ + m] - G[nm_ + m]);
+      const double cap_n = kCap * Bn * std::abs(Fn[m]), cap_t = kCap * Bt * std::abs(Ft[m]);  // Fn, Ft: f^n
+      if (std::abs(G[m]) > cap_n) G[m] *= cap_n / std::abs(G[m]);
+      if (std::abs(G[nm_ + m]) > cap_t) G[nm_ + m] *= cap_t / std::abs(G[nm_ + m]);
     }
     // r = f - theta dt K (A U + G);  M = I + theta dt K B;  f~ = M^{-1} r
     const C pa = A * Un[m] + G[m], pb = A * Ut[m] + G[nm_ + m];
