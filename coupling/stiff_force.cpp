@@ -27,8 +27,9 @@ constexpr double kRelax = 0.2, kResolved = 0.9;
 // gives the same fixed point (a steady state still receives f^n). |G_j| is capped at kCap B_j |f^n_j|
 // (a steady state has |G_j| = B_j |f^n_j|). And with G the tangential layer is at least the
 // interpolation's smoothing length h (the lattice carries no thinner layer; sqrt(pi nu dt) < h
-// overestimates Bt, 20 times at mu = 0.1, dt = 1e-4 on the stability map's lattice, h = 0.1125). Each of the three chosen by measurement (docs/membranes.md, "The residual's gain"):
-// without any one of them a row of the stability map fails below the default's limit.
+// overestimates Bt, 20 times at mu = 0.1, dt = 1e-4 on the stability map's lattice, h = 0.1125).
+// Each of the three chosen by measurement (docs/membranes.md, "The residual's gain"): without any
+// one of them a row of the stability map fails where the default is stable.
 constexpr double kLag = 1.0, kViscous = 0.2, kCap = 1.5;
 using C = std::complex<double>;
 
