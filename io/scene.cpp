@@ -493,8 +493,8 @@ void read_material(Reader& r, const std::string& p, MembraneScene& m) {
                               "membranes run at the step the flow needs (default: with bending or a law other than hookean)");
   m.stiff_residual = r.boolean(p + "stiff_residual", false,
                                "the semi-implicit force predicts the membrane's next velocity with the measured residual "
-                               "of its model (steady shapes as accurate as the explicit force's at large steps; less "
-                               "stable on stiff stretching laws; docs/membranes.md)");
+                               "of its model (steady shapes as accurate as the explicit force's at large steps; its "
+                               "largest stable step 0.65 to 1.3 times the default's; docs/membranes.md)");
   if (!r.documenting && m.stiff_residual && !m.semi_implicit)
     r.fail(p + "stiff_residual", "refines the semi-implicit force: set semi_implicit = true too");
 }
