@@ -16,7 +16,7 @@
 // integration. psi_h reproduces constants, so the gauge of psi does not matter; at a lattice point
 // grad psi_h is (G psi)_i / sum_j V W_ij, the fluid's own gradient of psi (Eq. 27) over the kernel sum.
 #include "coupling/marker_update.hpp"
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/neighbours.hpp"
 
 namespace sphib {

@@ -2,7 +2,7 @@
 // Membrane force -> fluid force field, Eq. (53):  F_i = sum_k f_k W(x_i - X_k, h*) ds,
 // with f_k the force density per unit rest arclength and ds = L0 / Nb the rest marker spacing.
 // The kernel radius h* is the membrane's own, independent of the fluid's h.
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/neighbours.hpp"
 
 namespace sphib {

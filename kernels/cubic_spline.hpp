@@ -1,10 +1,10 @@
 #pragma once
-// The cubic B-spline kernel of Eq. (19) (2-D, support 2h) as the fast kernels take it: its scale
-// (h and the normalisation w0) in a small struct, its plain scalar form (the equation as written,
-// the reference every lane form is tested against), and its branch-free lane form.
+// The cubic B-spline kernel of Eq. (19) (2-D, support 2h): its scale (h and the normalisation w0)
+// in a small struct, its plain scalar form (the equation as written, the reference every lane form
+// of kernels/cubic_spline_lanes.hpp is tested against), and the kernel of one smoothing length as
+// the fluid and the coupling hold it.
+// Contract: a CubicSplineKernel gives W(r), dW/dr and (1/r) dW/dr for one smoothing length h.
 #include <cmath>
-
-#include "kernels/lanes.hpp"
 
 namespace sphib {
 
@@ -44,40 +44,21 @@ inline double cubic_G(const CubicSpline& k, double r) {
   return 0.0;
 }
 
-// The lane form, from squared distances r2: both pieces of Eq. (19) are computed and one selected,
-// without a branch (a marker's points fall on either side of q = 1 in no predictable order), with
-// q = r (1/h) and the constant factors folded, so that W takes one square root and no division, F
-// and G one division between them. Within a few units in the last place of W(0) and F(0) of the
-// scalar forms (tests/test_kernels.cpp); 0 from 2h on. Every lane by the same expressions, so two
-// and four lanes give the same values. Holds a reference to the scale: construct it from a
-// CubicSpline that outlives it.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
-template <class L>
-struct CubicSplineLanes {
-  static L c(double a) { return lanes(L{}, a); }
-  CubicSplineLanes(const CubicSpline& K, L r2)
-      : k(K), q(lane_sqrt(r2) * c(1.0 / K.h)), t(c(2.0) - q), inner(q < c(1.0)), inside(q < c(2.0)) {}
-  L W() const {
-    const L w_in = c(k.w0) * (c(2.0 / 3.0) - q * q + c(0.5) * q * q * q);  // q < 1
-    const L w_out = c(k.w0 / 6.0) * t * t * t;                              // 1 <= q < 2
-    return select(inside, select(inner, w_in, w_out), c(0.0));
-  }
-  L F() const {  // (1/r) dW/dr
-    const double cf = k.w0 / (k.h * k.h);
-    const L f_in = c(cf) * (c(-2.0) + c(1.5) * q), f_out = c(-0.5 * cf) * t * t * qinv();
-    return select(inside, select(inner, f_in, f_out), c(0.0));
-  }
-  L G() const {  // (1/r) dF/dr: 1.5 c / (h^2 q) for q < 1, 0.5 c t (q + 2) / (h^2 q^3) for 1 <= q < 2
-    const double cg = k.w0 / (k.h * k.h * k.h * k.h);
-    const L qi = qinv(), g_in = c(1.5 * cg) * qi, g_out = c(0.5 * cg) * t * (q + c(2.0)) * qi * qi * qi;
-    return select(inside & (q > c(0.0)), select(inner, g_in, g_out), c(0.0));
-  }
-  L qinv() const { return c(1.0) / q; }  // (inf at q = 0, in lanes not selected)
-  const CubicSpline& k;  // (a reference: its constant factors stay out of the callers' loops)
-  L q, t;
-  typename LaneMaskOf<L>::type inner, inside;
+struct CubicSplineKernel {
+  double h;
+  double w0;  // 15 / (7 pi h^2): 2-D normalisation of Eq. (19)
+
+  explicit CubicSplineKernel(double h_) : h(h_), w0(15.0 / (7.0 * M_PI * h_ * h_)) {}
+
+  double support() const { return 2.0 * h; }
+
+  // W(r, h), Eq. (19)
+  double W(double r) const { return cubic_W(scale(), r); }
+  // dW/dr
+  double dWdr(double r) const { return cubic_dWdr(scale(), r); }
+  // (1/r) dW/dr, finite as r -> 0 (limit -2 w0 / h^2); the factor every SPH operator of Eqs. (27)-(35) uses.
+  double F(double r) const { return cubic_F(scale(), r); }
+  CubicSpline scale() const { return {h, w0}; }
 };
-#pragma GCC diagnostic pop
 
 }  // namespace sphib

@@ -1,4 +1,5 @@
 #include "kernels/curl_sums.hpp"
+#include "kernels/cubic_spline_lanes.hpp"
 
 namespace sphib {
 

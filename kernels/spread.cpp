@@ -1,4 +1,5 @@
 #include "kernels/spread.hpp"
+#include "kernels/cubic_spline_lanes.hpp"
 
 // Four-lane values (Lanes4) live only inside the inlined kernel of the AVX2 and default clones.
 #pragma GCC diagnostic ignored "-Wpsabi"

@@ -9,7 +9,7 @@ equal the exact value times
 
 the lattice sum of a moment the continuous integral makes exactly 1. F depends on h/dx only (the sum
 scales with dx), so it does not tend to 1 as dx -> 0 at a fixed h/dx. W is the 2-D cubic spline of
-Eq. (19) of the main paper (fluid/common/kernel.hpp; support 2h, normalisation 10/(7 pi h^2)).
+Eq. (19) of the main paper (kernels/cubic_spline.hpp; support 2h, normalisation 10/(7 pi h^2)).
 
   lattice_kernel_factor.py [h/dx ...]      (default: 1.2 1.5 2.0)
 """

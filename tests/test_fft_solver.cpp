@@ -13,7 +13,7 @@
 #include "fluid/factory.hpp"
 #include "fluid/algebra/fft_poisson.hpp"
 #include "fluid/algebra/gauge.hpp"
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/lattice.hpp"
 #include "fluid/common/neighbours.hpp"
 #include "fluid/algebra/operators.hpp"

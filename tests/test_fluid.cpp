@@ -15,7 +15,7 @@
 
 #include "fluid/common/exact.hpp"
 #include "fluid/algebra/fft_poisson.hpp"
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline_lanes.hpp"
 #include "fluid/algebra/linear_solver.hpp"
 #include "fluid/algebra/products.hpp"
 #include "fluid/eulerian/eulerian.hpp"
@@ -204,9 +204,10 @@ TEST(Kernel, TwoLaneFormsMatchTheScalarOnes) {
     double ew = 0, ef = 0, eg = 0;
     for (int k = 0; k <= 200000; k += 2) {
       const double r0 = k * 2.2 * h / 200000, r1 = (k + 1) * 2.2 * h / 200000;
-      Lanes2 w, f, g;
-      W.W_F_G2(Lanes2{r0 * r0, r1 * r1}, w, f, g);
-      const Lanes2 w2 = W.W2(Lanes2{r0 * r0, r1 * r1});
+      const CubicSpline K = W.scale();
+      const CubicSplineLanes<Lanes2> p(K, Lanes2{r0 * r0, r1 * r1});
+      const Lanes2 w = p.W(), f = p.F(), g = p.G();
+      const Lanes2 w2 = CubicSplineLanes<Lanes2>(K, Lanes2{r0 * r0, r1 * r1}).W();
       for (int l = 0; l < 2; ++l) {
         const double r = l ? r1 : r0;
         ew = std::max({ew, std::abs(w[l] - W.W(r)) / W0, std::abs(w2[l] - W.W(r)) / W0});
@@ -219,8 +220,9 @@ TEST(Kernel, TwoLaneFormsMatchTheScalarOnes) {
     EXPECT_LT(ef, 1e-15) << h;
     EXPECT_LT(eg, 1e-7) << h;
     for (double r2 : {0.0, 4 * h * h * (1 + 1e-12), 9 * h * h, 16 * h * h}) {
-      Lanes2 w, f, g;
-      W.W_F_G2(lanes2(r2), w, f, g);
+      const CubicSpline K = W.scale();
+      const CubicSplineLanes<Lanes2> p(K, lanes2(r2));
+      const Lanes2 w = p.W(), f = p.F(), g = p.G();
       if (r2 == 0.0) {
         EXPECT_EQ(g[0], 0.0);
         continue;

@@ -14,7 +14,7 @@
 
 #include "kernels/alternating.hpp"
 #include "kernels/banded.hpp"
-#include "kernels/cubic_spline.hpp"
+#include "kernels/cubic_spline_lanes.hpp"
 #include "kernels/curl_sums.hpp"
 #include "kernels/fused_rows.hpp"
 #include "kernels/lanes.hpp"

@@ -8,7 +8,7 @@
 // A is square over particles; note that an image still couples particle i to the image's
 // parent p, so image terms move into A(i, p) rather than dropping out.
 #include "fluid/common/boundary.hpp"
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/neighbours.hpp"
 #include "fluid/algebra/products.hpp"
 

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/neighbours.hpp"
 
 namespace sphib {

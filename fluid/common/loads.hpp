@@ -17,7 +17,7 @@
 //    add the same sum again and drop out of the ratio.
 #include <array>
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/lattice.hpp"
 #include "fluid/common/pair_search.hpp"
 #include "fluid/common/params.hpp"

@@ -1,6 +1,6 @@
 #include "fluid/common/neighbours.hpp"
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "kernels/lanes.hpp"  // sqrt2
 
 #include <algorithm>

@@ -72,7 +72,7 @@ void PairSearch::find(const Mat2& x, ParticlePairs& P) {
   for (auto* v : {&P.i, &P.j}) v->clear();
   for (auto* v : {&P.rx, &P.ry, &P.r, &P.W, &P.F}) v->clear();
   const double r2max = W_.support() * W_.support();
-  // W and F = (1/r) dW/dr of kernel.hpp, from q = r/h without its divisions by h
+  // W and F = (1/r) dW/dr of kernels/cubic_spline.hpp, from q = r/h without its divisions by h
   const double inv_h = 1.0 / W_.h, w0 = W_.w0, w6 = W_.w0 / 6.0, f0 = W_.w0 * inv_h * inv_h;
   long nbrs = 0;  // neighbours summed over the moving particles
   auto add = [&](int a, int b, double dx, double dy, double r2) {

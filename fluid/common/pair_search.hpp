@@ -7,14 +7,14 @@
 // particles in one pass.
 #include <vector>
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/lattice.hpp"
 
 namespace sphib {
 
 // Pairs closer than 2h, each once: i a moving particle; j a moving particle (j < N: the pair counts
 // for both) or the fixed point j - N (counts for i only); x_i - x_j (minimum image), r, W_ij and
-// F_ij = (1/r) dW/dr of the cubic spline (kernel.hpp).
+// F_ij = (1/r) dW/dr of the cubic spline (kernels/cubic_spline.hpp).
 struct ParticlePairs {
   std::vector<int> i, j;
   std::vector<double> rx, ry, r, W, F;

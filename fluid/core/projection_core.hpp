@@ -40,7 +40,7 @@
 #include "fluid/common/boundary.hpp"
 #include "fluid/common/free_surface.hpp"
 #include "fluid/algebra/gauge.hpp"
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/lattice.hpp"
 #include "fluid/algebra/linear_solver.hpp"
 #include "fluid/common/loads.hpp"

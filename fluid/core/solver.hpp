@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/lattice.hpp"
 #include "fluid/common/params.hpp"
 #include "fluid/common/profile.hpp"

@@ -52,7 +52,7 @@
 #include <vector>
 
 #include "fluid/common/boundary.hpp"
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/algebra/linear_solver.hpp"
 #include "fluid/common/neighbours.hpp"
 #include "fluid/algebra/products.hpp"

@@ -36,12 +36,12 @@
 namespace sphib {
 
 // The kernel of Eq. (19) for a pass over pairs: W(r) and F(r) = (1/r) dW/dr together, bit for bit
-// CubicSplineKernel's W and F (kernel.hpp), from one q = r / h and with the factor w0 / h^2 computed
+// CubicSplineKernel's W and F (kernels/cubic_spline.hpp), from one q = r / h and with the factor w0 / h^2 computed
 // once: inside the kernel's branches the compiler may not hoist that division, and it was a third
 // of the assembly's time (perf, 64^2). Tested equal to W.W and W.F bit for bit
 // (tests/test_lagrangian.cpp).
 struct KernelWF {
-  double h, w0, c;  // c = w0 / (h h), as kernel.hpp computes it
+  double h, w0, c;  // c = w0 / (h h), as kernels/cubic_spline.hpp computes it
   explicit KernelWF(const CubicSplineKernel& W) : h(W.h), w0(W.w0), c(W.w0 / (W.h * W.h)) {}
   double F(double r, double* w = nullptr) const {  // also W(r) into *w when asked
     const double q = r / h;

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/neighbours.hpp"
 #include "fluid/common/params.hpp"
 #include "fluid/common/types.hpp"

@@ -12,7 +12,7 @@
 //         + sum_j m (mu_i + mu_j) / (rho_i rho_j) F_ij u_ij  + F_i / rho_i   (Morris viscosity, C Eq. 17)
 //   u^{n+1} = u^n + dt a_i                                             V Eq. (22) 2nd line
 //   x^{n+1} = x^{n+1/2} + dt/2 xsph(u^{n+1})                           V Eq. (22) 3rd line
-// with F_ij = (1/r) dW/dr (kernel.hpp) and xsph(u)_i = u_i - eps sum_j (m/rho_j) u_ij W_ij (V Eq. 21).
+// with F_ij = (1/r) dW/dr (kernels/cubic_spline.hpp) and xsph(u)_i = u_i - eps sum_j (m/rho_j) u_ij W_ij (V Eq. 21).
 // The acceleration a^{n+1/2} is evaluated at x^{n+1/2} with the velocities u^n (the only ones at
 // hand): second order for the pressure, first order in time for the viscous term.
 // The XSPH sum of u^{n+1} uses the neighbours and densities of x^{n+1/2} (the only ones at hand);
@@ -106,7 +106,7 @@
 #include <utility>
 #include <vector>
 
-#include "fluid/common/kernel.hpp"
+#include "kernels/cubic_spline.hpp"
 #include "fluid/common/free_surface.hpp"
 #include "fluid/common/lattice.hpp"
 #include "fluid/common/loads.hpp"
