@@ -130,6 +130,15 @@ TEST(Gate, WcsphHoldsAColumnAndLeaves) {
   EXPECT_GT(h.x().col(0).maxCoeff(), 0.6);  // the water has run out under the gate
 }
 
+// A checkpoint taken while the gate moves: the restored run places the gate where it was and continues
+// bit for bit (ISPH with the direct Poisson solver, as Isph.CheckpointContinuesBitForBit; WCSPH).
+TEST(Gate, CheckpointWhileItLiftsContinuesBitForBit) {
+  Scene s = column({"gate.x=0.4", "gate.speed=2.0", "gate.start=0.01", "solver.poisson=cholmod_supernodal"});
+  EXPECT_GT(test::restart_continues_bit_for_bit<IsphFluid>(s.sim.fluid, 30), 0.1);
+  Scene w = wcsph_column({"gate.x=0.4", "gate.speed=2.0", "gate.start=0.01"});
+  EXPECT_GT(test::restart_continues_bit_for_bit<WcsphFluid>(w.sim.fluid, 60), 0.1);
+}
+
 TEST(Gate, BadInputIsRefusedByKey) {
   auto expect = [](const std::string& m, const std::string& key, const std::string& what) {
     EXPECT_NE(m.find(key), std::string::npos) << m;
