@@ -76,7 +76,7 @@ void append_gate(const Lattice& L, double support, const GateParams& g, double t
   const Domain& d = L.domain;
   const int cols = static_cast<int>(std::ceil(support / L.dx));
   const int rows = static_cast<int>(std::ceil((top - d.y0 + support) / L.dy));
-  const double lift = g.lift(t), v = g.velocity(t);
+  const double lift = g.lift(t);
   const int M0 = w.size(), M = M0 + cols * rows;
   w.x.conservativeResize(M, 2);
   w.u.conservativeResize(M, 2);
@@ -86,7 +86,7 @@ void append_gate(const Lattice& L, double support, const GateParams& g, double t
       w.x(k, 0) = g.x + (i + 0.5) * L.dx;
       w.x(k, 1) = d.y0 + (j + 0.5) * L.dy + lift;
       w.u(k, 0) = 0.0;
-      w.u(k, 1) = v;
+      w.u(k, 1) = 0.0;  // moved, not sweeping: see walls.hpp
       w.side.push_back(kGateSide);
       w.dist.push_back((i + 0.5) * L.dx);
       w.inner.push_back(i == 0);
