@@ -19,6 +19,8 @@
 # Membranes with laws and bending (docs/membrane_validation.md):
 #   capsule_bending  capsule with bending in shear: D/Ca at Ca 0.005-0.05 (H = 2, 4), walls (H = 2, 4, 8),
 #                    markers and lattice at Ca 0.05, three laws, against D = Ca_b/sqrt(9 + 4 Ca_b^2)
+#   capsule_inertia  the capsule's inclination and D in a wide channel (H = 8, Ca = 0.005) against Re
+#                    (0.16, 0.016, 0.0016) and the lattice (dx = 0.0625, 0.03125, 0.0156)
 #   relaxation       decay of modes 2 and 3 with bending against n((n^2-1)Eb/R^2)/(4 mu R): Nx = 32-512,
 #                    walls (L = 4, 8, 16), markers per dx and h*/h at 256^2
 #   oscillation_period  the oscillating membrane's period against h* (h* ~ dx, h* fixed), amplitude and
@@ -265,6 +267,11 @@ for s in "${sections[@]}"; do
       for law in hookean neo_hookean; do
         env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law $law --eb-hat 0.1 --t-end 6 --ca 0.01 --cfl 0.05 \
           --out $OUT/capsule_bending/law_$law
+      done ;;
+    capsule_inertia)  # (one thread per run: the two cores are shared)
+      C="env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law skalak --eb-hat 0.1 --t-end 6 --ca 0.005 --cfl 0.2 --height 8"
+      for nx in 256 512 1024; do
+        for rho in 1 0.1 0.01; do $C --nx $nx --rho $rho --out $OUT/capsule_inertia/nx${nx}_rho$rho; done
       done ;;
     relaxation)
       R="env OMP_NUM_THREADS=1 build/membrane_relaxation"

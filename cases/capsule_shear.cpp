@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--height", p.H, "channel height H (domain H x 2H, r0 = 0.4, confinement 2 r0/H)");
   app.add_option("--t-end", p.t_end, "end time in units of 1/G");
+  app.add_option("--rho", p.rho, "fluid density (Re = rho G r0^2 / mu; 1: Re = 0.16)")->check(CLI::PositiveNumber);
   app.add_option("--cfl", p.cfl, "time step dt = cfl dx / U, U = G H/2 the wall speed");
   app.add_option("--lambda", p.lambda, "viscosity ratio mu_in / mu_out of the capsule's fluid (membrane.viscosity_ratio)")
       ->check(CLI::Range(0.01, 100.0));
