@@ -713,6 +713,7 @@ void read_regularisation(Reader& r, Scene& s) {
 void read_gate(Reader& r, Scene& s) {
   GateParams& g = s.sim.fluid.gate;
   g.on = r.has("gate");
+  if (!g.on && !r.documenting) return;  // no gate keys in the resolved scene (a checkpoint's restart)
   g.x = r.number("gate.x", 0.0, "inside the domain", "the gate's face: a plate of wall particles on the line x = gate.x, "
                  "the fluid on its low side (ISPH, WCSPH)", g.on);
   g.speed = r.number("gate.speed", 0.0, "> 0", "the gate's lift speed, m/s (constant from gate.start on)", g.on, 0.0, true);
