@@ -130,7 +130,7 @@ struct IsphParams {
   double shifting_A = 2.0;  // Fickian: D = A h |u| dt (Lind et al. Eq. 24)
 };
 
-// A dam break's gate (walls.hpp, append_gate; ISPH): a vertical plate of wall particles with its face on
+// A dam break's gate (walls.hpp, append_gate; ISPH and WCSPH): a vertical plate of wall particles with its face on
 // the line x = gate.x, the fluid on its low side, lifted at a constant speed from t = start. Off unless
 // a scene has [gate].
 struct GateParams {

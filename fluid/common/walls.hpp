@@ -29,18 +29,18 @@ struct VirtualWalls {
 // order of the extended lattice (rows from the bottom, left to right).
 VirtualWalls make_virtual_walls(const Lattice& L, double support);
 
+// What is wrong with the gate's keys (gate.*) for the scene's tank and fluid (none without a gate).
+std::optional<ParamProblem> gate_problem(const FluidParams& p);
+
 // A dam break's gate (GateParams): a plate of wall particles ceil(2h / dx) columns thick behind the
 // line x = g.x (the fluid on its low side), on the lattice's rows from the floor to `top` + 2h, raised by
 // g.lift(t); appended to w with side kGateSide, dist the distance behind the face, inner the column
-// next to it. The particles carry no velocity into the pairs (u = 0): the plate is moved from step to
-// step, and the water fills the room under its lower edge by its own pressure. With the lift speed in
-// the pairs, the edge of a plate 2h thick (a numerical thickness) was a source of volume 2h v at its
-// edge (the mirror rule of the divergence, the continuity equation): a gate lifted at 100 m/s, gone in
-// ten steps, left the ISPH front 1.08 rms from the experiments against 0.27 without a gate, and WCSPH
-// stopped (measured, dam break 1250 particles). The face on a lattice line x0 + k dx continues the lattice,
-// so that a column at rest against it is the rest state of a tank.
-// What is wrong with the gate's keys (gate.*) for the scene's tank and fluid (none without a gate).
-std::optional<ParamProblem> gate_problem(const FluidParams& p);
+// next to it. The face on a lattice line x0 + k dx continues the lattice, so that a column at rest
+// against it is the rest state of a tank. The particles carry no velocity into the pairs (u = 0): the
+// plate is moved from step to step, and the water fills the room under its lower edge by its own
+// pressure. With the lift speed v in the pairs (the mirror rule of the divergence, the continuity
+// equation) the lower edge of the plate, 2h thick (a numerical thickness, not the experiment's), would
+// be a source of volume 2h v (docs/free_surfaces.md, "Dam break: the surge front").
 void append_gate(const Lattice& L, double support, const GateParams& g, double top, double t, VirtualWalls& w);
 
 // Morris et al. (1997): a virtual particle B at distance d_B beyond its wall, seen from a fluid

@@ -88,9 +88,10 @@
 // A gate (prm.gate, [gate] in a scene; walls.hpp, append_gate): a plate of wall particles appended to
 // the tank's, of the same kind (Morris factors with the distance to its face, the mirror rule, the
 // wall pressure, the Lennard-Jones push of its inner column, no particle within half a spacing of its
-// face, A Eq. 26's mirror images across its face), lifted at gate.speed from gate.start. While it
-// moves the Verlet list is built every step with its new positions; once its lowest row is more than
-// 2h above the highest particle it is removed and the walls are the tank's again.
+// face, A Eq. 26's mirror images across its face; no velocity in the pairs: walls.hpp), lifted at
+// gate.speed from gate.start. While it moves the Verlet list is built every step with its new
+// positions; once its lowest row is more than 2h above the highest particle it is removed and the
+// walls are the tank's again.
 //
 // A particle that leaves the tank (through a wall or an open side) or gets a non-finite position
 // stops the run naming it, the side and the time (keep_in_tank, boundary.hpp).
