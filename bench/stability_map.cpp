@@ -35,7 +35,7 @@
 //     values, energy above the bound, a failing fixed point or a marker leaving the fluid count.
 //  S  as E with convection off.
 //
-//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--report-only]      (--help)
+//   stability_map [--parts GTESX] [--out DIR] [--cases DIR] [--quick] [--residual] [--report-only]      (--help)
 //
 // --report-only runs nothing: it reads DIR/stability_runs.csv and DIR/stability_dtmax.csv back and
 // rewrites them and DIR/stability_map.md (new columns, new text, same measurements).
@@ -104,6 +104,7 @@ struct Params {
   std::string law = "hookean";  // membrane.law; T0 is its modulus (Es) for the other laws
   double Eb = 0;           // bending modulus (part B)
   int semi = -1;           // membrane.semi_implicit: -1 the scene's default (off for Hookean without bending), 0, 1
+  bool residual = false;   // membrane.stiff_residual (with semi_implicit): the filter's residual G
   bool guard = true;       // true: run_scene and its checks; false: the bench's own loop without the
                            // dx-per-step guards (non-finite values, energy growth, fixed point, markers leaving)
   double dx() const { return kL / nx; }
@@ -143,6 +144,7 @@ struct Params {
     }
     if (Eb > 0) s.push_back("membrane.Eb=" + num(Eb));
     if (Eb > 0 || law != "hookean" || semi >= 0) s.push_back(std::string("membrane.semi_implicit=") + (semi_implicit() ? "true" : "false"));
+    if (residual && semi_implicit()) s.push_back("membrane.stiff_residual=true");
     if (h_star_abs > 0) s.push_back("membrane.h_star=" + num(h_star_abs, 12));
     else s.push_back("membrane.h_star_over_h=" + num(hsh));
     return s;
@@ -190,6 +192,7 @@ struct Options {
   fs::path out = "bench_out/stability_map";
   fs::path cases = "cases";
   bool quick = false, report_only = false;
+  bool residual = false;  // part B: the semi-implicit runs with membrane.stiff_residual (axis "semi+G:..."), Eb and Es axes only
 };
 
 class Bench {
@@ -502,6 +505,7 @@ class Bench {
   // runner's checks (convection on): the largest stable dt against Eb (Hookean T0 = 1, mu = 0.1 and
   // 10), against Es (Skalak, C = 1, no bending, mu = 0.1) and against markers per dx with bending
   // (Eb = 1, T0 = 1, mu = 0.1).
+  std::string semi_axis() const { return o_.residual ? "semi+G" : "semi"; }
   void part_b() {
     std::printf("B: largest stable dt against Eb, Es (skalak) and markers/dx with bending, explicit and semi-implicit\n");
     const std::vector<int> semis{0, 1};
@@ -512,16 +516,17 @@ class Bench {
         for (double Eb : Ebs) {
           if (semi && Eb == 0) continue;
           Params p;
-          p.T0 = 1, p.mu = mu, p.Eb = Eb, p.semi = semi;
-          bisect("B", std::string(semi ? "semi" : "explicit") + ":Eb", p);
+          p.T0 = 1, p.mu = mu, p.Eb = Eb, p.semi = semi, p.residual = o_.residual;
+          bisect("B", std::string(semi ? semi_axis() : "explicit") + ":Eb", p);
         }
     if (o_.quick) return;
     for (int semi : semis)
       for (double Es : {1.0, 10.0, 100.0, 1e3, 1e4}) {
         Params p;
-        p.law = "skalak", p.T0 = Es, p.semi = semi;
-        bisect("B", std::string(semi ? "semi" : "explicit") + ":Es", p);
+        p.law = "skalak", p.T0 = Es, p.semi = semi, p.residual = o_.residual;
+        bisect("B", std::string(semi ? semi_axis() : "explicit") + ":Es", p);
       }
+    if (o_.residual) return;
     for (double Eb : {1.0, 10.0})
       for (int semi : semis)
         for (double m : {1.0, 1.5, 1.91, 3.0, 4.0}) {
@@ -604,7 +609,8 @@ class Bench {
       << ". Eb axis: Hookean T0 = 1 with bending Eb (reference: the circle r0 = 0.5, so the released ellipse is "
          "bent too), mu = 0.1 and 10; Es axis: law skalak (C = 1) without bending, mu = 0.1; markers/dx axis: "
          "T0 = 1, Eb = 1 and 10, mu = 0.1; Nx axis: Nx = 24, 48, 64 (Nb = 2 Nx, h* = 1.68 dx), Eb = 1 with mu = 0.1 "
-         "and Eb = 10 with mu = 10, explicit. `explicit`: membrane.semi_implicit = false; `semi`: the stiff-force filter. "
+         "and Eb = 10 with mu = 10, explicit. `explicit`: membrane.semi_implicit = false; `semi`: the stiff-force filter; "
+         "`semi+G`: with its residual (membrane.stiff_residual, `--residual`). "
          "`bending estimate` = max(" << kBendCi << " sqrt(rho h*^5/Eb), " << kBendCv << " mu h*^3/Eb), `sphib check`'s "
          "explicit bending limit; `bending-limited`: the limit is below half that of the same membrane without bending (Eb = 0 row) "
          "and the failure is not the markers' CFL (a faster flow, not an unstable force); the fit uses those rows.\n\n"
@@ -616,7 +622,7 @@ class Bench {
       double ratio = NAN;  // the same point explicit
       if (semi)
         for (const DtMax* e : b)
-          if (e->axis == "explicit" + d->axis.substr(4) && e->p.T0 == d->p.T0 && e->p.Eb == d->p.Eb &&
+          if (e->axis == "explicit" + d->axis.substr(d->axis.find(':')) && e->p.T0 == d->p.T0 && e->p.Eb == d->p.Eb &&
               e->p.mu == d->p.mu && e->p.nb == d->p.nb && e->p.nx == d->p.nx && e->p.law == d->p.law)
             ratio = (std::isfinite(d->hi) ? d->estimate() : d->lo) / e->estimate();
       m << "| " << d->axis << " | " << d->p.law << " | " << num(d->p.T0) << " | " << num(d->p.Eb) << " | "
@@ -969,6 +975,7 @@ class Bench {
       if (const double Eb = d(r, "Eb"); std::isfinite(Eb)) p.Eb = Eb;
       if (const double s = d(r, "semi_implicit"); std::isfinite(s)) p.semi = static_cast<int>(s);
       const std::string part = r.at("part"), axis = r.at("axis");
+      p.residual = axis.rfind("semi+G", 0) == 0;
       p.convection = !(part == "S" || axis.rfind("elastic/", 0) == 0);
       p.guard = part == "G" || part == "T" || axis.rfind("runner/", 0) == 0;
       return p;
@@ -1047,6 +1054,8 @@ int main(int argc, char** argv) {
                     "runner's dx-per-step guards (the bench's loop), S as E with convection off, X largest stable dt "
                     "against Nx, markers/dx, h/dx, h*/h, B bending (Eb), the Skalak law (Es) and markers/dx with bending, "
                     "explicit and semi-implicit");
+  app.add_flag("--residual", o.residual,
+               "part B: the semi-implicit runs with membrane.stiff_residual = true (axes semi+G:Eb, semi+G:Es only)");
   app.add_flag("--report-only", o.report_only, "run nothing: read DIR's two CSV files back, rewrite them and the Markdown");
   return run_main(app, argc, argv, [&] {
     Bench(o).run_all();

@@ -307,6 +307,9 @@ for s in "${sections[@]}"; do
       $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/domain6_small_conv \
         --vary grid.nx=256,512 --derive grid.ny={grid.nx} --derive membrane.nb={grid.nx} --set domain.x=[-3,3] \
         --set domain.y=[-3,3] $SMALL $P --report $REP
+      # the period and decay rate fitted to the whole signal (docs/membrane_validation.md)
+      /usr/bin/python3 scripts/oscillation_fit.py $OUT/oscillation_period/small/run_* \
+        $OUT/oscillation_period/domain6_small/run_* $OUT/oscillation_period/domain6_small_conv/run_*
       # the kernel widths at a fixed lattice (64^2), and the 64^2 widths on a 128^2 lattice
       $N1 $SWEEP --scene cases/membrane_oscillation.toml --out $OUT/oscillation_period/h_over_dx_64 \
         --vary kernel.h_over_dx=1.2,1.5,2.0 $P --report $REP

@@ -17,6 +17,20 @@ constexpr double kStiff = 0.1;
 // (docs/membranes.md, "Accuracy"): larger weights or a lower threshold diverge on some of the scenes
 // measured there.
 constexpr double kRelax = 0.2, kResolved = 0.9;
+// The residual's gain. A component j (normal, tangential) of G moves the force of every component i
+// by dt K_ij and that force the membrane by B_i: its gain on the mode is s_j = dt max_i |K_ij| B_i
+// (a column of dt B K). G_j's weight falls as kRelax min(1, kLag / s_j) where s_j > kLag, so that
+// the loop residual -> G -> f~ -> U, of gain about 1 - w b/B on a stiff mode (b the fluid's true
+// response), stays below 1 when B is off by a large factor; a normal component keeps the full
+// weight while the mode keeps its velocity over a step (A >= kViscous: a tank-treading capsule's
+// bending modes, whose residual must follow the tank-treading). Any weight
+// gives the same fixed point (a steady state still receives f^n). |G_j| is capped at kCap B_j |f^n_j|
+// (a steady state has |G_j| = B_j |f^n_j|). And with G the tangential layer is at least the
+// interpolation's smoothing length h (the lattice carries no thinner layer; sqrt(pi nu dt) < h
+// overestimates Bt, 20 times at mu = 0.1, dt = 1e-4 on the stability map's lattice, h = 0.1125).
+// Each of the three chosen by measurement (docs/membranes.md, "The residual's gain"): without any
+// one of them a row of the stability map fails where the default is stable.
+constexpr double kLag = 1.0, kViscous = 0.2, kCap = 1.5;
 using C = std::complex<double>;
 
 // An upper bound of the cubic-spline kernel's 2-D Fourier transform at q = k h: within 1.25x of
@@ -71,7 +85,7 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
 
   const double R = st.length / (2.0 * kPi), dt = fl.dt, nu = fl.mu / fl.rho;
   const double Et = st.Et / (R * R), Tp = std::max(st.T_mean, 0.0) / (R * R), Eb = st.Eb / (R * R * R * R);
-  const double layer = std::sqrt(kPi * nu * dt);
+  const double layer = residual_ ? std::max(std::sqrt(kPi * nu * dt), fl.h) : std::sqrt(kPi * nu * dt);
   const C i(0.0, 1.0);
   C* Up = hist_.data();  // U^{n-1} (normal modes, then tangential), f~^{n-1}, G
   C* Fp = Up + 2 * nm_;
@@ -95,8 +109,14 @@ void StiffForceFilter::apply(const MembraneForce& force, const Mat2& f, const Ma
     if (!residual_ || s <= kResolved) {
       G[m] = G[nm_ + m] = 0.0;
     } else if (record && have_prev_) {
-      G[m] += kRelax * (Un[m] - A * Up[m] - Bn * Fp[m] - G[m]);
-      G[nm_ + m] += kRelax * (Ut[m] - A * Up[nm_ + m] - Bt * Fp[nm_ + m] - G[nm_ + m]);
+      const double sa = dt * std::max(Kaa * Bn, std::abs(Kba) * Bt), sb = dt * std::max(Kbb * Bt, std::abs(Kab) * Bn);
+      const double wn = kRelax * std::min(1.0, std::max(kLag / sa, A / kViscous));
+      const double wt = kRelax * std::min(1.0, kLag / sb);
+      G[m] += wn * (Un[m] - A * Up[m] - Bn * Fp[m] - G[m]);
+      G[nm_ + m] += wt * (Ut[m] - A * Up[nm_ + m] - Bt * Fp[nm_ + m] - G[nm_ + m]);
+      const double cap_n = kCap * Bn * std::abs(Fn[m]), cap_t = kCap * Bt * std::abs(Ft[m]);  // Fn, Ft: f^n
+      if (std::abs(G[m]) > cap_n) G[m] *= cap_n / std::abs(G[m]);
+      if (std::abs(G[nm_ + m]) > cap_t) G[nm_ + m] *= cap_t / std::abs(G[nm_ + m]);
     }
     // r = f - theta dt K (A U + G);  M = I + theta dt K B;  f~ = M^{-1} r
     const C pa = A * Un[m] + G[m], pb = A * Ut[m] + G[nm_ + m];

@@ -13,13 +13,15 @@
 // own force, per Fourier mode m along the membrane, and G what that model misses: the velocity the
 // rest of the flow gives the mode (a shear holding a capsule deformed) and the model's error. G is
 // measured, the residual of the last step's prediction, G^n = U^n - A U^{n-1} - B f~^{n-1},
-// smoothed over steps (weight 0.2) and kept on the well-resolved modes only, when asked
+// smoothed over steps (weight 0.2, lowered on stiff modes and capped: stiff_force.cpp, "the
+// residual's gain") and kept on the well-resolved modes only, when asked
 // (membrane.stiff_residual = true; otherwise G = 0, the backward-Euler prediction alone). Without G (G = 0) the
 // filter's steady state is wrong: a mode held still by the flow (U = 0) receives f^n / (1 + dt K B)
 // instead of f^n, so a stiff capsule in shear deformed 4 times too much at the flow's step; with G
 // a steady state (U^{n+1} = U^n, K U = 0) receives f^n, as the explicit force gives it. It is not
-// the default because it is less stable on stiff stretching (Skalak Es >= 100 at mu = 0.1 in the
-// stability map, docs/membranes.md).
+// the default: its largest stable step is below the default's on some scenes (0.65 to 1.3 times it
+// on the stability map, docs/membranes.md), and it reaches a steady force slowly on stiff modes in
+// a very viscous flow.
 // This is the small-scale decomposition of Hou, Lowengrub & Shelley (1994, J. Comput. Phys. 114,
 // 312): the stiff terms, linearised, are implicit in the membrane's own Fourier modes, where they are
 // diagonal. The markers still move with the fluid (the divergence-free interpolation keeps the

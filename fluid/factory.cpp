@@ -17,6 +17,9 @@ std::optional<ParamProblem> free_surface_problem(const FluidParams& p) {
 
 std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params, Profiler* profiler) {
   if (const auto e = free_surface_problem(params)) throw std::invalid_argument(e->key + ": " + e->what);
+  if (params.domain.any_through() && params.method != FluidMethod::Eulerian)
+    throw std::invalid_argument(std::string("domain.inflow/domain.outflow: inflow and outflow sides are available for "
+                                            "method \"eulerian\" only (not \"") + to_string(params.method) + "\")");
   switch (params.method) {
     case FluidMethod::Eulerian: return std::make_unique<EulerianFluid>(params, profiler);
     case FluidMethod::Lagrangian: return std::make_unique<LagrangianFluid>(params, profiler);

@@ -174,7 +174,8 @@ int warnings_for(const Scene& scene, const Picture& p, std::ostream& out) {
   std::vector<Scale> scales;
   double U_wall = 0;
   for (int s = 0; s < 4; ++s)
-    if (d.is_wall(static_cast<Side>(s))) U_wall = std::max(U_wall, d.wall_velocity[s].norm());
+    if (d.is_wall(static_cast<Side>(s)) || d.kind(static_cast<Side>(s)) == SideKind::Inflow)
+      U_wall = std::max(U_wall, d.wall_velocity[s].norm());
   scales.push_back({U_wall, "wall velocity"});
   scales.push_back({p.u.rowwise().norm().maxCoeff(), "initial velocity"});
   double F = scene.sim.body_force.norm();

@@ -493,8 +493,8 @@ void read_material(Reader& r, const std::string& p, MembraneScene& m) {
                               "membranes run at the step the flow needs (default: with bending or a law other than hookean)");
   m.stiff_residual = r.boolean(p + "stiff_residual", false,
                                "the semi-implicit force predicts the membrane's next velocity with the measured residual "
-                               "of its model (steady shapes as accurate as the explicit force's at large steps; less "
-                               "stable on stiff stretching laws; docs/membranes.md)");
+                               "of its model (steady shapes as accurate as the explicit force's at large steps; its "
+                               "largest stable step 0.65 to 1.3 times the default's; docs/membranes.md)");
   if (!r.documenting && m.stiff_residual && !m.semi_implicit)
     r.fail(p + "stiff_residual", "refines the semi-implicit force: set semi_implicit = true too");
 }
@@ -554,28 +554,60 @@ void read_domain(Reader& r, Scene& s) {
   f.domain.periodic_x = r.boolean("domain.periodic_x", true, "periodic in x (else no-slip walls at x0 and x1)");
   f.domain.periodic_y = r.boolean("domain.periodic_y", false, "periodic in y (else no-slip walls at y0 and y1)");
   const char* sides[4] = {"left", "right", "bottom", "top"};
-  if (const toml::node* op = r.raw("domain.open", "array of strings",
-                                   "sides open to free space, from left, right, bottom, top: no wall there (free-surface "
-                                   "methods; a particle crossing one stops the run)")) {
+  // Sides of a kind other than a no-slip wall (fluid/common/boundary_rule.hpp), each an array of side
+  // names: open (free space), inflow, outflow.
+  auto read_sides = [&](const char* key, SideKind kind, const char* help) {
+    const toml::node* op = r.raw(key, "array of strings", help);
+    if (!op) return;
     const toml::array* a = op->as_array();
-    if (!a) r.fail("domain.open", "must be an array of side names (left, right, bottom, top)");
+    if (!a) r.fail(key, "must be an array of side names (left, right, bottom, top)");
     for (const auto& e : *a) {
       const auto v = e.value<std::string>();
       const int k = v ? static_cast<int>(std::find(sides, sides + 4, *v) - sides) : 4;
-      if (k == 4) r.fail("domain.open", "allowed side names: left, right, bottom, top");
+      if (k == 4) r.fail(key, "allowed side names: left, right, bottom, top");
       if (f.domain.is_periodic(static_cast<Side>(k)))
-        r.fail("domain.open", std::string("the ") + sides[k] + " side is periodic (domain.periodic_" + (k < 2 ? "x" : "y") + ")");
-      f.domain.open[k] = true;
+        r.fail(key, std::string("the ") + sides[k] + " side is periodic (domain.periodic_" + (k < 2 ? "x" : "y") + ")");
+      if (f.domain.bounded[k] != SideKind::NoSlip)
+        r.fail(key, std::string("the ") + sides[k] + " side is already " + side_kind_name(f.domain.bounded[k]));
+      f.domain.bounded[k] = kind;
     }
-  }
+  };
+  read_sides("domain.open", SideKind::Open,
+             "sides open to free space, from left, right, bottom, top: no wall there (free-surface "
+             "methods; a particle crossing one stops the run)");
+  read_sides("domain.inflow", SideKind::Inflow,
+             "sides where a prescribed velocity enters (method eulerian): the side's walls.<side> velocity shaped by "
+             "domain.inflow_profile");
+  read_sides("domain.outflow", SideKind::Outflow,
+             "sides where the flow leaves (method eulerian): zero normal gradient of the velocity, phi = 0 there");
+  const std::string profile = r.choice("domain.inflow_profile", "none", {"none", "uniform", "parabolic"},
+                                       "the inflow's velocity along its side: uniform (walls.<side> everywhere) or "
+                                       "parabolic (4 s (1 - s) walls.<side>, s in [0, 1] along the side)");
+  f.domain.inflow_profile = profile == "uniform" ? InflowProfile::Uniform
+                            : profile == "parabolic" ? InflowProfile::Parabolic
+                                                     : InflowProfile::None;
+  bool inflow = false;
   for (int k = 0; k < 4; ++k) {
     const std::string key = std::string("walls.") + sides[k];
     const bool given = r.has(key);
-    f.domain.wall_velocity[k] = r.pair(key, Eigen::Vector2d::Zero(), std::string("velocity of the ") + sides[k] + " wall");
-    if (given && !f.domain.is_wall(static_cast<Side>(k)))
-      r.fail(key, f.domain.open[k] ? "a wall velocity is given on an open side" : "a wall velocity is given on a periodic side");
+    const Side side = static_cast<Side>(k);
+    f.domain.wall_velocity[k] = r.pair(key, Eigen::Vector2d::Zero(), std::string("velocity of the ") + sides[k] +
+                                                                         " wall (of an inflow side: the inflow's velocity)");
+    const SideKind kind = f.domain.kind(side);
+    if (kind == SideKind::Inflow) {
+      inflow = true;
+      const double normal = (k < 2 ? f.domain.wall_velocity[k].x() : f.domain.wall_velocity[k].y()) * (k % 2 == 0 ? 1.0 : -1.0);
+      if (!r.documenting && !(normal > 0))
+        r.fail(key, std::string("the inflow through the ") + sides[k] + " side needs a velocity pointing into the domain");
+      if (!r.documenting && f.domain.inflow_profile == InflowProfile::None)
+        r.fail("domain.inflow_profile", "an inflow needs its profile: \"uniform\" or \"parabolic\"");
+    } else if (given && !f.domain.is_wall(side)) {
+      r.fail(key, std::string("a wall velocity is given on ") +
+                      (kind == SideKind::Periodic ? "a periodic side" : std::string("an ") + side_kind_name(kind) + " side"));
+    }
     if (const std::string why = wall_moves_normally(f.domain, k); !why.empty()) r.fail(key, why);
   }
+  if (!inflow && profile != "none") r.fail("domain.inflow_profile", "is given without an inflow side (domain.inflow)");
 }
 
 // Resolution, kernel, the fluid and its method's parameters.
@@ -604,6 +636,19 @@ void read_fluid(Reader& r, Scene& s) {
       "Poisson operator of the projection: exact (D G: the projected velocity is discretely divergence-free), "
       "approximate (the paper's Morris Laplacian, Eq. 31); auto: exact for eulerian, approximate for lagrangian and isph");
   if (projection != "auto" && s.method == FluidMethod::Wcsph) r.fail("fluid.projection", "does not apply to method \"wcsph\" (no projection)");
+  if (f.domain.any_through()) {  // inflow and outflow: the fixed lattice's images (EPSPH) and no stream function
+    const char* key = "domain.inflow";
+    for (int k = 0; k < 4; ++k)
+      if (f.domain.kind(static_cast<Side>(k)) == SideKind::Outflow) key = "domain.outflow";
+    for (int k = 0; k < 4; ++k)
+      if (f.domain.kind(static_cast<Side>(k)) == SideKind::Inflow) key = "domain.inflow";
+    if (s.method != FluidMethod::Eulerian)
+      r.fail(key, std::string("inflow and outflow sides are available for method \"eulerian\" only (not \"") +
+                      to_string(s.method) + "\")");
+    if (projection == "exact")
+      r.fail("fluid.projection", "\"exact\" needs walls or periodic sides (its stream function is constant along a "
+                                 "wall); with domain.inflow or domain.outflow use \"approximate\"");
+  }
   if (projection == "exact" && s.method == FluidMethod::Lagrangian)
     r.fail("fluid.projection", "\"exact\" is available for method \"eulerian\" only (lagrangian: \"approximate\")");
   f.projection = projection == "approximate" ? Projection::Approximate

@@ -8,10 +8,11 @@ The markers move by the trapezoidal rule, X^{n+1} = X^n + dt/2 (u^n + u^{n+1}) (
 filter spreads
     f~ = (f^n - theta dt K~ (A u^n + G)) / (1 + theta dt K~ B),   theta = min(1, dt K~ B / 0.1),
 with estimates K~ = fk K, B = fb b, A = fa a of the true stiffness and response, and G the model's
-residual, G <- G + w (u^n - A u^{n-1} - B f~^{n-1} - G) (w = 0: no residual, G = 0). The explicit
+residual, G <- G + w (u^n - A u^{n-1} - B f~^{n-1} - G) (w = 0: no residual, G = 0); with the
+lagged gain (coupling/stiff_force.cpp) the weight is w min(1, 1 / (theta dt K~ B)) instead. The explicit
 force is f~ = f^n. Each combination runs 3000 steps from X = 1; 'unstable' means |X| > 1e6.
 
-Prints, for the explicit force and for the filter with w = 0, 0.2 and 1: how many of the
+Prints, for the explicit force and for the filter with w = 0, 0.2 and 1, and w = 0.2 lagged: how many of the
 (rho_a, c, K) regimes blow up, for estimates that overestimate (fk, fb >= 1) and that underestimate;
 and the steady displacement under a steady force g = 1 against the exact 1/K.
 Usage: scripts/stiff_force_model.py
@@ -19,11 +20,13 @@ Usage: scripts/stiff_force_model.py
 import itertools
 
 
-def run(rho_a, c, K, dt, fa, fb, fk, w=0.0, explicit=False, g=0.0, nsteps=3000):
+def run(rho_a, c, K, dt, fa, fb, fk, w=0.0, explicit=False, g=0.0, nsteps=3000, lag=False):
     X, u = 1.0, 0.0
     a, b = 1 / (1 + dt * c / rho_a), dt / (rho_a + dt * c)
     A, B, Kt = a * fa, b * fb, K * fk
     th = min(1.0, dt * Kt * B / 0.1)
+    if lag and th * dt * Kt * B > 1:
+        w = w / (th * dt * Kt * B)
     G, prev = 0.0, None
     for _ in range(nsteps):
         f = -K * X
@@ -52,15 +55,15 @@ cases = [("exact estimates", [1], [1], [1]),
          ("underestimated B (fb = 0.5), K exact", [1], [0.5], [1]),
          ("underestimated K (fk = 0.3), B exact", [1], [1], [0.3])]
 steady = [(1e-2, 1, 1e4), (1, 10, 1e6), (1e-4, 1e-3, 1e3)]
-for w in [0.0, 0.2, 1.0]:
-    print(f"filter, residual weight w = {w}:")
+for w, lag in [(0.0, False), (0.2, False), (1.0, False), (0.2, True)]:
+    print(f"filter, residual weight w = {w}{' lagged' if lag else ''}:")
     for name, fas, fbs, fks in cases:
         tot = bad = 0
         for r in regimes:
             for fa, fb, fk in itertools.product(fas, fbs, fks):
                 tot += 1
-                bad += run(*r, dt, fa, fb, fk, w) is None
+                bad += run(*r, dt, fa, fb, fk, w, lag=lag) is None
         print(f"  {name}: {bad} unstable of {tot}")
-    xs = [run(*r, dt, 1, 1, 1, w, g=1.0, nsteps=20000) * r[2] for r in steady]
+    xs = [run(*r, dt, 1, 1, 1, w, g=1.0, nsteps=200000 if lag else 20000, lag=lag) * r[2] for r in steady]
     print("  steady K X under g = 1 (exact 1) at (rho_a, c, K) = " +
           ", ".join(f"{r}: {x:.6g}" for r, x in zip(steady, xs)))

@@ -103,7 +103,7 @@ TEST(CompactStorage, AssemblyEqualsTheTripletAssembly) {
               const double s = difference ? -1.0 : 1.0;
               diag += a[k];
               if (j < N) t.emplace_back(i, j, s * a[k]);
-              else t.emplace_back(i, im.parent[j - N], s * (rule == ImageRule::Velocity ? im.v_sign[j - N] : 1.0) * a[k]);
+              else t.emplace_back(i, im.parent[j - N], s * (rule == ImageRule::Velocity ? im.v_sign[j - N] : im.s_sign[j - N]) * a[k]);
             }
             t.emplace_back(i, i, diag);
           }

@@ -61,6 +61,7 @@ struct System {
   SpMat A;
   NullSpace null;
   bool odd;
+  Field field;  // what it acts on: its images by the boundary rule
 };
 
 std::vector<System> systems(const LatticeOperators& f) {
@@ -75,11 +76,11 @@ std::vector<System> systems(const LatticeOperators& f) {
   const SpMat GtG_odd = SpMat(Gy.transpose()) * Gy + SpMat(Gx.transpose()) * Gx;
   const SpMat GtG_even = SpMat(op.grad_phiy.transpose()) * op.grad_phiy + SpMat(op.grad_phix.transpose()) * op.grad_phix;
   const bool box = d.periodic_x && d.periodic_y;
-  return {{"Crank-Nicolson (Eq. 28, velocity images)", I - a * op.lap_u.A, NullSpace::None, true},
-          {"Poisson (Eq. 32, Morris Laplacian, scalar images)", -op.lap_phi, NullSpace::Constants, false},
-          {"stream function of the exact projection (G^T G, odd images)", GtG_odd, NullSpace::GradientOddImages, true},
-          {"markers' stream function (Morris Laplacian, odd images)", -op.lap_u.A, box ? NullSpace::Constants : NullSpace::None, true},
-          {"G^T G, even images", GtG_even, NullSpace::GradientEvenImages, false}};
+  return {{"Crank-Nicolson (Eq. 28, velocity images)", I - a * op.lap_u.A, NullSpace::None, true, Field::VelocityNormal},
+          {"Poisson (Eq. 32, Morris Laplacian, scalar images)", -op.lap_phi, NullSpace::Constants, false, Field::Scalar},
+          {"stream function of the exact projection (G^T G, odd images)", GtG_odd, NullSpace::GradientStream, true, Field::Stream},
+          {"markers' stream function (Morris Laplacian, odd images)", -op.lap_u.A, box ? NullSpace::Constants : NullSpace::None, true, Field::Stream},
+          {"G^T G, even images", GtG_even, NullSpace::GradientScalar, false, Field::Scalar}};
 }
 
 Vec random_vector(int n, unsigned seed) {
@@ -137,7 +138,7 @@ TEST(FftSolver, MatchesCholmodOnEveryDomainAndSystem) {
         SCOPED_TRACE(std::string(dc.name) + ", " + sys.name + ", " + std::to_string(s.nx) + " x " + std::to_string(s.ny));
         const Gauge g(f.L, sys.null);
         std::string why;
-        auto fft = make_fft_solver(sys.name, sys.A, f.L, g.dimension() > 0, &why);
+        auto fft = make_fft_solver(sys.name, sys.A, f.L, sys.field, g.dimension() > 0, &why);
         ASSERT_TRUE(fft) << why;
         EXPECT_NE(fft->info().method.find(sys.odd ? dc.odd_x : dc.even_x), std::string::npos) << fft->info().method;
         const double kappa = condition(sys.A, *fft, g);
@@ -168,7 +169,7 @@ TEST(FftSolver, TwoColumnsEqualTwoSingleSolves) {
     const LatticeOperators f = lattice_operators(dc, 96, 96, 1.2);
     const System cn = systems(f)[0];
     std::string why;
-    auto fft = make_fft_solver(cn.name, cn.A, f.L, false, &why);
+    auto fft = make_fft_solver(cn.name, cn.A, f.L, cn.field, false, &why);
     ASSERT_TRUE(fft) << why;
     Eigen::MatrixXd B(f.size(), 2), X = Eigen::MatrixXd::Zero(f.size(), 2);
     B.col(0) = random_vector(f.size(), 1);
@@ -193,7 +194,7 @@ TEST(FftSolver, TwoThreadsGiveTheBitsOfOne) {
     for (const System& sys : systems(f)) {
       const Gauge g(f.L, sys.null);
       std::string why;
-      auto fft = make_fft_solver(sys.name, sys.A, f.L, g.dimension() > 0, &why);
+      auto fft = make_fft_solver(sys.name, sys.A, f.L, sys.field, g.dimension() > 0, &why);
       ASSERT_TRUE(fft) << dc.name << ", " << sys.name << ": " << why;
       const int N = f.size();
       Eigen::MatrixXd B(N, 2);
@@ -231,7 +232,7 @@ TEST(FftSolver, AlignedAndMisalignedArraysGiveTheSameBits) {
     for (const System& sys : systems(f)) {
       const Gauge g(f.L, sys.null);
       std::string why;
-      auto fft = make_fft_solver(sys.name, sys.A, f.L, g.dimension() > 0, &why);
+      auto fft = make_fft_solver(sys.name, sys.A, f.L, sys.field, g.dimension() > 0, &why);
       ASSERT_TRUE(fft) << dc.name << ", " << sys.name << ": " << why;
       const int N = f.size();
       Vec b = random_vector(N, 7);
@@ -247,10 +248,65 @@ TEST(FftSolver, AlignedAndMisalignedArraysGiveTheSameBits) {
   }
 }
 
+// Walls of different parities (the quarter-wave transforms, DCT-IV and DST-IV): phi's Laplacian
+// with its images at the right wall made odd (even left, odd right) and the velocity's
+// Crank-Nicolson matrix with its images at the right wall made even (odd left, even right), on a
+// closed box (banded in y) and on walls in x with y periodic (diagonal), n_x even and odd, against
+// CHOLMOD. Tolerances as MatchesCholmodOnEveryDomainAndSystem's (measured here: eta <= 6.8e-16,
+// |x_fft - x_cholmod| / |x| <= 1.7 kappa u, kappa 93-756).
+TEST(FftSolver, MixedWallParitiesTakeTheQuarterWaveTransforms) {
+  struct Size { int nx, ny; };
+  for (const DomainCase& dc : {kDomains[1], kDomains[3]})
+    for (const Size& sz : {Size{24, 20}, Size{17, 22}}) {
+      Domain dom;
+      dom.periodic_x = dc.px;
+      dom.periodic_y = dc.py;
+      const Lattice L = make_lattice(dom, sz.nx, sz.ny);
+      const CubicSplineKernel W(1.2 * 0.5 * (L.dx + L.dy));
+      Images im = make_images(L, W.support());
+      for (int k = 0; k < im.size(); ++k)  // the right wall's images (and corners beyond it) flip parity
+        if (im.x(k, 0) > dom.x1) {
+          im.s_sign[k] = -im.s_sign[k];
+          im.v_sign[k] = -im.v_sign[k];
+        }
+      const Operators op = build_operators(find_pairs(L, im.x, W.support()), L, im, W);
+      const int N = L.size();
+      SpMat I(N, N);
+      I.setIdentity();
+      struct Mixed { std::string name; SpMat A; XParities xp; const char* transform; };
+      const Mixed systems[] = {{"Poisson, even left, odd right", -op.lap_phi, {1, -1}, "DCT-IV in x"},
+                               {"Crank-Nicolson, odd left, even right", I - 0.3 * op.lap_u.A, {-1, 1}, "DST-IV in x"}};
+      for (const Mixed& sys : systems) {
+        SCOPED_TRACE(std::string(dc.name) + ", " + sys.name + ", n_x = " + std::to_string(sz.nx));
+        std::string why;
+        auto fft = make_fft_solver(sys.name, sys.A, L, sys.xp, false, &why);
+        ASSERT_TRUE(fft) << why;
+        EXPECT_NE(fft->info().method.find(sys.transform), std::string::npos) << fft->info().method;
+        // the same matrix with the parities of one wall only is refused, naming them
+        EXPECT_FALSE(make_fft_solver(sys.name, sys.A, L, XParities{sys.xp.left, sys.xp.left}, false, &why));
+        const Gauge none;
+        const double kappa = condition(sys.A, *fft, none);
+        const double a_inf = (sys.A.cwiseAbs() * Vec::Ones(N)).maxCoeff();
+        auto chol = factorize(sys.name, sys.A, SolverKind::CholmodSimplicial);
+        for (unsigned r = 0; r < 2; ++r) {
+          const Vec b = random_vector(N, 21 + r);
+          Vec x = Vec::Zero(N), y = Vec::Zero(N);
+          fft->solve(b.data(), x.data(), 1);
+          chol->solve(b.data(), y.data(), 1);
+          const double eta = (sys.A * x - b).cwiseAbs().maxCoeff() / (a_inf * x.cwiseAbs().maxCoeff());
+          const double diff = (x - y).cwiseAbs().maxCoeff() / y.cwiseAbs().maxCoeff();
+          EXPECT_LT(eta, 1e-14);
+          EXPECT_LT(diff, 400 * kappa * 1.1e-16) << "kappa " << kappa;
+        }
+      }
+    }
+}
+
 // The structure check can fail, and says where: a channel's matrix that is not a translate along x
 // (one coefficient moved); one coefficient of a closed box's corner row (row 0:
-// both x and y images folded in) or of a wall row moved by 1e-6; a matrix whose x images are neither
-// even nor odd (the sum of an even-image and an odd-image operator); a stencil that reaches a wall
+// both x and y images folded in) or of a wall row moved by 1e-6; a matrix whose x images are not the
+// boundary rule's for its field (the sum of an even-image and an odd-image operator; phi's operator
+// said to act on a stream function); a stencil that reaches a wall
 // from the middle of a narrow closed box (no row free of images to take the model from); a matrix
 // said to be singular that is not, and the reverse. And the scene key asks for it in vain: a closed
 // box of 12 x 12 with h = 2.25 dx, where the exact projection's G^T G (half-width 8) is as wide as
@@ -261,7 +317,7 @@ TEST(FftSolver, RefusesWhatItCannotSolve) {
     SpMat A = -ch.op.lap_phi;
     A.coeffRef(40, 40) *= 1.0 + 1e-6;
     std::string why;
-    EXPECT_FALSE(make_fft_solver("Poisson", A, ch.L, true, &why));
+    EXPECT_FALSE(make_fft_solver("Poisson", A, ch.L, Field::Scalar, true, &why));
     EXPECT_NE(why.find("row 40 "), std::string::npos) << why;
     EXPECT_NE(why.find("not block circulant"), std::string::npos) << why;
   }
@@ -286,29 +342,34 @@ TEST(FftSolver, RefusesWhatItCannotSolve) {
     SpMat A = P;
     A.coeffRef(row, row) *= 1.0 + 1e-6;
     std::string why;
-    EXPECT_FALSE(make_fft_solver("Poisson", A, box.L, true, &why));
+    EXPECT_FALSE(make_fft_solver("Poisson", A, box.L, Field::Scalar, true, &why));
     EXPECT_NE(why.find("row " + std::to_string(row) + " "), std::string::npos) << why;
   }
   {
     std::string why;
     const SpMat mixed = P - box.op.lap_u.A;
-    EXPECT_FALSE(make_fft_solver("mixed", mixed, box.L, true, &why));
-    EXPECT_NE(why.find("neither even nor odd"), std::string::npos) << why;
+    EXPECT_FALSE(make_fft_solver("mixed", mixed, box.L, Field::Scalar, true, &why));
+    EXPECT_NE(why.find("even images folded in"), std::string::npos) << why;
+  }
+  {  // the transform is the boundary rule's: phi's operator offered as a stream function's (odd images)
+    std::string why;
+    EXPECT_FALSE(make_fft_solver("Poisson as a stream function", P, box.L, Field::Stream, true, &why));
+    EXPECT_NE(why.find("odd images folded in"), std::string::npos) << why;
   }
   {
     const LatticeOperators narrow = lattice_operators(kDomains[3], 12, 24, 2.25);  // G^T G: half-width 8 of 12 sites
     const System gtg = systems(narrow)[2];
     std::string why;
-    EXPECT_FALSE(make_fft_solver(gtg.name, gtg.A, narrow.L, true, &why));
+    EXPECT_FALSE(make_fft_solver(gtg.name, gtg.A, narrow.L, gtg.field, true, &why));
     EXPECT_NE(why.find("reaches a wall"), std::string::npos) << why;
   }
   for (const DomainCase& dc : {kDomains[1], kDomains[2]}) {
     const LatticeOperators f = lattice_operators(dc, 16, 16, 1.2);
     const System cn = systems(f)[0], poisson = systems(f)[1];
     std::string why;
-    EXPECT_FALSE(make_fft_solver(cn.name, cn.A, f.L, true, &why)) << dc.name;
+    EXPECT_FALSE(make_fft_solver(cn.name, cn.A, f.L, cn.field, true, &why)) << dc.name;
     EXPECT_NE(why.find("said to be singular"), std::string::npos) << why;
-    EXPECT_FALSE(make_fft_solver(poisson.name, poisson.A, f.L, false, &why)) << dc.name;
+    EXPECT_FALSE(make_fft_solver(poisson.name, poisson.A, f.L, poisson.field, false, &why)) << dc.name;
     EXPECT_NE(why.find("not positive definite"), std::string::npos) << why;
   }
 }

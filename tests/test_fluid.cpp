@@ -436,6 +436,7 @@ TEST(Operators, CornerImagesArePointReflections) {
     if (im.wall[k] < 0) {
       ++corners;
       EXPECT_EQ(im.v_sign[k], 1.0);
+      EXPECT_EQ(im.s_sign[k], 1.0);
       EXPECT_NEAR(im.x(k, 0), 2.0 * wx - px, 1e-14);
       EXPECT_NEAR(im.x(k, 1), 2.0 * wy - py, 1e-14);
       // image of the image: the single images of p, reflected across the other wall
@@ -452,6 +453,7 @@ TEST(Operators, CornerImagesArePointReflections) {
       EXPECT_EQ(singles, 2) << "particle " << p;
     } else {
       EXPECT_EQ(im.v_sign[k], -1.0);
+      EXPECT_EQ(im.s_sign[k], 1.0);
       const Side s = static_cast<Side>(im.wall[k]);
       const double w = s == Left ? d.x0 : s == Right ? d.x1 : s == Bottom ? d.y0 : d.y1;
       if (s == Left || s == Right) {
@@ -623,7 +625,7 @@ TEST(Solver, FftSolverMatchesCholmodOnChannels) {
     const EulerianFluid f(p);
     const SpMat A = -f.operators().lap_phi;
     std::string why;
-    auto fft = make_fft_solver("Poisson", A, f.lattice(), true, &why);
+    auto fft = make_fft_solver("Poisson", A, f.lattice(), Field::Scalar, true, &why);
     ASSERT_TRUE(fft) << why;
     const int n = f.size(), pin = 0;
     SpMat Ap = A;  // the pinned system the CHOLMOD path solves
@@ -663,7 +665,7 @@ TEST(Solver, FftSolverSolvesCrankNicolsonLikeCholmod) {
     I.setIdentity();
     const SpMat A = I - (c.a * f.lattice().dx * f.lattice().dx) * f.operators().lap_u.A;
     std::string why;
-    auto fft = make_fft_solver("Crank-Nicolson", A, f.lattice(), false, &why);
+    auto fft = make_fft_solver("Crank-Nicolson", A, f.lattice(), Field::VelocityNormal, false, &why);
     ASSERT_TRUE(fft) << why;
     auto chol = factorize("Crank-Nicolson", A, SolverKind::CholmodSimplicial);
     const Eigen::MatrixXd B = Eigen::MatrixXd::Random(f.size(), 2);

@@ -30,7 +30,7 @@ std::vector<char> block_flags(SurfaceDetection how, int nx, int ny, double h_ove
   Domain d;
   d.x0 = -nx, d.x1 = 2 * nx, d.y0 = -ny, d.y1 = 2 * ny;
   d.periodic_x = d.periodic_y = false;
-  d.open = {true, true, true, true};
+  d.bounded.fill(SideKind::Open);
   const Lattice L = make_lattice(d, 3 * nx, 3 * ny);
   FluidRegion r;
   r.shape = FluidRegion::Shape::Block;

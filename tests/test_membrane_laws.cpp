@@ -312,8 +312,10 @@ TEST(StiffForce, WithTheResidualAMembraneHeldStillByTheFlowReceivesTheExplicitFo
   // force): the model U^{n+1} = A U^n + B f~ alone expects it to move, so its first f~ is the
   // backward-Euler f / (1 + dt K B), far from f (measured max |f~ - f| / max |f| = 0.31); the
   // residual G learns the velocity the model misses and f~ returns to f, at the rate
-  // 1 - 0.2 / (1 + dt K B) per step of the stiffest resolved mode (measured 6.0e-4 after 200
-  // steps, 3.8e-5 after 400: a factor 0.063). Kernels of width 1e-3 (every mode resolved). Its
+  // 1 - w / (1 + dt K B) per step of a resolved mode, w = 0.2 min(1, 1 / (dt K B)) on the stiff
+  // modes of this viscous fluid (A < 0.2: the residual's lagged gain), so slowly on the stiffest
+  // (measured 1.3e-2 after 200 steps, 4.7e-3 after 400: a factor 0.35; with the full weight 0.2 on
+  // every mode it was 6.0e-4 and 3.8e-5). Kernels of width 1e-3 (every mode resolved). Its
   // state goes through state()/set_state() unchanged.
   const int nb = 64;
   const Mat2 X = blob(nb);
@@ -335,8 +337,8 @@ TEST(StiffForce, WithTheResidualAMembraneHeldStillByTheFlowReceivesTheExplicitFo
   Mat2 fp;
   for (int n = 0; n < 400; ++n) plain.apply(F, f, U, fl, fp);  // without the residual: the bias stays
   EXPECT_GT((fp - f).cwiseAbs().maxCoeff(), 0.2 * fmax);
-  EXPECT_LT(e400, 1e-4);
-  EXPECT_LT(e400, 0.2 * e200);  // converging geometrically, not stuck at a bias
+  EXPECT_LT(e400, 1e-2);
+  EXPECT_LT(e400, 0.5 * e200);  // converging geometrically, not stuck at a bias
   StiffForceFilter copy(nb, true);
   copy.set_state(filt.state());
   Mat2 a, b;
@@ -434,6 +436,52 @@ TEST(StiffForce, ARestartWithBendingContinuesBitForBit) {
       EXPECT_EQ(straight[k].get<double>(), restarted[k].get<double>()) << k << (residual ? " (stiff_residual)" : "");
     std::filesystem::remove_all(d);
   }
+}
+
+TEST(StiffForce, TheResidualsGainKeepsItStableWhereTheDefaultIs) {
+  // Three rows of the stability map (bench/stability_map --parts B --residual: 32 x 32, 64
+  // markers) at a step where the default filter (G = 0) is stable and the residual used to blow up,
+  // each held by one ingredient of the residual's gain (coupling/stiff_force.cpp). Measured, with
+  // membrane.stiff_residual: all three run to their last step, and
+  //   Skalak Es = 1e4, mu = 0.1, dt = 1e-4, 600 steps: without the layer floor (Bt from
+  //     sqrt(pi nu dt) < h) blow-up at step ~440;
+  //   Skalak Es = 1e3, mu = 0.1, dt = 4e-3, 250 steps: without the lag (full weight on stiff modes)
+  //     blow-up at step ~160;
+  //   Hookean T0 = 1, Eb = 1, mu = 10, dt = 0.3, 150 steps: without the lag blow-up at step ~50,
+  //     without the cap at step ~60 (a marker moving a lattice spacing per step).
+  const std::filesystem::path d = sphib_test::temp_dir("stiff_residual_gain");
+  struct Row {
+    std::string scene, law;
+    double modulus, Eb, mu, dt;
+    int steps;
+  };
+  const std::string laws = std::string(SPHIB_SOURCE_DIR) + "/cases/membrane_laws.toml";
+  for (const Row& r : {Row{laws, "skalak", 1e4, 0, 0.1, 1e-4, 600}, Row{laws, "skalak", 1e3, 0, 0.1, 4e-3, 250},
+                       Row{sphib_test::kOscillation, "hookean", 1, 1, 10, 0.3, 150}})
+    for (const bool residual : {false, true}) {
+      std::vector<std::string> sets{"grid.nx=32", "grid.ny=32", "membrane.nb=64", "kernel.h_over_dx=1.2",
+                                    "membrane.h_star_over_h=1.4", "fluid.mu=" + std::to_string(r.mu),
+                                    "time.dt=" + std::to_string(r.dt), "time.max_steps=" + std::to_string(r.steps),
+                                    "time.end=" + std::to_string(r.steps * r.dt * (1 + 1e-9)), "output.interval=0",
+                                    "membrane.semi_implicit=true",
+                                    std::string("membrane.stiff_residual=") + (residual ? "true" : "false")};
+      if (r.law == "hookean") {
+        sets.push_back("membrane.T0=" + std::to_string(r.modulus));
+        sets.push_back("membrane.Eb=" + std::to_string(r.Eb));
+      } else {
+        sets.push_back("membrane.law=" + r.law);
+        sets.push_back("membrane.Es=" + std::to_string(r.modulus));
+      }
+      Scene s = load_scene(r.scene, sets);
+      RunOptions o;
+      o.out_dir = (d / "run").string();
+      const std::string what = r.law + " " + std::to_string(r.modulus) + " mu " + std::to_string(r.mu) +
+                               (residual ? " (stiff_residual)" : " (default)");
+      nlohmann::json j;
+      ASSERT_NO_THROW(j = run_scene(s, o)) << what;
+      EXPECT_EQ(j["steps"], r.steps) << what;
+    }
+  std::filesystem::remove_all(d);
 }
 
 TEST(StiffForce, ItsDepartureFromTheExplicitForceFallsFasterThanTheStep) {

@@ -329,7 +329,7 @@ TEST(MovingParticles, LaggedCholmodConvergesToTheDirectSolutionAndRefreshes) {
   const Gauge g(L, NullSpace::Constants);
   const int N = L.size();
   SpMat A0 = -f.operators().lap_phi;
-  SystemSolver s = singular_solver("Poisson", A0, g, SolverKind::PcgCholmod, nullptr, Refactor::EveryStep);
+  SystemSolver s = singular_solver("Poisson", Field::Scalar, A0, g, SolverKind::PcgCholmod, nullptr, Refactor::EveryStep);
   ASSERT_TRUE(s.unpinned);
   EXPECT_EQ(s.solver->preconditioner_factorisations(), 1);
   Vec phi = Vec::Zero(N);

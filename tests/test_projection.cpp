@@ -78,8 +78,8 @@ TEST(Gauge, NamedModesAreExactlyTheGradientsNullModes) {
     const EulerianFluid f(params(16, c.px, c.py));
     const Lattice& L = f.lattice();
     const Operators& op = f.operators();
-    for (NullSpace ns : {NullSpace::GradientEvenImages, NullSpace::GradientOddImages}) {
-      const bool even = ns == NullSpace::GradientEvenImages;
+    for (NullSpace ns : {NullSpace::GradientScalar, NullSpace::GradientStream}) {
+      const bool even = ns == NullSpace::GradientScalar;
       const SpMat& Gx = even ? op.grad_phix : op.grad_ux.A;
       const SpMat& Gy = even ? op.grad_phiy : op.grad_uy.A;
       const Gauge g(L, ns);

@@ -27,7 +27,7 @@ Block block(int n, bool periodic) {
   Domain d;
   d.x0 = periodic ? 0 : -n, d.x1 = periodic ? n : 2 * n, d.y0 = d.x0, d.y1 = d.x1;
   d.periodic_x = d.periodic_y = periodic;
-  if (!periodic) d.open = {true, true, true, true};
+  if (!periodic) d.bounded.fill(SideKind::Open);
   Block b;
   b.N = n * n;
   b.x.resize(b.N, 2);
@@ -52,7 +52,7 @@ Block moved(Block b, int k, double dx, double dy, bool periodic, int n) {
   Domain d;
   d.x0 = periodic ? 0 : -n, d.x1 = periodic ? n : 2 * n, d.y0 = d.x0, d.y1 = d.x1;
   d.periodic_x = d.periodic_y = periodic;
-  if (!periodic) d.open = {true, true, true, true};
+  if (!periodic) d.bounded.fill(SideKind::Open);
   find_pairs(d, b.x, Mat2(0, 2), b.W.support(), b.P);
   return b;
 }

@@ -46,7 +46,10 @@ MatrixRows whole(const SpMat& A) {
 // ================================================================================================
 
 // The transform along x, by the x boundary and, between walls, the parity of the images.
-enum class XKind { Periodic, Even, Odd };
+// Along x: periodic, or walls whose images are even at both (DCT-II), odd at both (DST-II), even at
+// the left and odd at the right (DCT-IV) or the reverse (DST-IV).
+enum class XKind { Periodic, Even, Odd, EvenOdd, OddEven };
+bool quarter_wave(XKind x) { return x == XKind::EvenOdd || x == XKind::OddEven; }
 
 // One coefficient of a reference row: its offset slots along x and y (Model) and its value.
 struct Entry {
@@ -124,23 +127,27 @@ bool extract_model(const MatrixRows& A, Model& m, std::string& why) {
   return true;
 }
 
-std::string mismatch(const Model& m, int i, int parity, const char* what) {
+const char* parity_name(int p) { return p > 0 ? "even" : "odd"; }
+
+std::string mismatch(const Model& m, int i, int left, int right, const char* what) {
   std::ostringstream s;
   s << "row " << i << (*what ? " lacks an entry of" : " is not") << " row " << m.ix0 + m.nx * m.class_of(i / m.nx);
   if (m.x_periodic)
     s << (m.y_periodic ? " translated along x and y (not doubly circulant)" : " translated along x (not block circulant)");
   else
-    s << " translated along x with the walls' " << (parity > 0 ? "even" : "odd") << " images folded in"
+    s << " translated along x with the walls' "
+      << (left == right ? std::string(parity_name(left)) : std::string(parity_name(left)) + " (left) and " + parity_name(right) + " (right)")
+      << " images folded in"
       << (m.y_periodic ? " and translated along y" : "");
   return s.str();
 }
 
 // Whether every row equals its class's model translated along the periodic axes and folded at the x
-// walls with images of sign `parity` (+1 even, -1 odd): each entry to m.tol, and no model entry
+// walls with images of sign `left` and `right` at the two walls (+1 even, -1 odd): each entry to m.tol, and no model entry
 // missing. O(nnz): the predicted row is accumulated in `acc`, stamped by row. (Measured on every
 // operator of tests/test_fft_solver.cpp, wall and corner rows included: the rows match their
 // folded model to 5.9e-15 of max |A|, round-off of the different summation orders.)
-bool rows_match(const MatrixRows& A, const Model& m, int parity, std::string& why) {
+bool rows_match(const MatrixRows& A, const Model& m, int left, int right, std::string& why) {
   const int nx = m.nx, ny = m.ny, N = nx * ny;
   std::vector<double> acc(N, 0.0);
   std::vector<int> stamp(N, -1), seen(N, -1), touched;
@@ -157,8 +164,8 @@ bool rows_match(const MatrixRows& A, const Model& m, int parity, std::string& wh
         int jx = m.x_periodic ? (ix + e.sx) % nx : ix + e.sx - m.wx;
         double sign = 1.0;
         if (jx < 0 || jx >= nx) {  // an image: column -1 - jx or 2 n_x - 1 - jx carries its parent's value times parity
+          sign = jx < 0 ? left : right;
           jx = jx < 0 ? -1 - jx : 2 * nx - 1 - jx;
-          sign = parity;
         }
         const int jy = m.y_periodic ? (iy + e.sy) % ny : iy + e.sy - m.wy;
         const int j = jx + nx * jy;
@@ -172,7 +179,7 @@ bool rows_match(const MatrixRows& A, const Model& m, int parity, std::string& wh
       for (int k = o[t]; k < o[t + 1]; ++k) {
         const int j = c[k];
         if (std::fabs(a[k] - (stamp[j] == i ? acc[j] : 0.0)) > m.tol) {
-          ok = refuse(why, mismatch(m, i, parity, ""));
+          ok = refuse(why, mismatch(m, i, left, right, ""));
           break;
         }
         seen[j] = i;
@@ -180,7 +187,7 @@ bool rows_match(const MatrixRows& A, const Model& m, int parity, std::string& wh
       if (!ok) break;
       for (int j : touched)
         if (seen[j] != i && std::fabs(acc[j]) > m.tol) {
-          ok = refuse(why, mismatch(m, i, parity, "lacks"));
+          ok = refuse(why, mismatch(m, i, left, right, "lacks"));
           break;
         }
     }
@@ -206,9 +213,11 @@ bool model_even(const Model& m, std::string& why) {
   return true;
 }
 
-// The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parity found
-// from the rows (even tried first); false (and why) when A has no such structure.
-bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px, bool py, Model& m, std::string& why) {
+// The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parities at the
+// two walls given by the boundary rule (+1 even, -1 odd; unused along a periodic x); false (and why)
+// when A does not have that structure.
+bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px, bool py, XParities xp, Model& m,
+             std::string& why) {
   if (rows != static_cast<long>(nx) * ny || cols != static_cast<long>(nx) * ny) return refuse(why, "the matrix is not n_x n_y square");
   m.nx = nx;
   m.ny = ny;
@@ -217,12 +226,12 @@ bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px,
   if (!extract_model(A, m, why)) return false;
   if (px) {
     m.x = XKind::Periodic;
-    if (!rows_match(A, m, 1, why)) return false;
+    if (!rows_match(A, m, 1, 1, why)) return false;
   } else {
-    std::string we, wo;
-    if (rows_match(A, m, +1, we)) m.x = XKind::Even;
-    else if (rows_match(A, m, -1, wo)) m.x = XKind::Odd;
-    else return refuse(why, "neither even nor odd images at the x walls: " + we + "; " + wo);
+    const bool given = (xp.left == 1 || xp.left == -1) && (xp.right == 1 || xp.right == -1);
+    if (!given) return refuse(why, "the boundary rule gives the x walls no image parity (no transform for them)");
+    if (!rows_match(A, m, xp.left, xp.right, why)) return false;
+    m.x = xp.left == xp.right ? (xp.left > 0 ? XKind::Even : XKind::Odd) : (xp.left > 0 ? XKind::EvenOdd : XKind::OddEven);
   }
   return model_even(m, why);
 }
@@ -230,17 +239,20 @@ bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px,
 // The wavenumbers along x: count, and the table of cos(theta_k d) = cosine[(q_k |d|) mod M] for the
 // transform's slot k: theta_k = 2 pi q_k / M with M = n_x along a periodic x (q_k = k, k <= n_x / 2)
 // and M = 2 n_x between walls (DCT-II: q_k = k; DST-II: q_k = k + 1 in FFTW's order, n_x - k in the
-// reversed order of RowDct below).
+// reversed order of RowDct below); between walls of different parities the quarter-wave forms
+// (DCT-IV, DST-IV: eigenvectors cos or sin of theta_k (j + 1/2), theta_k = pi (k + 1/2) / n_x, the
+// extension even about one wall and odd about the other, period 4 n_x): M = 4 n_x, q_k = 2 k + 1.
 struct XWaves {
   int nk, M;
-  bool dst, reversed;
+  bool dst, quarter, reversed;
   std::vector<double> cosine;
   XWaves(const Model& m, bool dst_reversed)
-      : nk(m.x == XKind::Periodic ? m.nx / 2 + 1 : m.nx), M(m.x == XKind::Periodic ? m.nx : 2 * m.nx),
-        dst(m.x == XKind::Odd), reversed(dst_reversed), cosine(M) {
+      : nk(m.x == XKind::Periodic ? m.nx / 2 + 1 : m.nx),
+        M(m.x == XKind::Periodic ? m.nx : quarter_wave(m.x) ? 4 * m.nx : 2 * m.nx), dst(m.x == XKind::Odd),
+        quarter(quarter_wave(m.x)), reversed(dst_reversed), cosine(M) {
     for (int j = 0; j < M; ++j) cosine[j] = std::cos(2.0 * M_PI * j / M);
   }
-  int q(int k) const { return !dst ? k : reversed ? M / 2 - k : k + 1; }
+  int q(int k) const { return quarter ? 2 * k + 1 : !dst ? k : reversed ? M / 2 - k : k + 1; }
   double cos_k(int k, int d) const { return cosine[(static_cast<long>(q(k)) * d) % M]; }
 };
 
@@ -317,11 +329,37 @@ const char* x_transform_name(XKind x) {
   switch (x) {
     case XKind::Periodic: return "FFT in x (FFTW r2c; periodic)";
     case XKind::Even: return "DCT-II in x (walls, even images)";
-    default: return "DST-II in x (walls, odd images)";
+    case XKind::Odd: return "DST-II in x (walls, odd images)";
+    case XKind::EvenOdd: return "DCT-IV in x (walls, even images left, odd right)";
+    default: return "DST-IV in x (walls, odd images left, even right)";
   }
 }
-fftw_r2r_kind forward_kind(XKind x) { return x == XKind::Even ? FFTW_REDFT10 : FFTW_RODFT10; }
-fftw_r2r_kind inverse_kind(XKind x) { return x == XKind::Even ? FFTW_REDFT01 : FFTW_RODFT01; }
+// FFTW's kinds: DCT-II/DST-II forward, DCT-III/DST-III inverse; DCT-IV/DST-IV (REDFT11/RODFT11) are
+// their own inverses. Each pair scales by 2 n_x.
+fftw_r2r_kind forward_kind(XKind x) {
+  switch (x) {
+    case XKind::Even: return FFTW_REDFT10;
+    case XKind::Odd: return FFTW_RODFT10;
+    case XKind::EvenOdd: return FFTW_REDFT11;
+    default: return FFTW_RODFT11;
+  }
+}
+fftw_r2r_kind inverse_kind(XKind x) {
+  switch (x) {
+    case XKind::Even: return FFTW_REDFT01;
+    case XKind::Odd: return FFTW_RODFT01;
+    case XKind::EvenOdd: return FFTW_REDFT11;
+    default: return FFTW_RODFT11;
+  }
+}
+const char* fftw_kind_name(XKind x) {
+  switch (x) {
+    case XKind::Even: return "REDFT10";
+    case XKind::Odd: return "RODFT10";
+    case XKind::EvenOdd: return "REDFT11";
+    default: return "RODFT11";
+  }
+}
 
 // ================================================================================================
 // The solvers
@@ -371,8 +409,8 @@ class LatticeSolver : public LinearSolver {
   bool refactorize(const SpMat& A) override {
     std::string why;
     Model m;
-    bool ok = analyse(whole(A), A.rows(), A.cols(), nx_, ny_, x_ == XKind::Periodic, y_periodic_, m, why);
-    if (ok && m.x != x_) ok = refuse(why, "the x images changed parity (the transforms are planned for the first)");
+    const XParities xp{x_ == XKind::Odd || x_ == XKind::OddEven ? -1 : 1, x_ == XKind::Odd || x_ == XKind::EvenOdd ? -1 : 1};
+    bool ok = analyse(whole(A), A.rows(), A.cols(), nx_, ny_, x_ == XKind::Periodic, y_periodic_, xp, m, why);  // as planned
     if (!ok || !factor(m.nnz, m, why)) throw std::runtime_error("linear solver: system '" + info_.system + "': " + why);
     return true;
   }
@@ -456,6 +494,7 @@ class BandedSolver final : public LatticeSolver {
   BandedSolver(const std::string& system, const Model& m, bool singular)
       : LatticeSolver(system, m, singular), waves_(m, true), nk_(waves_.nk), dct_(m.nx, m.x == XKind::Odd) {
     complex_ = m.x == XKind::Periodic;
+    quarter_ = quarter_wave(m.x);
     const int n[1] = {nx_}, nc = dct_.nk();
     // Rows of n_x along x (idist n_x); the transform of row i_y, wavenumber k goes to hat[i_y nk + k],
     // so that the banded solves run over all wavenumbers at once (contiguous, vectorised). Between
@@ -466,11 +505,18 @@ class BandedSolver final : public LatticeSolver {
     rb_ = row_block(nx_, ny_);
     blocks_ = (ny_ + rb_ - 1) / rb_;
     rest_rows_ = ny_ % rb_;
-    make_plans(static_cast<std::size_t>(complex_ ? 2 : 1) * nk_ * ny_, complex_ ? 0 : static_cast<std::size_t>(2) * nc * ny_,
-               [&](Work& w) {
+    make_plans(static_cast<std::size_t>(complex_ ? 2 : 1) * nk_ * ny_,
+               complex_ || quarter_ ? 0 : static_cast<std::size_t>(2) * nc * ny_, [&](Work& w) {
                  auto* c = reinterpret_cast<fftw_complex*>(complex_ ? w.hat : w.tmp);
                  const int nkc = complex_ ? nk_ : nc;
                  auto plan = [&](int rows, fftw_plan& fwd, fftw_plan& inv) {
+                   if (quarter_) {  // FFTW's own DCT-IV / DST-IV of the rows, straight into hat
+                     const fftw_r2r_kind kind[1] = {forward_kind(x_)};
+                     fwd = fftw_plan_many_r2r(1, n, rows, w.in, nullptr, 1, nx_, w.hat, nullptr, 1, nk_, kind, FFTW_ESTIMATE);
+                     inv = fftw_plan_many_r2r(1, n, rows, w.hat, nullptr, 1, nk_, w.out, nullptr, 1, nx_, kind,
+                                              FFTW_ESTIMATE | FFTW_DESTROY_INPUT);
+                     return;
+                   }
                    fwd = fftw_plan_many_dft_r2c(1, n, rows, w.in, nullptr, 1, nx_, c, nullptr, 1, nkc, FFTW_ESTIMATE);
                    inv = fftw_plan_many_dft_c2r(1, n, rows, c, nullptr, 1, nkc, w.out, nullptr, 1, nx_,
                                                 FFTW_ESTIMATE | FFTW_DESTROY_INPUT);
@@ -651,6 +697,9 @@ class BandedSolver final : public LatticeSolver {
         in = ws.in + at;
       }
       fftw_execute_dft_r2c(fwd, in, reinterpret_cast<fftw_complex*>(ws.hat) + static_cast<std::size_t>(r0) * nk_);
+    } else if (quarter_) {
+      std::copy(b + at, b + end, ws.in + at);
+      fftw_execute_r2r(fwd, ws.in + at, ws.hat + static_cast<std::size_t>(r0) * nk_);
     } else {
       dct_.permute(b, ws.in, r0, r1);
       fftw_execute_dft_r2c(fwd, ws.in + at, reinterpret_cast<fftw_complex*>(ws.tmp) + static_cast<std::size_t>(r0) * dct_.nk());
@@ -669,6 +718,10 @@ class BandedSolver final : public LatticeSolver {
       fftw_execute_dft_c2r(inv, reinterpret_cast<fftw_complex*>(ws.hat) + static_cast<std::size_t>(r0) * nk_, out + at);
       const double s = 1.0 / nx_;
       for (std::size_t i = at; i < end; ++i) x[i] = s * out[i];
+    } else if (quarter_) {
+      fftw_execute_r2r(inv, ws.hat + static_cast<std::size_t>(r0) * nk_, ws.out + at);
+      const double s = 0.5 / nx_;  // the pair scales by 2 n_x
+      for (std::size_t i = at; i < end; ++i) x[i] = s * ws.out[i];
     } else {
       auto* tmp = reinterpret_cast<fftw_complex*>(ws.tmp) + static_cast<std::size_t>(r0) * dct_.nk();
       dct_.from_real(ws.hat, ws.tmp, r0, r1);
@@ -680,6 +733,7 @@ class BandedSolver final : public LatticeSolver {
   XWaves waves_;
   int nk_, w_ = 0, ldab_ = 1;
   int rb_ = 1, blocks_ = 1;  // rows per block of the row transforms, and blocks
+  bool quarter_ = false;     // DCT-IV / DST-IV by FFTW (walls of different parities)
   RowDct dct_;
   std::vector<char> drop_;                   // per wavenumber: B_k singular, row 0 dropped
   std::vector<double> lrow_, lcol_, rdiag_;  // the factors, wavenumber fastest (see arrange_factors)
@@ -751,7 +805,7 @@ class DiagonalSolver final : public LatticeSolver {
     info_.nnz_factor = static_cast<long>(lambda.size());
     std::ostringstream s;
     if (complex_) s << "2-D FFT (FFTW r2c; periodic in x and y)";
-    else s << x_transform_name(x_) << " x FFT in y (periodic; FFTW " << (x_ == XKind::Even ? "REDFT10" : "RODFT10") << " x R2HC)";
+    else s << x_transform_name(x_) << " x FFT in y (periodic; FFTW " << fftw_kind_name(x_) << " x R2HC)";
     s << ", A diagonal: " << lambda.size() << " eigenvalues";
     if (nnull) s << ", " << nnull << " zero (null space)";
     info_.method = s.str();
@@ -783,7 +837,23 @@ class DiagonalSolver final : public LatticeSolver {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L,
+namespace {
+// A compressed A (a copy when it is not).
+template <class F>
+auto with_compressed(const SpMat& A, F f) {
+  if (A.isCompressed()) return f(A);
+  SpMat c = A;
+  c.makeCompressed();
+  return f(c);
+}
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L, XParities xp,
+                                              bool singular, std::string* why) {
+  return with_compressed(A, [&](const SpMat& a) { return make_fft_solver(system, whole(a), a.rows(), L, xp, singular, why); });
+}
+
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L, Field field,
                                               bool singular, std::string* why) {
   SpMat compressed;
   const SpMat* a = &A;
@@ -792,15 +862,24 @@ std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const S
     compressed.makeCompressed();
     a = &compressed;
   }
-  return make_fft_solver(system, whole(*a), a->rows(), L, singular, why);
+  return make_fft_solver(system, whole(*a), a->rows(), L, field, singular, why);
+}
+
+XParities x_parities(const Domain& d, Field field) { return {d.parity(Left, field), d.parity(Right, field)}; }
+
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
+                                              Field field, bool singular, std::string* why) {
+  // The transform along x from the boundary rule: the field's image parities at the x walls; along y
+  // the banded systems take any folds.
+  return make_fft_solver(system, A, n, L, x_parities(L.domain, field), singular, why);
 }
 
 std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
-                                              bool singular, std::string* why) {
+                                              XParities xp, bool singular, std::string* why) {
   const auto t0 = Clock::now();
   std::string w;
   Model m;
-  if (analyse(A, n, n, L.nx, L.ny, L.domain.periodic_x, L.domain.periodic_y, m, w)) {
+  if (analyse(A, n, n, L.nx, L.ny, L.domain.periodic_x, L.domain.periodic_y, xp, m, w)) {
     const double t_analyse = seconds_since(t0);
     const auto t1 = Clock::now();
     std::unique_ptr<LatticeSolver> s;

@@ -19,7 +19,11 @@
 //   periodic (DFT, FFTW r2c):     theta = 2 pi k / n,    k = 0 .. n/2
 //   walls, even (DCT-II, REDFT10): theta = pi k / n,      k = 0 .. n - 1   (inverse REDFT01)
 //   walls, odd  (DST-II, RODFT10): theta = pi k / n,      k = 1 .. n       (inverse RODFT01).
-// Products of such operators (G^T G) have the same structure; the solver checks it, not the origin.
+//   walls, even at one and odd at the other (DCT-IV REDFT11, DST-IV RODFT11; Martucci's quarter-wave
+//   forms): theta = pi (k + 1/2) / n, k = 0 .. n - 1 (each its own inverse).
+// Products of such operators (G^T G) have the same structure. Which images a field has at the walls
+// (so which transform) is the boundary rule's (fluid/common/boundary_rule.hpp, the caller names the
+// field); the solver checks that A has that structure.
 //
 // Two solvers follow from this, chosen by the y axis:
 //  - y walled (channel, closed box): the transform along x only splits A x = b into one real
@@ -51,20 +55,36 @@ namespace sphib {
 // A matrix given as consecutive blocks of its rows (make_fft_solver below).
 using MatrixRows = std::function<void(const std::function<void(const SpMat& rows, int first_row)>&)>;
 
-// The solver for A on lattice L, or nullptr when A lacks the structure (`why` then says which check
-// failed). Along a periodic axis every row must be a translate of its reference row; along a walled
-// axis the translate with the wall images folded in, even or odd (found from A: the parity whose
-// folded rows match); each to 1e-12 of max |A|, the stencil even along x (and along y when y is
-// periodic), A symmetric, the systems positive definite (up to the null space when `singular`).
-// The method text (info().method) names the transforms, the images and the systems.
-std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L,
+// The solver for A on lattice L, A acting on a field of kind `field` (the velocity's Crank-Nicolson
+// system: Field::VelocityNormal, the x walls' normal component; phi: Field::Scalar; a stream
+// function: Field::Stream), or nullptr when A lacks the structure (`why` then says which check
+// failed). The transform along a walled x is the boundary rule's (fluid/common/boundary_rule.hpp):
+// the field's image parities at the x walls: even at both -> DCT-II, odd at both -> DST-II, even
+// and odd -> DCT-IV, odd and even -> DST-IV (a side without images is refused). Along a periodic axis every row must be a translate of its
+// reference row; along a walled axis the translate with the wall images of that parity folded in;
+// each to 1e-12 of max |A|, the stencil even along x (and along y when y is periodic), A symmetric,
+// the systems positive definite (up to the null space when `singular`). The method text
+// (info().method) names the transforms, the images and the systems.
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L, Field field,
                                               bool singular, std::string* why = nullptr);
+
+// The image parities (+1 even, -1 odd) at the left and right walls of a walled x (unused along a
+// periodic x): a field's from the boundary rule (x_parities), or given. Different parities at the two
+// walls take the quarter-wave transforms (DCT-IV: even left, odd right; DST-IV: the reverse; FFTW's
+// REDFT11 and RODFT11, eigenvalues at theta_k = pi (k + 1/2) / n_x).
+struct XParities {
+  int left = 0, right = 0;
+};
+XParities x_parities(const Domain& d, Field field);
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const SpMat& A, const Lattice& L, XParities x,
+                                              bool singular, std::string* why = nullptr);
+std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
+                                              XParities x, bool singular, std::string* why = nullptr);
 
 // The same for an n x n matrix given as its rows, a block at a time: A(f) calls
 // f(B, r0) for consecutive compressed blocks B of rows r0 .. r0 + B.rows() - 1, every row once, in
-// order, and may be called up to three times (the model, then the rows against it, for each parity
-// of the x images). The matrix itself need never exist (EPSPH's compact storage: G^T G).
+// order, and may be called twice (the model, then the rows against it with the rule's x images). The matrix itself need never exist (EPSPH's compact storage: G^T G).
 std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
-                                              bool singular, std::string* why = nullptr);
+                                              Field field, bool singular, std::string* why = nullptr);
 
 }  // namespace sphib

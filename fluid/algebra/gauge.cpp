@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <stdexcept>
+#include <string>
 
 #include "fluid/algebra/row_stencil.hpp"  // kParallelRows
 #include "kernels/alternating.hpp"
@@ -10,13 +12,22 @@ namespace sphib {
 
 Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
   if (ns == NullSpace::None) return;
-  // The factors along one axis: 0 = constant, 1 = alternating.
-  auto factors = [&](bool periodic, int n) -> std::vector<int> {
+  if (ns == NullSpace::Constants)  // the constant continues only through even images of phi
+    for (Side s : {Left, Right, Bottom, Top})
+      if (L.domain.parity(s, Field::Scalar) < 0) return;
+  // The factors along one axis: 0 = constant, 1 = alternating. Across a wall the constant continues
+  // through even images, the alternating mode through odd ones (the rule's parity of the field).
+  const Field field = ns == NullSpace::GradientScalar ? Field::Scalar : Field::Stream;
+  auto factors = [&](Side lo, Side hi, int n) -> std::vector<int> {
     if (ns == NullSpace::Constants) return {0};
-    if (periodic) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
-    return {ns == NullSpace::GradientEvenImages ? 0 : 1};
+    if (L.domain.is_periodic(lo)) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
+    const int p = L.domain.parity(lo, field);
+    if (p == 0 || p != L.domain.parity(hi, field))
+      throw std::invalid_argument(std::string("gauge: the ") + side_name(lo) + " and " + side_name(hi) +
+                                  " sides give no common image parity (walls on both needed)");
+    return {p > 0 ? 0 : 1};
   };
-  const std::vector<int> fx = factors(L.domain.periodic_x, L.nx), fy = factors(L.domain.periodic_y, L.ny);
+  const std::vector<int> fx = factors(Left, Right, L.nx), fy = factors(Bottom, Top, L.ny);
   for (size_t b = 0; b < fy.size(); ++b)
     for (size_t a = 0; a < fx.size(); ++a) {
       modes_.push_back({fx[a], fy[b]});
@@ -105,12 +116,16 @@ VelocityModes::VelocityModes(const Lattice& L) {
     Gauge& g = comp_[comp];
     g.nx_ = L.nx;
     g.ny_ = L.ny;
-    auto factors = [&](bool periodic, int n, bool normal) -> std::vector<int> {
-      if (periodic) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
-      return {normal ? 1 : 0};
+    // The velocity of a stream function psi: across a wall its normal component (the tangential
+    // derivative of psi) has psi's parity, its tangential one (the normal derivative) the opposite;
+    // a mode continues through even images as the constant, through odd ones alternating.
+    auto factors = [&](Side lo, int n, bool normal) -> std::vector<int> {
+      if (L.domain.is_periodic(lo)) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
+      const int psi = L.domain.parity(lo, Field::Stream), p = normal ? psi : -psi;
+      return {p > 0 ? 0 : 1};
     };
-    const std::vector<int> fx = factors(L.domain.periodic_x, L.nx, comp == 0);
-    const std::vector<int> fy = factors(L.domain.periodic_y, L.ny, comp == 1);
+    const std::vector<int> fx = factors(Left, L.nx, comp == 0);
+    const std::vector<int> fy = factors(Bottom, L.ny, comp == 1);
     const bool channel = L.domain.periodic_x != L.domain.periodic_y;
     for (int sy : fy)
       for (int sx : fx) {

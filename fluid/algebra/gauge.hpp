@@ -24,9 +24,11 @@
 
 namespace sphib {
 
-// Which null space an operator has: none, the constants (the Morris Laplacian), or that of G^T G
-// with even images at walls (phi) or odd images (a stream function).
-enum class NullSpace { None, Constants, GradientEvenImages, GradientOddImages };
+// Which null space an operator has: none, the constants (the Morris Laplacian of phi: none where a
+// side's phi images are odd, an outflow's, by the boundary rule), or that of G^T G
+// on phi (a scalar: the walls' Field::Scalar parities, even at no-slip walls) or on a stream function
+// (Field::Stream, odd), the parities from the boundary rule (fluid/common/boundary_rule.hpp).
+enum class NullSpace { None, Constants, GradientScalar, GradientStream };
 
 class Gauge {
  public:

@@ -35,9 +35,9 @@ void assemble_rows(const PairList& P, int r0, int N, const Images& im, ImageRule
       diag += ak;  // the f_i part
       if (j < N) {
         add(j, s_ij * ak);
-      } else {  // image: f_j = sign f_p + c_j
+      } else {  // image: f_j = sign f_p + c_j, the sign the image's parity (boundary_rule.hpp)
         const int m = j - N;
-        const double sign = rule == ImageRule::Velocity ? im.v_sign[m] : 1.0;
+        const double sign = rule == ImageRule::Velocity ? im.v_sign[m] : im.s_sign[m];
         add(im.parent[m], s_ij * sign * ak);
         if (rule == ImageRule::Velocity) tB.emplace_back(i - out0, m, s_ij * ak);
       }

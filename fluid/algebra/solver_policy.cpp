@@ -23,12 +23,13 @@ bool lagged(SolverKind kind) { return kind == SolverKind::PcgFft || kind == Solv
 // Moving particles: the FFT solver of the system on the initial lattice (the preconditioner of
 // pcg_fft) where `kind` allows it and it applies, else nullptr with the reason in `why`; a refusal
 // when pcg_fft was asked for.
-std::unique_ptr<LinearSolver> lattice_preconditioner(const std::string& system, const std::string& key, bool singular,
-                                                     SolverKind kind, const LatticeReference& near, std::string& why) {
+std::unique_ptr<LinearSolver> lattice_preconditioner(const std::string& system, Field field, const std::string& key,
+                                                     bool singular, SolverKind kind, const LatticeReference& near,
+                                                     std::string& why) {
   std::unique_ptr<LinearSolver> start;
   why = "no lattice given";
   if (kind != SolverKind::PcgCholmod && near.lattice && near.A)
-    start = make_fft_solver(system + " on the lattice", *near.A, *near.lattice, singular, &why);
+    start = make_fft_solver(system + " on the lattice", *near.A, *near.lattice, field, singular, &why);
   if (kind == SolverKind::PcgFft && !start) throw std::invalid_argument(key + " = \"pcg_fft\" does not apply: " + why);
   return start;
 }
@@ -46,12 +47,13 @@ std::unique_ptr<LinearSolver> lagged_solver(const std::string& system, const SpM
 
 // The FFT lattice solver where `kind` allows it and A has the structure; a refusal when it was asked
 // for and does not apply; nullptr otherwise, with the reason in `why`.
-std::unique_ptr<LinearSolver> lattice_solver(const std::string& system, const std::string& key, const SpMat& A,
-                                             bool singular, SolverKind kind, const Lattice* fixed, std::string& why) {
+std::unique_ptr<LinearSolver> lattice_solver(const std::string& system, Field field, const std::string& key,
+                                             const SpMat& A, bool singular, SolverKind kind, const Lattice* fixed,
+                                             std::string& why) {
   if (kind != SolverKind::Auto && kind != SolverKind::Fft) return nullptr;
   if (!fixed) {
     why = "the particles move (the FFT solver needs the fixed lattice)";
-  } else if (auto s = make_fft_solver(system, A, *fixed, singular, &why)) {
+  } else if (auto s = make_fft_solver(system, A, *fixed, field, singular, &why)) {
     if (kind == SolverKind::Auto) s->annotate(" (auto)", 0.0);
     return s;
   }
@@ -61,12 +63,12 @@ std::unique_ptr<LinearSolver> lattice_solver(const std::string& system, const st
 
 }  // namespace
 
-SystemSolver lattice_singular_solver(const std::string& system, const MatrixRows& A, long n, const Gauge& g,
+SystemSolver lattice_singular_solver(const std::string& system, Field field, const MatrixRows& A, long n, const Gauge& g,
                                      SolverKind kind, const Lattice& fixed) {
   SystemSolver r;
   if (kind != SolverKind::Auto && kind != SolverKind::Fft) return r;
   std::string why;
-  r.solver = make_fft_solver(system, A, n, fixed, g.dimension() > 0, &why);  // as lattice_solver
+  r.solver = make_fft_solver(system, A, n, fixed, field, g.dimension() > 0, &why);  // as lattice_solver
   if (r.solver) {
     if (kind == SolverKind::Auto) r.solver->annotate(" (auto)", 0.0);
     r.unpinned = true;
@@ -83,13 +85,13 @@ std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat&
   std::string why;
   if (lagged(kind) && refactor == Refactor::Once)
     throw std::invalid_argument(key + ": pcg_fft and pcg_cholmod are for moving particles");
-  if (auto s = lattice_solver(system, key, A, false, kind, fixed, why)) return s;
+  if (auto s = lattice_solver(system, Field::VelocityNormal, key, A, false, kind, fixed, why)) return s;
   const double b = 2.0 * a * lap.diagonal().cwiseAbs().maxCoeff();  // Gershgorin bound (see the header)
   std::ostringstream note;
   note << " (auto: " << (refactor == Refactor::EveryStep ? "moving particles; " : "") << "no FFT solver: ";
   const bool moving = kind == SolverKind::Auto && refactor == Refactor::EveryStep && is_symmetric(A);
   if (lagged(kind) || moving) {
-    auto start = lattice_preconditioner(system, key, false, kind, near, why);
+    auto start = lattice_preconditioner(system, Field::VelocityNormal, key, false, kind, near, why);
     note << why << "; Gershgorin bound nu dt max|lap_ii| = " << b << (b <= 40 ? " <= 40)" : " > 40)");
     if (lagged(kind) || start) {
       const std::string fft_note = kind == SolverKind::Auto ? " (auto: moving particles near a lattice with an FFT solver)" : "";
@@ -145,13 +147,13 @@ std::unique_ptr<LinearSolver> lattice_crank_nicolson_solver(const MatrixRows& A,
                                                             const Lattice& fixed) {
   if (kind != SolverKind::Auto && kind != SolverKind::Fft) return nullptr;
   std::string why;
-  auto s = make_fft_solver("Crank-Nicolson", A, n, fixed, false, &why);  // as crank_nicolson_solver
+  auto s = make_fft_solver("Crank-Nicolson", A, n, fixed, Field::VelocityNormal, false, &why);  // as crank_nicolson_solver
   if (s && kind == SolverKind::Auto) s->annotate(" (auto)", 0.0);
   if (!s && kind == SolverKind::Fft) throw std::invalid_argument("solver.crank_nicolson = \"fft\" does not apply: " + why);
   return s;
 }
 
-SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
+SystemSolver singular_solver(const std::string& system, Field field, const SpMat& A, const Gauge& g, SolverKind kind,
                              const Lattice* fixed, Refactor refactor, const LatticeReference& near,
                              const LaggedPcgOptions& cg) {
   std::string why;
@@ -172,7 +174,7 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
         for (int p : g.pins()) v[p] = 0.0;
       };
     }
-    auto start = lattice_preconditioner(system, "solver.poisson", null.singular(), kind, near, why);
+    auto start = lattice_preconditioner(system, field, "solver.poisson", null.singular(), kind, near, why);
     const std::string note = kind != SolverKind::Auto ? ""
                              : start ? " (auto: moving particles near a lattice with an FFT solver)"
                                      : " (auto: moving particles; no FFT lattice solver: " + why + ")";
@@ -180,7 +182,7 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
     r.unpinned = true;
     return r;
   }
-  r.solver = lattice_solver(system, "solver.poisson", A, g.dimension() > 0, kind, fixed, why);
+  r.solver = lattice_solver(system, field, "solver.poisson", A, g.dimension() > 0, kind, fixed, why);
   if (r.solver) {
     r.unpinned = true;
     return r;

@@ -73,18 +73,20 @@ struct SystemSolver {
   bool unpinned = false;  // it takes the singular operator itself: no pin in the right-hand side
 };
 
-// The Crank-Nicolson matrix A = I - a lap. `fixed`: the lattice when the particles never move (the
+// The Crank-Nicolson matrix A = I - a lap on the velocity (its images: the boundary rule's velocity
+// parity, both components one; Field::VelocityNormal for the FFT solver). `fixed`: the lattice when the particles never move (the
 // FFT solver needs it), else nullptr. The solver's log line says what was chosen and why.
 std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
                                                     const Lattice* fixed, Refactor refactor,
                                                     const LatticeReference& near = {});
 
-// A symmetric positive semi-definite operator A whose null space is that of gauge g. With
+// A symmetric positive semi-definite operator A on a field of kind `field` (its images: the FFT
+// solver's transform, make_fft_solver) whose null space is that of gauge g. With
 // Refactor::EveryStep and a direct solver the pinned matrix keeps A's pattern (refactorize with
 // g.pinned(A, false)); an unpinned solver (FFT, the preconditioned CG) is refactorised with A itself.
 // `cg`: the lagged CG's tolerance and refresh rule (default rtol 1e-14, 8 iterations; ISPH sets its
 // own: isph.cpp, make_solvers).
-SystemSolver singular_solver(const std::string& system, const SpMat& A, const Gauge& g, SolverKind kind,
+SystemSolver singular_solver(const std::string& system, Field field, const SpMat& A, const Gauge& g, SolverKind kind,
                              const Lattice* fixed, Refactor refactor, const LatticeReference& near = {},
                              const LaggedPcgOptions& cg = moving_cg_options());
 
@@ -92,7 +94,7 @@ SystemSolver singular_solver(const std::string& system, const SpMat& A, const Ga
 // matrix need never exist), where `kind` takes it (auto, fft): that solver, or none when `kind`
 // is another or A lacks the structure (then the caller makes A for singular_solver; fft refuses
 // as singular_solver does).
-SystemSolver lattice_singular_solver(const std::string& system, const MatrixRows& A, long n, const Gauge& g,
+SystemSolver lattice_singular_solver(const std::string& system, Field field, const MatrixRows& A, long n, const Gauge& g,
                                      SolverKind kind, const Lattice& fixed);
 
 // The rows of -A, and of the Crank-Nicolson matrix I - a lap, a block at a time (each row the same

@@ -1,5 +1,6 @@
 #include "fluid/common/boundary.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -23,10 +24,29 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
   }
   Images im;
   std::vector<double> xs, ys;
-  auto add = [&](int p, double x, double y, int wall, double sign) {
+  // The parities of each side (boundary_rule.hpp); a wall's velocity components must share one (the
+  // operators carry one velocity sign per image).
+  double v_par[4] = {0, 0, 0, 0}, s_par[4] = {0, 0, 0, 0};
+  for (int w = 0; w < 4; ++w) {
+    const Side side = static_cast<Side>(w);
+    if (d.is_periodic(side)) continue;
+    if (!makes_images(d.kind(side)))
+      throw std::invalid_argument(std::string("walls: the ") + side_name(side) + " side is " +
+                                  side_kind_name(d.kind(side)) + ": no image particles there (free-surface methods)");
+    v_par[w] = velocity_parity(d.kind(side));
+    s_par[w] = d.parity(side, Field::Scalar);
+    if (v_par[w] == 0.0) {
+      std::ostringstream m;
+      m << "walls: the " << side_name(side) << " side's kind (" << side_kind_name(d.kind(side))
+        << ") gives the two velocity components different image parities; image particles carry one";
+      throw std::invalid_argument(m.str());
+    }
+  }
+  auto add = [&](int p, double x, double y, int wall, double v_sign, double s_sign) {
     im.parent.push_back(p);
     im.wall.push_back(wall);
-    im.v_sign.push_back(sign);
+    im.v_sign.push_back(v_sign);
+    im.s_sign.push_back(s_sign);
     xs.push_back(x);
     ys.push_back(y);
   };
@@ -43,9 +63,9 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
       if (y - d.y0 < reach) { yw = Bottom; ym = mirror(y, d.y0); }
       else if (d.y1 - y < reach) { yw = Top; ym = mirror(y, d.y1); }
     }
-    if (xw >= 0) add(p, xm, y, xw, -1.0);
-    if (yw >= 0) add(p, x, ym, yw, -1.0);
-    if (xw >= 0 && yw >= 0) add(p, xm, ym, -1, +1.0);  // corner: point reflection
+    if (xw >= 0) add(p, xm, y, xw, v_par[xw], s_par[xw]);
+    if (yw >= 0) add(p, x, ym, yw, v_par[yw], s_par[yw]);
+    if (xw >= 0 && yw >= 0) add(p, xm, ym, -1, v_par[xw] * v_par[yw], s_par[xw] * s_par[yw]);  // corner: point reflection
   }
   im.x.resize(static_cast<int>(xs.size()), 2);
   for (int k = 0; k < im.size(); ++k) {
@@ -69,34 +89,69 @@ void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const 
         const Side side = a == 0 ? (c <= lo ? Left : Right) : (c <= lo ? Bottom : Top);
         m << method << ": particle " << i;
         if (!std::isfinite(c)) m << " has a non-finite position";
-        else if (d.open[side]) m << " left the tank through its open " << side_name(side) << " side " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
+        else if (d.is_open(side)) m << " left the tank through its open " << side_name(side) << " side " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
         else m << " crossed the wall " << (a == 0 ? "x = " : "y = ") << (c <= lo ? lo : hi);
         m << " (now at " << x(i, 0) << ", " << x(i, 1) << ") at t = " << t;
-        if (std::isfinite(c) && !d.open[side]) m << ": " << hint;
-        if (std::isfinite(c) && d.open[side]) m << " (a splash or a jet: make the tank larger)";
+        if (std::isfinite(c) && !d.is_open(side)) m << ": " << hint;
+        if (std::isfinite(c) && d.is_open(side)) m << " (a splash or a jet: make the tank larger)";
         throw std::runtime_error(m.str());
       }
     }
   }
 }
 
+Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x) {
+  const Eigen::Vector2d& u = d.wall_velocity[w];
+  if (d.kind(w) != SideKind::Inflow || d.inflow_profile != InflowProfile::Parabolic) return u;
+  const bool vertical = w == Left || w == Right;  // the side runs along y
+  const double a = vertical ? d.y0 : d.x0, b = vertical ? d.y1 : d.x1;
+  const double s = std::clamp(((vertical ? x.y() : x.x()) - a) / (b - a), 0.0, 1.0);
+  return (4.0 * s * (1.0 - s)) * u;
+}
+
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
+  // Per side, out of the loop (this runs every step): whether the tangential velocity is prescribed
+  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile; and
+  // whether any corner has an offset (a side with even velocity images, an outflow, next to another).
+  bool tangential_odd[4], shaped[4], corner_offsets = false;
+  for (int w = 0; w < 4; ++w) {
+    const Side side = static_cast<Side>(w);
+    tangential_odd[w] = d.parity(side, Field::VelocityTangential) < 0;
+    shaped[w] = d.kind(side) == SideKind::Inflow && d.inflow_profile == InflowProfile::Parabolic;
+    corner_offsets = corner_offsets || d.parity(side, Field::VelocityNormal) > 0;
+  }
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
-    if (w < 0) {  // corner image: u_img = u_p (see header)
-      offset(k, 0) = 0.0;
-      offset(k, 1) = 0.0;
+    if (w < 0) {
+      // corner image: the mean of the two orders of reflection, across the x side (parity px, value
+      // gx) then the y side and the reverse: px py u + ((1 - px)(1 + py) gx + (1 - py)(1 + px) gy) / 2
+      // (0 between two sides with odd images, two no-slip walls: u_img = u_p, see header)
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      if (corner_offsets) {
+        const Eigen::Vector2d xk = im.x.row(k).transpose();
+        const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
+        const double px = d.parity(sx, Field::VelocityNormal), py = d.parity(sy, Field::VelocityNormal);
+        const double cx = 0.5 * (1.0 - px) * (1.0 + py), cy = 0.5 * (1.0 - py) * (1.0 + px);
+        if (cx != 0.0) c += cx * side_velocity(d, sx, xk);
+        if (cy != 0.0) c += cy * side_velocity(d, sy, xk);
+      }
+      offset(k, 0) = c.x();
+      offset(k, 1) = c.y();
       continue;
     }
-    Eigen::Vector2d g = d.wall_velocity[w];  // u_b
-    if (grad_phi) {
-      // tangential correction dt/rho (tau . grad phi~) tau with phi~ = phi^n (Kim & Moin), Eq. (42)
-      const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall
+    const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall
+    // u_b: the wall's velocity, an inflow's profile at the image
+    Eigen::Vector2d g = shaped[w] ? side_velocity(d, static_cast<Side>(w), im.x.row(k).transpose()) : d.wall_velocity[w];
+    if (grad_phi && tangential_odd[w]) {
+      // tangential correction dt/rho (tau . grad phi~) tau with phi~ = phi^n (Kim & Moin) where the
+      // tangential velocity is prescribed (odd images), Eq. (42)
       g[t] += dt_over_rho * (*grad_phi)(im.parent[k], t);
     }
-    offset(k, 0) = 2.0 * g[0];  // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i
-    offset(k, 1) = 2.0 * g[1];
+    // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i: the prescribed part (1 - parity) g
+    const int parity = static_cast<int>(im.v_sign[k]);
+    offset(k, 0) = image_prescribed(parity, g[0]);
+    offset(k, 1) = image_prescribed(parity, g[1]);
   }
 }
 

@@ -1,17 +1,22 @@
 #pragma once
-// No-slip walls by image particles (Section 3.3) and the periodic wrap.
+// Walls by image particles (Section 3.3) and the periodic wrap.
 //
 // Every particle within 2h of a wall gets a mirror image across it, created once (EPSPH).
 // Corners: a particle within 2h of two adjacent walls also gets the double reflection
 // (the point reflection through the corner), so its kernel support is complete there too.
 //
-// Image values are affine in the parent's value:  f_img = sign * f_parent + offset.
-//  - velocity, one wall w:  u_img = 2 g_w - u_p,  g_w = u_w + dt/rho (tau.grad phi~) tau  (Eq. 42)
-//  - velocity, corner:      reflecting across w1 then w2 gives u_p + 2 (g_w2 - g_w1), and the other
-//                           order the opposite offset; they agree (u_img = u_p) for walls at rest,
-//                           and we take their mean, u_img = u_p, also when the walls move
-//                           differently (the lid corner of a cavity, where u is singular anyway).
-//  - phi (and any scalar with homogeneous Neumann data): phi_img = phi_p (sign +1, Eq. 9).
+// Image values are affine in the parent's value:  f_img = sign * f_parent + offset, the sign the
+// image parity of the wall's kind (fluid/common/boundary_rule.hpp), the offset its prescribed part:
+//  - velocity, one wall w:  u_img = parity u_p + (1 - parity) g_w; for a no-slip wall (parity -1)
+//                           u_img = 2 g_w - u_p,  g_w = u_w + dt/rho (tau.grad phi~) tau  (Eq. 42)
+//  - velocity, corner:      the product of the two sides' parities, the mean of the two orders'
+//                           offsets (image_velocity_offsets); reflecting across w1 then w2
+//                           gives u_p + 2 (g_w2 - g_w1) for two no-slip walls, and the other order
+//                           the opposite offset; they agree (u_img = u_p) for walls at rest, and we
+//                           take their mean, u_img = u_p, also when the walls move differently (the
+//                           lid corner of a cavity, where u is singular anyway).
+//  - phi (and any scalar with homogeneous Neumann data): the Scalar parity, +1 at a no-slip wall
+//    (phi_img = phi_p, Eq. 9); at a corner the product.
 #include <vector>
 
 #include "fluid/common/lattice.hpp"
@@ -22,7 +27,8 @@ struct Images {
   Mat2 x;                       // positions, M x 2
   std::vector<int> parent;      // parent particle of each image
   std::vector<int> wall;        // the wall of a single reflection (Side), or -1 for a corner image
-  std::vector<double> v_sign;   // velocity sign: -1 for one reflection, +1 for a corner
+  std::vector<double> v_sign;   // velocity parity (both components): -1 for one no-slip reflection, +1 for a corner
+  std::vector<double> s_sign;   // scalar (phi) parity: +1 at no-slip walls and their corners
 
   int size() const { return static_cast<int>(parent.size()); }
 };
@@ -39,6 +45,10 @@ Images make_images(const Domain& domain, const Mat2& x, double reach);
 // naming the method, the particle, the side, where it is now and the time t, then `hint` (what to
 // change) for a wall crossed.
 void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint);
+
+// The velocity a side prescribes at x (on or beyond it): its wall velocity, an inflow's shaped by
+// Domain::inflow_profile at x's place along the side.
+Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x);
 
 // The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
 // plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.

@@ -81,7 +81,7 @@ std::optional<ParamProblem> free_surface_problem(FluidMethod method, const Domai
       return ParamProblem{"fluid.gravity", std::string("has a component along the periodic ") + (a == 0 ? "x" : "y") +
                                                " axis, where no wall holds the fluid (a driving force is fluid.body_force)"};
     const Side towards = a == 0 ? (ga < 0 ? Left : Right) : (ga < 0 ? Bottom : Top);
-    if (d.open[towards])
+    if (d.is_open(towards))
       return ParamProblem{"fluid.gravity", std::string("points at the open ") + side_name(towards) +
                                                " side: no wall holds the fluid"};
   }

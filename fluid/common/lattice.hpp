@@ -3,13 +3,15 @@
 #include <array>
 #include <string>
 
+#include "fluid/common/boundary_rule.hpp"
 #include "fluid/common/types.hpp"
 
 namespace sphib {
 
 enum Side { Left = 0, Right = 1, Bottom = 2, Top = 3 };
 
-// A rectangle [x0, x1] x [y0, y1]; along each axis either periodic or bounded by two sides, each a
+// A rectangle [x0, x1] x [y0, y1]; along each axis either periodic or bounded by two sides, each of
+// the kind `bounded[side]` (fluid/common/boundary_rule.hpp: the one rule of what a kind implies): a
 // no-slip wall with its own prescribed velocity (a moving lid or Couette wall is one setting) or
 // open: free space, no wall (free-surface methods only, fluid/common/free_surface.hpp; the rectangle is
 // then the tank a particle may not leave).
@@ -18,12 +20,24 @@ struct Domain {
   bool periodic_x = true, periodic_y = false;
   std::array<Eigen::Vector2d, 4> wall_velocity{Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
                                                Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
-  std::array<bool, 4> open{false, false, false, false};  // by Side; never on a periodic axis
+  // by Side, the kind of a side on a bounded axis (a periodic axis's sides are periodic whatever
+  // this holds): SideKind::NoSlip, Open, Inflow (velocity wall_velocity[side] shaped by
+  // inflow_profile) or Outflow
+  std::array<SideKind, 4> bounded{SideKind::NoSlip, SideKind::NoSlip, SideKind::NoSlip, SideKind::NoSlip};
+  InflowProfile inflow_profile = InflowProfile::None;
   double Lx() const { return x1 - x0; }
   double Ly() const { return y1 - y0; }
   bool is_periodic(Side s) const { return (s == Left || s == Right) ? periodic_x : periodic_y; }
-  bool is_wall(Side s) const { return !is_periodic(s) && !open[s]; }
-  bool any_open() const { return open[0] || open[1] || open[2] || open[3]; }
+  SideKind kind(Side s) const { return is_periodic(s) ? SideKind::Periodic : bounded[s]; }
+  bool is_wall(Side s) const { return is_wall_kind(kind(s)); }
+  bool is_open(Side s) const { return kind(s) == SideKind::Open; }
+  bool any_open() const { return is_open(Left) || is_open(Right) || is_open(Bottom) || is_open(Top); }
+  bool any_through() const {  // an inflow or outflow side
+    return is_through_kind(kind(Left)) || is_through_kind(kind(Right)) || is_through_kind(kind(Bottom)) ||
+           is_through_kind(kind(Top));
+  }
+  // The image parity of field f across side s (boundary_rule.hpp; 0 on a periodic or open side).
+  int parity(Side s, Field f) const { return image_parity(kind(s), f); }
 };
 
 // "left", "right", "bottom", "top".

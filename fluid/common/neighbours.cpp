@@ -384,6 +384,7 @@ void VerletList::build(const Mat2& x, Images& im, PairList& P) {
     im.parent.assign(M, -1);
     im.wall.assign(M, -1);
     im.v_sign.assign(M, 0.0);
+    im.s_sign.assign(M, 0.0);
   } else {
     im = make_images(d_, x, range);
   }

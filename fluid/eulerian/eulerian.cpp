@@ -9,7 +9,8 @@
 namespace sphib {
 
 EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : ProjectionFluid(params, false, profiler) {
-  if (prm_.projection == Projection::Auto) prm_.projection = Projection::Exact;
+  if (prm_.projection == Projection::Auto)  // exact, but its stream function needs walls or periodic sides
+    prm_.projection = prm_.domain.any_through() ? Projection::Approximate : Projection::Exact;
   const int N = lat_.size();
 
   // Neighbours: images and the pair list, once (the compact storage: the pairs a block of rows at a
@@ -84,7 +85,7 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
       const auto t1 = Profile::Clock::now();
       const StencilRows sr(lap_phi_st_lattice_, N);
       SystemSolver s = lattice_singular_solver(
-          phi_system(), negated_rows([&](int r0, int k) { return sr.rows(op_.lap_phi, r0, k); }, N), N, gauge_,
+          phi_system(), Field::Scalar, negated_rows([&](int r0, int k) { return sr.rows(op_.lap_phi, r0, k); }, N), N, gauge_,
           prm_.poisson_solver, lat_);
       if (s.solver) {
         poisson_ = std::move(s.solver);
@@ -156,7 +157,10 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   add_setup("factorisation", seconds_since(t0) + factorisation);
   k_psi_ = prof_.on_demand_phase("stream function");
   convective_ = prm_.convection;
-  has_stream_function_ = variable_viscosity_ = true;
+  // the markers' stream function is constant along walls: none with flow through a side (the markers
+  // then interpolate by SPH, coupling/interpolate.hpp)
+  has_stream_function_ = !prm_.domain.any_through();
+  variable_viscosity_ = true;
   prof_.set_reporter([this](FluidReport& r) { report(r); });
   prof_.set_floor([this](FloorTimer& t) { floor_kernels(t); });
   prof_.set_stream_function_floor([this](FloorTimer& t) { stream_function_floor_kernels(t); });
@@ -183,7 +187,7 @@ std::string EulerianFluid::phi_system() const {
 void EulerianFluid::make_phi_solver() const {
   SpMat minus_lap = op_.lap_phi;  // -lap (negated in place: an assigned -A grows its own storage)
   negate(minus_lap);
-  auto s = singular_solver(phi_system(), minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
+  auto s = singular_solver(phi_system(), Field::Scalar, minus_lap, gauge_, prm_.poisson_solver, &lat_, Refactor::Once);
   poisson_ = std::move(s.solver);
   poisson_unpinned_ = s.unpinned;
 }

@@ -48,6 +48,18 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Ope
   // it does exactly (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at
   // every resolution).
   mpsi_scale_ = 1.0 / m;
+  // The stream functions take the velocity's operators (their images): the boundary rule's stream
+  // function parity must be the velocity's at every wall (no-slip: both odd); flow through a side
+  // (inflow, outflow) has no stream function constant along it.
+  if (lat_.domain.any_through())
+    throw std::invalid_argument(
+        "fluid.projection: the exact projection needs walls or periodic sides (its stream function is constant "
+        "along a wall); with domain.inflow or domain.outflow use \"approximate\"");
+  for (int k = 0; k < 4; ++k) {
+    const Side w = static_cast<Side>(k);
+    if (lat_.domain.is_wall(w) && velocity_parity(lat_.domain.kind(w)) != lat_.domain.parity(w, Field::Stream))
+      throw std::invalid_argument("walls." + wall_name(w) + ": the exact projection's stream function needs the velocity's image parity at the wall");
+  }
   if (projection_) {
     for (int k = 0; k < 4; ++k) {
       const Side w = static_cast<Side>(k);
@@ -132,13 +144,13 @@ void ExactProjection::make_markers_solver() {
   std::unique_ptr<StencilRows> sr;  // compact: lap_u.A by its stencil's rows only
   if (compact_) {  // the lattice solver from -lap's rows (no negated copy, lap never whole)
     sr = std::make_unique<StencilRows>(*vel_st_, N);
-    m = lattice_singular_solver(system, negated_rows([&](int r0, int k) { return sr->rows(op_.lap_u.A, r0, k); }, N),
+    m = lattice_singular_solver(system, Field::Stream, negated_rows([&](int r0, int k) { return sr->rows(op_.lap_u.A, r0, k); }, N),
                                 N, mpsi_gauge_, kind_, lat_);
   }
   if (!m.solver) {
     SpMat minus_lap = sr ? sr->rows(op_.lap_u.A, 0, N) : op_.lap_u.A;  // -lap (negated in place: an
     negate(minus_lap);                                                 // assigned -A grows its own storage)
-    m = singular_solver(system, minus_lap, mpsi_gauge_, kind_, &lat_, Refactor::Once);
+    m = singular_solver(system, Field::Stream, minus_lap, mpsi_gauge_, kind_, &lat_, Refactor::Once);
   }
   mpsi_solver_ = std::move(m.solver);
   mpsi_unpinned_ = m.unpinned;
@@ -201,8 +213,9 @@ void ExactProjection::make_psi_solver() {
   if (channel) {
     const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
     Vec c1 = Vec::Zero(M);
+    const double c_far = image_prescribed(d.parity(far, Field::Stream), 1.0);  // 2: psi_w = Q = 1, odd images
     for (int m = 0; m < M; ++m)
-      if (im_.wall[m] == far) c1[m] = 2.0;
+      if (im_.wall[m] == far) c1[m] = c_far;
     psi_by1_ = op_.grad_uy.B * c1;
     psi_bx1_ = op_.grad_ux.B * c1;
     if (compact_)  // by rows of the transposes: each row's sums as the whole products'
@@ -218,7 +231,7 @@ void ExactProjection::make_psi_solver() {
   } else {
     mpsi_flux_ = Vec::Zero(N);
   }
-  psi_gauge_ = Gauge(lat_, NullSpace::GradientOddImages);
+  psi_gauge_ = Gauge(lat_, NullSpace::GradientStream);
   // G^T G = Gy^T Gy + Gx^T Gx (Gx^T = -psi_tx_, exactly), a block of rows at a time: the same bits
   // as the whole products. The compact storage hands the lattice solver the blocks alone (G^T G,
   // 3-4 times the non-zeros of G, never held whole); otherwise, or where it lacks the structure,
@@ -234,7 +247,7 @@ void ExactProjection::make_psi_solver() {
         f(rows_of_sum_of_products(ty, ry, -1.0, tx, rx, 0, m), r0);
       });
     };
-    s = lattice_singular_solver(system, gtg, N, psi_gauge_, kind_, lat_);
+    s = lattice_singular_solver(system, Field::Stream, gtg, N, psi_gauge_, kind_, lat_);
   }
   if (!s.solver) {
     SpMat A;
@@ -246,7 +259,7 @@ void ExactProjection::make_psi_solver() {
     } else {
       A = sum_of_products(psi_ty_, Gy, -1.0, psi_tx_, Gx);
     }
-    s = singular_solver(system, A, psi_gauge_, kind_, &lat_, Refactor::Once);
+    s = singular_solver(system, Field::Stream, A, psi_gauge_, kind_, &lat_, Refactor::Once);
   }
   psi_solver_ = std::move(s.solver);
   psi_unpinned_ = s.unpinned;

@@ -543,7 +543,7 @@ void IsphFluid::make_solvers() {
   LaggedPcgOptions cg;
   cg.rtol = prm_.isph.poisson_rtol;
   cg.refresh_iterations = prm_.isph.poisson_refresh;
-  SystemSolver p = singular_solver("Poisson", A_phi_, gauge_, kind, nullptr, Refactor::EveryStep,
+  SystemSolver p = singular_solver("Poisson", Field::Scalar, A_phi_, gauge_, kind, nullptr, Refactor::EveryStep,
                                    lattice ? LatticeReference{&lat_, &A_phi_} : LatticeReference{}, cg);
   poisson_ = std::move(p.solver);
   poisson_unpinned_ = p.unpinned;

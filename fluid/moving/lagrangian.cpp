@@ -170,7 +170,7 @@ LagrangianFluid::RebuildSeconds LagrangianFluid::rebuild(double t, bool jump, bo
   s.factorisation_cn = seconds_since(t0);
   t0 = Profile::Clock::now();
   if (!poisson_) {
-    SystemSolver p = singular_solver("Poisson", A_phi_, gauge_, prm_.poisson_solver, nullptr, Refactor::EveryStep, {&lat_, &A_phi_});
+    SystemSolver p = singular_solver("Poisson", Field::Scalar, A_phi_, gauge_, prm_.poisson_solver, nullptr, Refactor::EveryStep, {&lat_, &A_phi_});
     poisson_ = std::move(p.solver);
     poisson_unpinned_ = p.unpinned;
   } else {
@@ -287,10 +287,10 @@ void LagrangianFluid::onto_lattice() {
     const int p = im.parent[m], w = im.wall[m];
     f(N + m, 0) = im.v_sign[m] * u_(p, 0) + c(m, 0);
     f(N + m, 1) = im.v_sign[m] * u_(p, 1) + c(m, 1);
-    f(N + m, 2) = phi_[p];
+    f(N + m, 2) = im.s_sign[m] * phi_[p];  // the scalar's parity (boundary_rule.hpp)
     const bool flip_x = w < 0 || w == Left || w == Right, flip_y = w < 0 || w == Bottom || w == Top;
-    f(N + m, 3) = flip_x ? -grad_phi_(p, 0) : grad_phi_(p, 0);
-    f(N + m, 4) = flip_y ? -grad_phi_(p, 1) : grad_phi_(p, 1);
+    f(N + m, 3) = im.s_sign[m] * (flip_x ? -grad_phi_(p, 0) : grad_phi_(p, 0));
+    f(N + m, 4) = im.s_sign[m] * (flip_y ? -grad_phi_(p, 1) : grad_phi_(p, 1));
   }
   Eigen::Vector2d lo(d.x0, d.y0), hi(d.x1, d.y1);
   const double support = W_.support();

@@ -159,7 +159,8 @@ void ParticleOperators::row_with_images(const PairList& P, const PairGeometry& g
     if (t.active) {
       sw += t.w;
       const int s = slot_[k];
-      const double sign = image ? im.v_sign[j - N] : 1.0;
+      const double sign = image ? im.v_sign[j - N] : 1.0;     // the images' parities (boundary_rule.hpp)
+      const double s_sign = image ? im.s_sign[j - N] : 1.0;  // velocity, phi
       v.lu[d] += t.lap;
       v.lu[s] += -1.0 * sign * t.lap;
       v.gxu[d] += v.sd * t.gx;
@@ -167,11 +168,11 @@ void ParticleOperators::row_with_images(const PairList& P, const PairGeometry& g
       v.gyu[d] += v.sd * t.gy;
       v.gyu[s] += 1.0 * sign * t.gy;
       v.lp[d] += t.lap;
-      v.lp[s] += -1.0 * t.lap;
+      v.lp[s] += -1.0 * s_sign * t.lap;
       v.gxp[d] += t.gx;
-      v.gxp[s] += 1.0 * t.gx;
+      v.gxp[s] += 1.0 * s_sign * t.gx;
       v.gyp[d] += t.gy;
-      v.gyp[s] += 1.0 * t.gy;
+      v.gyp[s] += 1.0 * s_sign * t.gy;
     }
     if (image) {
       v.lb[b] = t.active ? -1.0 * t.lap : 0.0;

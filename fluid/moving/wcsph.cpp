@@ -426,7 +426,7 @@ std::vector<std::string> WcsphFluid::describe() const {
       << (detector_.method() == SurfaceDetection::Dilts ? " h" : "") << "; gravity (" << prm_.gravity.x() << ", "
       << prm_.gravity.y() << "); open sides:";
     for (int s = 0; s < 4; ++s)
-      if (prm_.domain.open[s]) m << " " << side_name(static_cast<Side>(s));
+      if (prm_.domain.is_open(static_cast<Side>(s))) m << " " << side_name(static_cast<Side>(s));
     lines.push_back(m.str());
   }
   {

@@ -1,0 +1,48 @@
+#include "fluid/common/boundary_rule.hpp"
+
+namespace sphib {
+
+int image_parity(SideKind k, Field f) {
+  switch (k) {
+    case SideKind::NoSlip:
+      switch (f) {
+        case Field::VelocityNormal:
+        case Field::VelocityTangential: return -1;  // u_img = 2 U_wall - u (Eq. 42)
+        case Field::Scalar: return +1;              // phi_img = phi (Eq. 9)
+        case Field::Stream: return -1;              // psi_img = 2 psi_w - psi
+      }
+      break;
+    case SideKind::Inflow:
+      switch (f) {
+        case Field::VelocityNormal:
+        case Field::VelocityTangential: return -1;  // u_img = 2 u_in - u: u = u_in on the side (Eq. 42's form)
+        case Field::Scalar: return +1;              // dphi/dn = 0
+        case Field::Stream: return 0;               // psi is not constant along it
+      }
+      break;
+    case SideKind::Outflow:
+      switch (f) {
+        case Field::VelocityNormal:
+        case Field::VelocityTangential: return +1;  // du/dn = 0 (zero gradient)
+        case Field::Scalar: return -1;              // phi = 0 (the pressure's reference)
+        case Field::Stream: return 0;
+      }
+      break;
+    case SideKind::Periodic:
+    case SideKind::Open: return 0;
+  }
+  return 0;
+}
+
+const char* side_kind_name(SideKind k) {
+  switch (k) {
+    case SideKind::Periodic: return "periodic";
+    case SideKind::NoSlip: return "no_slip";
+    case SideKind::Open: return "open";
+    case SideKind::Inflow: return "inflow";
+    case SideKind::Outflow: return "outflow";
+  }
+  return "?";
+}
+
+}  // namespace sphib
