@@ -63,6 +63,13 @@
 #   isph_still       the still tank of fs_still by ISPH (cases/still_tank_isph.toml): loads, spurious
 #                    speeds, isph.scheme = consistent and paper
 #   isph_lobovsky    Lobovsky et al. (2014)'s dam break by ISPH: the pressure probes at 5000 and 20000 particles
+#   isph_gate        the dam break by ISPH behind a gate lifted at sqrt(g H / 2) (gate.*; docs/free_surfaces.md):
+#                    the front at 1250 and 5000 particles, and the delay that fits the experiments best
+#   isph_lobovsky_gate  Lobovsky et al.'s dam break by ISPH behind the same gate law: the probes at 5000 and
+#                    20000 particles (LOBOVSKY_NX=268 for 5000 alone)
+#   fs_gate          the dam break by WCSPH behind the same gate: the front at 1250 and 5000 particles
+#   fs_lobovsky_gate Lobovsky et al.'s dam break by WCSPH (delta-SPH) behind the same gate: the probes at 5000
+#                    and 20000 particles (LOBOVSKY_NX=268 for 5000 alone)
 #   isph_scheme      Tables 1-3 with isph.scheme = paper (the scheme before issue 29), for the comparison
 # Without arguments: all but fig10 and sweep (the long ones).
 # PAIR=paper runs every scene with the paper's approximate projection and SPH interpolation
@@ -225,6 +232,28 @@ for s in "${sections[@]}"; do
         --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.067/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
         --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
       /usr/bin/python3 scripts/plot_probes.py $OUT/isph_lobovsky/probes.png $OUT/isph_lobovsky/run_000 $OUT/isph_lobovsky/run_001 ;;
+    isph_gate)  # the gate lifted at sqrt(g H / 2) = 1.197 m/s for H = 2a = 0.292 m, from t = 0
+      $SWEEP --scene cases/dam_break.toml --out $OUT/isph_gate --vary grid.nx=200,100 \
+        --derive grid.ny=4*{grid.nx} --derive time.dt=0.03/{grid.nx} --set gate.x=0.146 --set gate.speed=1.197 \
+        --set time.end=0.3 --set output.times=[] \
+        --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,seconds_per_step
+      /usr/bin/python3 scripts/dam_break_front.py $OUT/isph_gate/run_000 $OUT/isph_gate/run_001 | tee $OUT/isph_gate/front.txt ;;
+    isph_lobovsky_gate)  # the gate lifted at sqrt(g H / 2) = 1.213 m/s for H = 0.3 m, from t = 0 (their time origin); its face on the lattice line 100 dx next to the column
+      $SWEEP --scene cases/dam_break_lobovsky.toml --out $OUT/isph_lobovsky_gate --vary grid.nx=${LOBOVSKY_NX:-268,536} \
+        --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.067/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
+        --set gate.x=0.600746 --set gate.speed=1.213 --set time.end=0.55 \
+        --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,seconds_per_step ;;
+    fs_gate)  # as isph_gate
+      $SWEEP --scene cases/dam_break_wcsph.toml --out $OUT/fs_gate --vary grid.nx=200,100 \
+        --derive grid.ny=2*{grid.nx} --derive time.dt=0.008/{grid.nx} --set gate.x=0.146 --set gate.speed=1.197 \
+        --set time.end=0.3 --set output.times=[] \
+        --report particles,front_deviation_koshizuka_oka_1996,front_deviation_martin_moyce_1952_a1_125in,front_deviation_martin_moyce_1952_a2_25in,max_density_variation,seconds_per_step
+      /usr/bin/python3 scripts/dam_break_front.py $OUT/fs_gate/run_000 $OUT/fs_gate/run_001 | tee $OUT/fs_gate/front.txt ;;
+    fs_lobovsky_gate)  # as isph_lobovsky_gate
+      $SWEEP --scene cases/dam_break_lobovsky_wcsph.toml --out $OUT/fs_lobovsky_gate --vary grid.nx=${LOBOVSKY_NX:-268,536} \
+        --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.01474/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
+        --set gate.x=0.600746 --set gate.speed=1.213 --set time.end=0.55 \
+        --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,max_density_variation,seconds_per_step ;;
     capsule_bending)  # (one thread per run: the two cores are shared)
       C="env OMP_NUM_THREADS=1 build/capsule_shear --sheared --law skalak --eb-hat 0.1 --t-end 6"
       $C --ca 0.005,0.01,0.02,0.05 --cfl 0.05 --out $OUT/capsule_bending/ca_H2

@@ -754,6 +754,19 @@ void read_regularisation(Reader& r, Scene& s) {
                            false, 0.0);
 }
 
+// A dam break's gate (fluid/common/walls.hpp, append_gate): present when the scene has [gate].
+void read_gate(Reader& r, Scene& s) {
+  GateParams& g = s.sim.fluid.gate;
+  g.on = r.has("gate");
+  if (!g.on && !r.documenting) return;  // no gate keys in the resolved scene (a checkpoint's restart)
+  g.x = r.number("gate.x", 0.0, "inside the domain", "the gate's face: a plate of wall particles on the line x = gate.x, "
+                 "the fluid on its low side (ISPH, WCSPH)", g.on);
+  g.speed = r.number("gate.speed", 0.0, "> 0", "the gate's lift speed, m/s (constant from gate.start on)", g.on, 0.0, true);
+  g.start = r.number("gate.start", 0.0, ">= 0", "when the gate starts to lift, s", false, 0.0);
+  if (g.on && s.method != FluidMethod::Isph && s.method != FluidMethod::Wcsph)
+    r.fail("gate", "a gate is available for methods \"isph\" and \"wcsph\" only (the moving particles' walls)");
+}
+
 // The time step, the run's length and the linear solvers.
 void read_time_and_solvers(Reader& r, Scene& s) {
   FluidParams& f = s.sim.fluid;
@@ -1092,6 +1105,7 @@ Scene build(toml::table& root, const std::string& name, const std::set<std::stri
   read_fluid(r, s);
   read_free_surface(r, s);
   read_regularisation(r, s);
+  read_gate(r, s);
   read_time_and_solvers(r, s);
   read_output(r, s);
   read_probes(r, s);

@@ -285,6 +285,12 @@ VerletList::VerletList(const Domain& d, double reach, double skin_min, double sk
   fixed_mode_ = true;
 }
 
+void VerletList::set_fixed(const Mat2& fixed) {
+  fixed_ = fixed;
+  fixed_mode_ = true;
+  x_build_.resize(0, 2);  // build_due: a first build (no skin from a speed)
+}
+
 void VerletList::restore(const State& s, const Mat2& x, Images& im, PairList& P) {
   skin_ = s.skin;
   build(s.x_build, im, P);

@@ -239,6 +239,8 @@ class VerletList {
   VerletList(const Domain& d, double reach, double skin) : VerletList(d, reach, skin, skin) {}
   // With fixed points (M x 2) instead of mirror images.
   VerletList(const Domain& d, double reach, double skin_min, double skin_max, const Mat2& fixed);
+  // New fixed points (a gate that moved, isph.cpp): the next update() builds.
+  void set_fixed(const Mat2& fixed);
 
   // The particles at x (N x 2, in the domain: wrapped along periodic axes): the images im and the
   // candidate pairs P (rx, ry, r) moved there, or built again (force: always); returns whether it

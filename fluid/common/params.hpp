@@ -130,6 +130,20 @@ struct IsphParams {
   double shifting_A = 2.0;  // Fickian: D = A h |u| dt (Lind et al. Eq. 24)
 };
 
+// A dam break's gate (walls.hpp, append_gate; ISPH and WCSPH): a vertical plate of wall particles with its face on
+// the line x = gate.x, the fluid on its low side, lifted at a constant speed from t = start. Off unless
+// a scene has [gate].
+struct GateParams {
+  bool on = false;
+  double x = 0;      // the plate's face, m
+  double speed = 0;  // lift speed, m/s
+  double start = 0;  // when the lift begins, s
+  // How far the plate has risen at time t.
+  double lift(double t) const { return on && t > start ? speed * (t - start) : 0.0; }
+  // Its velocity at time t.
+  double velocity(double t) const { return on && t > start ? speed : 0.0; }
+};
+
 // Where the fluid is at t = 0 (free surfaces: free_surface.hpp).
 struct FluidRegion {
   enum class Shape { Domain, Block, Circle };
@@ -181,6 +195,7 @@ struct FluidParams {
   LagrangianParams lagrangian;
   WcsphParams wcsph;
   IsphParams isph;
+  GateParams gate;
   // Free surfaces (free_surface.hpp; methods for which supports_free_surface holds): the fluid's
   // initial region and surface detection, and gravity, an acceleration the method applies itself
   // (it sets the hydrostatic initial state, A Eqs. 27-28).

@@ -1,6 +1,7 @@
 #include "fluid/common/walls.hpp"
 
 #include <cmath>
+#include <string>
 
 namespace sphib {
 
@@ -53,6 +54,43 @@ VirtualWalls make_virtual_walls(const Lattice& L, double support) {
     w.u(k, 1) = vs[k];
   }
   return w;
+}
+
+std::optional<ParamProblem> gate_problem(const FluidParams& p) {
+  if (!p.gate.on) return std::nullopt;
+  const FreeSurfaceParams& fs = p.free_surface;
+  const Domain& d = p.domain;
+  if (!(p.gate.x > d.x0 && p.gate.x < d.x1) || !std::isfinite(p.gate.x))
+    return ParamProblem{"gate.x", "must lie inside the domain, between domain.x's two ends"};
+  if (!(p.gate.speed > 0) || !std::isfinite(p.gate.speed)) return ParamProblem{"gate.speed", "must be positive and finite"};
+  if (!(p.gate.start >= 0) || !std::isfinite(p.gate.start)) return ParamProblem{"gate.start", "must be >= 0 and finite"};
+  if (d.periodic_x || d.periodic_y || !d.is_wall(Bottom))
+    return ParamProblem{"gate", "needs a tank with a floor and without periodic sides"};
+  const FluidRegion& f = fs.fill;
+  if (f.shape != FluidRegion::Shape::Block || !(f.x1 <= p.gate.x + 1e-12 * d.Lx()))
+    return ParamProblem{"gate.x", "the fluid must be a block (fill.shape = \"block\") on the gate's low side (fill.x's end <= gate.x)"};
+  return std::nullopt;
+}
+
+void append_gate(const Lattice& L, double support, const GateParams& g, double top, double t, VirtualWalls& w) {
+  const Domain& d = L.domain;
+  const int cols = static_cast<int>(std::ceil(support / L.dx));
+  const int rows = static_cast<int>(std::ceil((top - d.y0 + support) / L.dy));
+  const double lift = g.lift(t);
+  const int M0 = w.size(), M = M0 + cols * rows;
+  w.x.conservativeResize(M, 2);
+  w.u.conservativeResize(M, 2);
+  int k = M0;
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < cols; ++i, ++k) {
+      w.x(k, 0) = g.x + (i + 0.5) * L.dx;
+      w.x(k, 1) = d.y0 + (j + 0.5) * L.dy + lift;
+      w.u(k, 0) = 0.0;
+      w.u(k, 1) = 0.0;  // moved, not sweeping: see walls.hpp
+      w.side.push_back(kGateSide);
+      w.dist.push_back((i + 0.5) * L.dx);
+      w.inner.push_back(i == 0);
+    }
 }
 
 }  // namespace sphib

@@ -32,6 +32,7 @@ std::optional<ParamProblem> isph_problem(const FluidParams& p) {
                         "full lattice); use pcg_cholmod or a CHOLMOD factorisation"};
   if (!(p.isph.shifting_A > 0) || !std::isfinite(p.isph.shifting_A))
     return ParamProblem{"isph.shifting_A", "must be positive and finite (Lind et al. 2012: 1 to 6)"};
+  if (auto e = gate_problem(p)) return e;
   if (p.isph.viscous == IsphViscous::Explicit && p.cn_solver != SolverKind::Auto)
     return ParamProblem{"solver.crank_nicolson", "does not apply with isph.viscous = \"explicit\" (A Eq. 22: no "
                                                  "Crank-Nicolson system)"};
@@ -91,6 +92,12 @@ IsphFluid::IsphFluid(const FluidParams& params, const ParticleSet& set, Profiler
   detector_ = SurfaceDetector(how, fs.beta, fs.dilts_radius * W_.h);
   surface_.assign(size(), 0);
   div_r_ = Vec::Zero(size());
+  tank_walls_ = walls_.size();
+  if (prm_.gate.on) {
+    gate_top_ = x_.col(1).maxCoeff() + 0.5 * lat_.dy;
+    gate_in_ = true;
+    place_gate(0.0);
+  }
   p_w_ = Vec::Zero(walls_.size());
   rho_ = Vec::Constant(size(), prm_.rho);
   // p at t = 0 (A Eq. 31's p(0); also the first warm start of an iterative Poisson solver): the
@@ -134,6 +141,11 @@ void IsphFluid::morris_factors() {
       const int w = pairs_.j[k] - N;
       if (w < 0) continue;
       const int side = walls_.side[w];
+      if (side == kGateSide) {  // Morris's factor with the distance to the gate's face; 1 for a particle past it
+        const double dA = prm_.gate.x - x_star_(i, 0);
+        beta_[k] = dA > 0 ? 1.0 + walls_.dist[w] / std::max(dA, 0.5 * lat_.dx) : 1.0;
+        continue;
+      }
       beta_[k] = side < 0 ? 1.0 : morris_wall_factor(lat_, side, walls_.dist[w], x_star_(i, 0), x_star_(i, 1), INFINITY);
     }
 }
@@ -311,6 +323,15 @@ void IsphFluid::wall_contact() {
     grad_phi_(i, a) += (u_(i, a) - un) / k;
     u_(i, a) = un;
   });
+  if (!gate_in_) return;
+  for (int i = 0; i < size(); ++i) {  // the gate's face, x = gate.x, above its lower edge
+    const double dist = prm_.gate.x - x_(i, 0);
+    if (!(dist > 0) || x_(i, 1) <= gate_bottom_) continue;
+    const double allowed = std::max(0.0, (dist - gap[0]) / dt);
+    if (u_(i, 0) <= allowed) continue;
+    grad_phi_(i, 0) += (u_(i, 0) - allowed) / k;
+    u_(i, 0) = allowed;
+  }
 }
 
 // The consistent scheme's Poisson rows beside the free surface (see the header): a particle whose support
@@ -405,6 +426,38 @@ void IsphFluid::shift_off_walls() {
     const double allowed = std::max(0.0, dist - gap[a]);
     if (towards > allowed) dr_(i, a) = s == 0 ? -allowed : allowed;
   });
+  if (!gate_in_) return;
+  for (int i = 0; i < size(); ++i) {  // the gate's face
+    const double dist = prm_.gate.x - x_(i, 0);
+    if (!(dist > 0) || x_(i, 1) <= gate_bottom_ || dr_(i, 0) <= 0) continue;
+    dr_(i, 0) = std::min(dr_(i, 0), std::max(0.0, dist - gap[0]));
+  }
+}
+
+// The gate's particles at time t after the tank's (append_gate), or none once its lower edge is more
+// than 2h above the highest particle (x*); the Verlet list then builds with them. Returns whether the
+// wall particles changed (before gate.start they stay).
+bool IsphFluid::place_gate(double t) {
+  if (!gate_in_) return false;
+  const bool first = walls_.size() == tank_walls_;
+  if (!first && prm_.gate.velocity(t) == 0 && prm_.gate.lift(t) == 0) return false;
+  const double bottom = prm_.domain.y0 + prm_.gate.lift(t);
+  walls_.x.conservativeResize(tank_walls_, 2);
+  walls_.u.conservativeResize(tank_walls_, 2);
+  walls_.side.resize(tank_walls_);
+  walls_.dist.resize(tank_walls_);
+  walls_.inner.resize(tank_walls_);
+  if (bottom > x_star_.col(1).maxCoeff() + W_.support()) {
+    gate_in_ = false;
+    gate_bottom_ = -INFINITY;
+  } else {
+    append_gate(lat_, W_.support(), prm_.gate, gate_top_, t, walls_);
+    gate_bottom_ = bottom;
+  }
+  verlet_.set_fixed(walls_.x);
+  p_w_.conservativeResize(walls_.size());
+  if (walls_.size() > tank_walls_) p_w_.tail(walls_.size() - tank_walls_).setZero();
+  return true;
 }
 
 // The operators, both systems and A Eq. (26)'s sums at the list's positions (one pass), then the free
@@ -450,8 +503,9 @@ void IsphFluid::add_mirror_divergence() {
   for (int i = 0; i < N; ++i) {
     const double xi = x_star_(i, 0), yi = x_star_(i, 1);
     // the wall line within reach along each axis (NaN: none)
-    const double lx = d.is_wall(Left) && xi - d.x0 < reach ? d.x0 : d.is_wall(Right) && d.x1 - xi < reach ? d.x1 : NAN;
+    double lx = d.is_wall(Left) && xi - d.x0 < reach ? d.x0 : d.is_wall(Right) && d.x1 - xi < reach ? d.x1 : NAN;
     const double ly = d.is_wall(Bottom) && yi - d.y0 < reach ? d.y0 : d.is_wall(Top) && d.y1 - yi < reach ? d.y1 : NAN;
+    if (std::isnan(lx) && gate_in_ && yi > gate_bottom_ && xi < prm_.gate.x && prm_.gate.x - xi < reach) lx = prm_.gate.x;
     if (std::isnan(lx) && std::isnan(ly)) continue;
     auto add = [&](double rx, double ry) {  // an image at x_i - (rx, ry)
       const double r = std::hypot(rx, ry);
@@ -511,7 +565,7 @@ void IsphFluid::begin_step() {
   // before anything has changed.
   x_star_ = x_ + prm_.dt * u_;
   keep_in_tank(prm_.domain, x_star_, t_ + prm_.dt, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");
-  geometry(false);
+  geometry(place_gate(t_ + prm_.dt));  // a gate that moved: a build with its new particles
   refactorise();
 }
 
@@ -590,6 +644,13 @@ std::vector<std::string> IsphFluid::describe() const {
     << verlet_.skin() / W_.support() << " 2h; built " << verlet_.builds() << " times, moved " << verlet_.updates()
     << " times";
   lines.push_back(v.str());
+  if (prm_.gate.on) {
+    std::ostringstream g;
+    g << "ISPH: a gate at x = " << prm_.gate.x << " lifted at " << prm_.gate.speed << " m/s from t = " << prm_.gate.start
+      << " (walls.hpp, append_gate): " << (gate_in_ ? "in the tank, lower edge at y = " : "gone (2h above the fluid)");
+    if (gate_in_) g << gate_bottom_;
+    lines.push_back(g.str());
+  }
   for (const auto& si : solver_info()) lines.push_back(si.describe());
   if (poisson_->mean_iterations() > 0) {
     std::ostringstream it;
@@ -632,6 +693,10 @@ void IsphFluid::restore_extra(const NamedArrays& st) {
   const Eigen::MatrixXd& c = state_entry(st, "verlet", 1, 4);
   VerletList::State v{state_entry(st, "verlet_x_build", N, 2), c(0, 0), static_cast<long>(c(0, 1)),
                       static_cast<long>(c(0, 2)), static_cast<long>(c(0, 3))};
+  if (prm_.gate.on) {  // the gate at the checkpoint's time, before the list's build
+    gate_in_ = true;
+    place_gate(t_);
+  }
   verlet_.restore(v, x_star_, im_, pairs_);
   pattern_stale_ = true;
   assemble(true);  // the last step's geometry again: surface(), p() and the loads as before the checkpoint

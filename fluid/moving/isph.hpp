@@ -85,6 +85,14 @@
 // symbolic analyses as the uninterrupted run; with a direct Poisson solver (the default) it then
 // continues bit for bit.
 //
+// A gate (prm.gate, [gate] in a scene; walls.hpp, append_gate): a plate of wall particles appended to
+// the tank's, of the same kind (Morris factors with the distance to its face, the mirror rule, the
+// wall pressure, the Lennard-Jones push of its inner column, no particle within half a spacing of its
+// face, A Eq. 26's mirror images across its face; no velocity in the pairs: walls.hpp), lifted at
+// gate.speed from gate.start. While it moves the Verlet list is built every step with its new
+// positions; once its lowest row is more than 2h above the highest particle it is removed and the
+// walls are the tank's again.
+//
 // A particle that leaves the tank (through a wall or an open side) or gets a non-finite position
 // stops the run naming it, the side and the time (keep_in_tank, boundary.hpp).
 #include <optional>
@@ -149,6 +157,7 @@ class IsphFluid final : public ProjectionFluid {
   void wall_pressure();          // p_w_ from phi_ (A Eq. 30 normalised, with the hydrostatic term)
   void make_solvers();
   void refactorise();            // the solvers take the step's matrices
+  bool place_gate(double t);     // the gate's particles at time t (or none once it has left); whether they changed
 
   Mat2 x_star_;  // the step's predicted positions (x^n: the base's x_)
   VirtualWalls walls_;
@@ -169,6 +178,10 @@ class IsphFluid final : public ProjectionFluid {
   std::vector<int> diag_;     // the diagonal's place in A_phi_'s values, row by row
   bool consistent_ = false;   // isph.scheme = "consistent" (see the header)
   double M0_ = 1, S_F_ = 0;   // consistent: a full support's -sum V x^2 F and sum F (reference_sums)
+  int tank_walls_ = 0;        // walls_'s first tank_walls_ particles are the tank's, the rest the gate's
+  bool gate_in_ = false;      // the gate's particles are in walls_
+  double gate_top_ = 0;       // the fluid's initial top (the gate reaches 2h above it)
+  double gate_bottom_ = -INFINITY;  // the gate's lower edge at the step's t^{n+1} (-inf: no gate)
   MovingPhases k_;
   int k_surface_, k_shift_ = -1;
 };

@@ -116,6 +116,7 @@ WcsphFluid::WcsphFluid(const FluidParams& params, const WcsphOptions& options, P
 }
 
 void WcsphFluid::find_neighbours() {
+  place_gate(t_);  // a gate (none: nothing)
   x_eval_ = x_;
   search_.find(x_, pairs_);
   nbrs_last_ = search_.neighbours();
@@ -386,6 +387,12 @@ std::vector<std::string> WcsphFluid::describe() const {
       << (lj_ ? " + Lennard-Jones repulsion (C Eq. 20)" : "") << ", h = " << W_.h << " (" << prm_.h_over_dx
       << " (dx+dy)/2), " << static_cast<double>(nbrs_total_) / ((n_ + 1.0) * size())
       << " neighbours per particle (mean over the run)";
+    lines.push_back(m.str());
+  }
+  if (prm_.gate.on) {
+    std::ostringstream m;
+    m << "a gate at x = " << prm_.gate.x << " lifted at " << prm_.gate.speed << " m/s from t = " << prm_.gate.start
+      << " (walls.hpp, append_gate): " << (gate_in_ ? "in the tank" : "gone (2h above the fluid)");
     lines.push_back(m.str());
   }
   {

@@ -198,6 +198,8 @@ class WcsphFluid final : public FluidSolver {
   Eigen::MatrixXd clock() const;                   // t, n, the density monitor (and A's first-step flag)
   void restore_clock(const NamedArrays& state);
   void restore_afanasiev(const NamedArrays& state);
+  void wall_self_density();                // rho_ww_ of the wall particles
+  bool place_gate(double t);               // the gate at time t (isph.hpp: the same rule); whether the walls changed
 
   WcsphOptions opt_;
   Eos eos_ = Eos::Morris;
@@ -228,6 +230,9 @@ class WcsphFluid final : public FluidSolver {
   SurfaceDetector detector_{SurfaceDetection::None, 0.75, 1.0};
   std::vector<char> surface_;
   double dvar_ = 0, dvar_max_ = 0, t_dvar_max_ = 0;
+  int tank_walls_ = 0;     // walls_'s first tank_walls_ particles are the tank's, the rest a gate's
+  bool gate_in_ = false;   // a gate's particles are in walls_ (prm.gate; walls.hpp, append_gate)
+  double gate_top_ = 0;    // the fluid's initial top
   Profiler& prof_;  // profiler(): the run loop's
   int k_drift_, k_neigh_, k_rho_, k_force_, k_xsph_, k_surface_ = -1;
 };

@@ -20,6 +20,9 @@ std::optional<ParamProblem> wcsph_free_surface_problem(const FluidParams& p) {
   if (w.delta > 0 && w.integrator != Integrator::PredictorCorrector)
     return ParamProblem{"wcsph.delta", "needs wcsph.integrator = \"predictor_corrector\" (a diffusion term of the continuity "
                                        "equation; the leapfrog's density is the summation density)"};
+  if (p.gate.on && w.integrator != Integrator::PredictorCorrector)
+    return ParamProblem{"gate", "needs wcsph.integrator = \"predictor_corrector\" (A's walls with a free surface)"};
+  if (auto e = gate_problem(p)) return e;
   const bool free = has_free_surface(p.domain, p.free_surface), gravity = p.gravity.norm() != 0;
   if (!gravity && !free) return std::nullopt;
   const std::string what = free ? "a free surface" : "gravity";
@@ -61,20 +64,54 @@ void WcsphFluid::init_afanasiev() {
     rho_next_[i] = rho0_ * std::pow(1.0 + rho0_ * prm_.gravity.norm() * depth[i] / B_, 1.0 / prm_.wcsph.gamma);
   rho_half_ = rho_ = rho_next_;
   V_ = m_ / rho_.array();
-  {  // the wall particles among themselves (fixed): m (W(0) + sum_w' W_ww')
-    PairSearch among(prm_.domain, W_, walls_.size(), Mat2(0, 2));
-    ParticlePairs P;
-    among.find(walls_.x, P);
-    rho_ww_.setConstant(walls_.size(), m_ * W_.W(0.0));
-    for (int k = 0; k < P.size(); ++k) {
-      rho_ww_[P.i[k]] += m_ * P.W[k];
-      rho_ww_[P.j[k]] += m_ * P.W[k];
-    }
+  wall_self_density();
+  tank_walls_ = walls_.size();
+  if (prm_.gate.on) {
+    gate_top_ = x_.col(1).maxCoeff() + 0.5 * lat_.dy;
+    gate_in_ = true;
   }
-  find_neighbours();  // the state at t = 0: surface, pressures (the loads' p(0))
+  find_neighbours();  // (the gate placed there)  // the state at t = 0: surface, pressures (the loads' p(0))
   if (surface_on_) detector_.detect(N_, pairs_, V_, m_ / rho0_, surface_);
   pressures();
   xsph_velocity(u_);
+}
+
+// The wall particles among themselves: m (W(0) + sum_w' W_ww').
+void WcsphFluid::wall_self_density() {
+  PairSearch among(prm_.domain, W_, walls_.size(), Mat2(0, 2));
+  ParticlePairs P;
+  among.find(walls_.x, P);
+  rho_ww_.setConstant(walls_.size(), m_ * W_.W(0.0));
+  for (int k = 0; k < P.size(); ++k) {
+    rho_ww_[P.i[k]] += m_ * P.W[k];
+    rho_ww_[P.j[k]] += m_ * P.W[k];
+  }
+}
+
+// A gate (isph.hpp describes it; walls.hpp, append_gate): its particles at time t after the tank's, or
+// none once its lower edge is more than 2h above the highest particle; the pair search and the wall
+// particles' self-density then take the new walls. Returns whether the walls changed.
+bool WcsphFluid::place_gate(double t) {
+  if (!gate_in_) return false;
+  const int M0 = walls_.size();
+  if (M0 > tank_walls_ && prm_.gate.velocity(t) == 0 && prm_.gate.lift(t) == 0) return false;
+  walls_.x.conservativeResize(tank_walls_, 2);
+  walls_.u.conservativeResize(tank_walls_, 2);
+  walls_.side.resize(tank_walls_);
+  walls_.dist.resize(tank_walls_);
+  walls_.inner.resize(tank_walls_);
+  if (prm_.domain.y0 + prm_.gate.lift(t) > x_.col(1).maxCoeff() + W_.support()) gate_in_ = false;
+  else append_gate(lat_, W_.support(), prm_.gate, gate_top_, t, walls_);
+  const int M = walls_.size();
+  search_ = PairSearch(prm_.domain, W_, N_, walls_.x);
+  wall_self_density();
+  for (Vec* v : {&p_w_, &pr_w_, &rho_w_}) v->conservativeResize(M);
+  for (int w = M0; w < M; ++w) {  // new wall particles: the rest values (pressures() sets them)
+    p_w_[w] = p_wall_;
+    pr_w_[w] = p_wall_ / (rho0_ * rho0_);
+    rho_w_[w] = rho0_;
+  }
+  return true;
 }
 
 void WcsphFluid::pressures() {
@@ -172,6 +209,11 @@ NamedArrays WcsphFluid::state_afanasiev() const {
 
 void WcsphFluid::restore_afanasiev(const NamedArrays& state) {
   const int N = N_;
+  if (prm_.gate.on) {  // the gate of the last evaluation, at t - dt
+    restore_clock(state);
+    gate_in_ = true;
+    place_gate(t_ - prm_.dt);
+  }
   x_ = state_entry(state, "x_eval", N, 2);  // the last evaluation again: surface, pressures, volumes
   rho_ = state_entry(state, "rho_eval", N, 1);
   V_ = m_ / rho_.array();
