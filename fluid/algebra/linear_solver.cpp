@@ -339,10 +339,8 @@ class PcgSolver final : public LinearSolver {
 // Stopping: |r| <= rtol |b|, or the normwise backward error |r| / (|A| |x| + |b|) at the level a
 // direct solver reaches (kBackward, |A| the largest absolute row sum): for a smooth x of an
 // ill-conditioned A (a Poisson problem) |b| = |A x| is much smaller than |A| |x| and rtol |b| can lie
-// below what the rounding of r = b - A x can show. Measured on LPSPH Poiseuille (24^2, 64^2) with
-// rtol = 1e-16: CG stagnates at a backward error of 1.1e-15 to 2.0e-15; kBackward = 1e-14 keeps a
-// margin of 5 and changed no result beyond the run-to-run spread of the direct solvers (README,
-// "Moving particles: LPSPH").
+// below what the rounding of r = b - A x can show (kBackward = 1e-14, a margin of 5 above where CG
+// stagnates: docs/method/choices.md, "Solvers: the thresholds").
 class LaggedPcg final : public LinearSolver {
  public:
   static constexpr double kBackward = 1e-14;

@@ -5,17 +5,14 @@
 //   Crank-Nicolson (Eq. 28): on a fixed lattice the FFT lattice solver where the matrix has its
 //     structure (fluid/algebra/fft_poisson.hpp); else warm-started Jacobi-PCG when the Gershgorin bound
 //     b = 2 a max|lap_ii| <= 0.5 (the eigenvalues of I - a lap lie in [1, 1 + b]: condition number
-//     <= 1.5, 4-6 iterations to round-off, each a pass over A, cheaper than two triangular solves;
-//     measured iterations per step: b = 0.015: 4.0 (oscillating membrane), 0.15: 5.4; 0.78: 8.2
-//     (equilibrium membrane), 0.93: 14 (Poiseuille)); else CHOLMOD.
+//     <= 1.5, 4-6 iterations to round-off, each a pass over A, cheaper than two triangular solves:
+//     docs/method/choices.md, "Solvers: the thresholds"); else CHOLMOD.
 //   Poisson (Eq. 32) and the stream functions: the FFT lattice solver on the singular operator
 //     itself (its own gauge: no pin in the right-hand side) where it applies; else CHOLMOD on the
 //     operator pinned by its gauge (fluid/algebra/gauge.hpp).
 //   CHOLMOD: simplicial or supernodal by the size of the factor, at 8e5 non-zeros in L for a
 //     matrix factorised once (the solves dominate) and 1.5e5 for one factorised every step (the
-//     numeric factorisation dominates). Measured here (one core), ms simplicial / supernodal per
-//     factorisation: nnz(L) = 1.2e4: 0.45/0.93; 9.4e4: 4.4/8.5; 1.5e5: 10.3/9.9; 2.9e5: 24.3/19.5;
-//     5.9e5: 56.5/35.1; per solve: docs/performance/index.md, "Solvers, chosen automatically".
+//     numeric factorisation dominates): docs/method/choices.md, "Solvers: the thresholds".
 //
 // Moving particles (Refactor::EveryStep: LPSPH, ISPH) change the matrices a little every step, and
 // refactorising them every step was 80% of an LPSPH step. There (solver.* = "pcg_fft" or
@@ -27,16 +24,12 @@
 //                particles stay near their lattice points; should they drift far (a solve needing
 //                more than 8 iterations), the preconditioner becomes a lagged CHOLMOD factor;
 //   pcg_cholmod  a CHOLMOD factorisation of an earlier step's matrix, refactorised (symbolic analysis
-//                kept while the pattern stays) when a solve needs more than 8 iterations. Measured
-//                on a closed box (64^2 vortex, dt = 5e-4, Poisson): refreshing above 4 / 6 / 8 / 12 /
-//                16 iterations took 4.3 / 5.5 / 6.6 / 8.4 / 10.1 iterations per solve and 74 / 13 /
-//                5 / 2 / 2 factorisations in 200 steps; with a factorisation costing ~25
-//                iterations, 6-12 are equally cheap.
-//   auto, Crank-Nicolson: pcg_fft where it applies (Poiseuille 24^2, b = 0.13: 1.0 iterations per
-//     solve, 0.14 ms against Jacobi-PCG's 3.5 iterations, 0.26 ms); else Jacobi-PCG while the
-//     Gershgorin bound b <= 40 (closed box 64^2: b = 4.7: 17 iterations, 3.2 ms per step against
-//     pcg_cholmod's 4.5 iterations, 6.7 ms; b = 19: 37 iterations, 5.5 ms against 6.3, 7.7 ms;
-//     equal, by the sqrt(b) growth of the Jacobi iterations, near b = 40); else pcg_cholmod.
+//                kept while the pattern stays) when a solve needs more than 8 iterations (any
+//                threshold from 6 to 12 costs the same: docs/method/choices.md, "Solvers: the
+//                thresholds").
+//   auto, Crank-Nicolson: pcg_fft where it applies; else Jacobi-PCG while the Gershgorin bound
+//     b <= 40 (Jacobi's iterations grow like sqrt(b) and reach pcg_cholmod's cost near b = 40:
+//     docs/method/choices.md, "Solvers: the thresholds"); else pcg_cholmod.
 //   auto, Poisson: pcg_fft where it applies, else pcg_cholmod; both take the singular operator
 //     itself (its gauge inside: linear_solver.hpp), so the system is unpinned.
 #include <memory>

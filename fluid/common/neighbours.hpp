@@ -309,7 +309,7 @@ class VerletList {
   Domain d_;
   Mat2 fixed_;          // the fixed points (fixed_mode_)
   bool fixed_mode_ = false;
-  static constexpr double kBuildCost = 2.0;  // measured insensitive: fluid/moving/lagrangian.cpp
+  static constexpr double kBuildCost = 2.0;  // docs/method/choices.md, "LPSPH: the Verlet skin"
   double reach_, skin_min_, skin_max_, skin_;
   long since_build_ = 0;  // moves since the last build
   Mat2 x_build_;

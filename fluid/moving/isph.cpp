@@ -56,7 +56,7 @@ ShiftingParams shifting_params(const IsphParams& p) {
 }
 
 // The Verlet skin (neighbours.hpp), adaptive in [0.01, 0.3] of the support 2h, as LPSPH's
-// (lagrangian.cpp, where it was measured).
+// (docs/method/choices.md, "LPSPH: the Verlet skin").
 constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
 
 // f(i, a, s, side, dist) for every particle i (rows of x) and every wall of d: axis a (0: x, 1: y),
@@ -212,15 +212,13 @@ void IsphFluid::project() {
 
 // Negative pressures set to zero, and u^{n+1} from the clipped p (as MPS, Koshizuka et al. 1998, A's
 // reference for the wall conditions): without it a particle near the surface whose neighbours are
-// nearly all surface particles gets p of either sign of ~1e6 Pa, alternating from step to step
-// (measured, dam break at 1250 particles: blow-up at t = 0.22 with dt = 5e-5, a particle through the
-// right wall at t = 0.34 with 1e-4; with it both run to 0.6).
+// nearly all surface particles gets p of either sign of ~1e6 Pa, alternating from step to step, and
+// the dam break blows up (docs/method/choices.md, "ISPH: negative pressures clipped").
 void IsphFluid::clip_tension() {
   if (gauge_.dimension() > 0) {
     // A full tank: p is defined up to a constant, and the gauge's zero mean makes it negative in part
     // of the tank, where the sum form's 2 p_i grad C_i pulls particles together (the tensile
-    // instability: measured, a closed tank under gravity 40 x 20 blew up at t = 0.14 with the paper's
-    // operators, 0.81 with the consistent ones). The consistent scheme takes the constant that makes
+    // instability: docs/method/choices.md, "ISPH: negative pressures clipped"). The consistent scheme takes the constant that makes
     // the smallest p zero (the gradient of a constant is zero on a full support).
     if (!consistent_) return;
     phi_.array() -= phi_.minCoeff();
@@ -249,15 +247,14 @@ void IsphFluid::clip_tension() {
 }
 
 // Lennard-Jones repulsion of the inner wall row on u* (Monaghan's wall particles, A Section 3.6, with
-// Coelho et al.'s Eq. 20, D = 2 g H, r0 = dx): it keeps the particles next to a wall off it (measured,
-// still tank 40 x 20 to t = 2: max speed 0.041 m/s with it and the surface gradient below, 0.166
-// without both; the dam break runs to 0.6 s either way).
+// Coelho et al.'s Eq. 20, D = 2 g H, r0 = dx): it keeps the particles next to a wall off it
+// (docs/method/choices.md, "ISPH: wall repulsion and the surface gradient").
 void IsphFluid::wall_repulsion() {
   const double D = 2.0 * prm_.gravity.norm() * fluid_height(prm_.free_surface.fill, prm_.domain, prm_.gravity);
   if (D == 0) return;
   // consistent: r0 just inside the spacing, so that a fluid at rest on the lattice (every wall pair at
-  // r = dx or beyond) feels nothing; at r0 = dx the one-sided spring made the rest state unstable
-  // (measured, still tank 40 x 20: round-off grew to 0.035 m/s by t = 4, 6e-14 with 0.98 dx)
+  // r = dx or beyond) feels nothing; at r0 = dx the one-sided spring makes the rest state unstable
+  // (docs/method/choices.md, "ISPH: wall repulsion and the surface gradient")
   const double r0 = std::min(lat_.dx, lat_.dy) * (consistent_ ? 0.98 : 1.0), dt = prm_.dt;
   const ParticlePairs& P = wall_pairs_;
   for (int q = 0; q < P.size(); ++q) {
@@ -273,7 +270,7 @@ void IsphFluid::wall_repulsion() {
 // At surface particles the sum form of A Eq. (13) reads the missing neighbours beyond the surface as
 // p = 0, a force of order p_i / h on a particle next to the p = 0 row; there the gradient is the
 // renormalised difference form over the fluid neighbours (Randles & Libersky), on the directions
-// they span (see wall_repulsion for what it measured).
+// they span (docs/method/choices.md, "ISPH: wall repulsion and the surface gradient").
 void IsphFluid::surface_gradient() {
   const int N = size();
   const double k = prm_.dt / prm_.rho, reach = verlet_.reach();
@@ -494,8 +491,8 @@ void IsphFluid::assemble(bool new_pattern) {
 // A Eq. (26)'s sum over the wall: the mirror images of the particle and its neighbours across each
 // wall within 2h (and across both at a corner), as LPSPH's images (boundary.hpp) would give it. The
 // wall particles themselves would complete the support of a surface particle next to a wall: those
-// above the water line are there too (measured, still tank 40 x 20: the two top corner particles went
-// unmarked, and the columns next to the side walls ran down at 0.3 m/s within 0.3 s).
+// above the water line are there too (without them the top corner particles go unmarked as surface:
+// docs/method/choices.md, "ISPH: the wall particles above the water").
 void IsphFluid::add_mirror_divergence() {
   const Domain& d = prm_.domain;
   const int N = size();
@@ -528,18 +525,14 @@ void IsphFluid::make_solvers() {
   if (!explicit_viscous_)
     cn_ = crank_nicolson_solver(A_cn_, op_.lap_u.A, a_cn(), prm_.cn_solver, nullptr, Refactor::EveryStep,
                                 lattice ? LatticeReference{&lat_, &A_cn_} : LatticeReference{});
-  // auto: CG warm-started from the last p, preconditioned by a lagged factor (measured, dam break 5000
-  // particles to t = 0.15: 8.2 ms per step against 18.2 with a supernodal CHOLMOD factorisation every
-  // step, 34 simplicial). A full tank's operator is singular (the constants): the gauge removes them
+  // auto: CG warm-started from the last p, preconditioned by a lagged factor (cheaper than a
+  // factorisation every step: docs/method/choices.md, "ISPH: the Poisson solver"). A full tank's operator is singular (the constants): the gauge removes them
   // from the right-hand side and from every preconditioned residual, and the factor is of the matrix
   // pinned at one particle (NullSpaceHooks, linear_solver.hpp), so CG runs on the range of the
   // operator; at isph.poisson_rtol it converges there as with a free surface (docs/free_surfaces.md).
   const SolverKind kind = prm_.poisson_solver;
   // isph.poisson_rtol (default 1e-8, not the 1e-14 of LPSPH: ISPH's pressure is as accurate as its
-  // O(h^2) Laplacian; measured, dam break 6000 steps: 7.1 CG iterations per solve and 1289
-  // factorisations against 8.7 and 2172 at 1e-14, Poisson 49 s against 94, front and loads within the
-  // run-to-run spread; refreshing above 16 iterations instead of 8: 10.8 iterations, 635
-  // factorisations, the same time).
+  // O(h^2) Laplacian; docs/method/choices.md, "ISPH: the Poisson solver").
   LaggedPcgOptions cg;
   cg.rtol = prm_.isph.poisson_rtol;
   cg.refresh_iterations = prm_.isph.poisson_refresh;

@@ -23,13 +23,10 @@ void check_params(const FluidParams& p) {
 
 }  // namespace
 
-// The Verlet skin (neighbours.hpp), adaptive between 0.01 and 0.3 of the support 2h. Measured on
-// start-up Poiseuille at 64^2 (300 steps, one core): 1.60 ms per step with a skin of 0.01 2h (on the
-// sheared lattice the candidates are then the 28 neighbours within 2h: the shell at sqrt(13) dx lies
-// beyond 2h + skin), 2.02 ms with 0.1 2h (36 candidates: 29% more entries in every product and
-// solve); the flow moves the rows apart by 0.01 2h in ~400 steps, so a small skin costs few builds.
-// Fast flows choose larger skins (a sheared channel at 64^2, dt = 5e-4: 0.14 2h, a build every 14
-// steps; kBuildCost 0.5 / 2 / 8: 3.44 / 3.34 / 3.38 ms per step, a fixed 0.1 2h 3.26 ms).
+// The Verlet skin (neighbours.hpp), adaptive between 0.01 and 0.3 of the support 2h: a thin skin
+// keeps the candidates to the neighbours within 2h (every candidate is an entry in every product and
+// solve), a slow flow then rebuilds rarely, and a fast flow widens it (docs/method/choices.md,
+// "LPSPH: the Verlet skin").
 constexpr double kSkinMin = 0.01, kSkinMax = 0.3;
 
 LagrangianFluid::LagrangianFluid(const FluidParams& params, Profiler* profiler)

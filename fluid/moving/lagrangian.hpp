@@ -25,10 +25,8 @@
 // predicted positions x* = x^n + dt u^n (the idea of Cummins & Rudman's SPH projection method), so
 // that the projection makes u^{n+1} divergence-free where the particles will be: x^{n+1} - x* =
 // dt/2 (u^{n+1} - u^n) = O(dt^2). Taken at x^n instead, the pressure lags one step behind the
-// convective acceleration, an O(dt) velocity error. Measured on Taylor-Green (fully periodic,
-// nx = 32, h = 2 dx, nu = 0.01, u_max = 1, dt = 2e-3), rms error at t = 0.01: sums at x^n 7.1e-3,
-// at x* 8.8e-4, EPSPH 9.6e-4. (For the unidirectional Poiseuille problem, and for the oscillating
-// membrane at dt = 1e-4, the two agree to 3 digits.)
+// convective acceleration, an O(dt) velocity error (docs/method/choices.md, "LPSPH: the positions of
+// a step's sums").
 // The operators, images, pairs and kernel sums shown below are those of the last step's x*.
 //
 // Optional reinitialisation (Section 5.2.1, Figs. 9 C-D): every `reinit_every` steps the particles go

@@ -4,8 +4,8 @@
 // u^{n+1} alone, A Eq. 25). The velocity is carried to the shifted position by its Taylor expansion
 // (Xu et al. 2009, Eq. 37; Lind et al. 2012, Eq. 28): u_i <- u_i + (dr_i . grad) u_i, except at and
 // beside the free surface: there the support is cut and the gradient one-sided, and carrying u with it
-// fed the stretching of thin films along a wall (measured, ISPH dam break at 5000 particles: a blow-up
-// at t = 0.40 with it, none to t = 0.6 without it there).
+// fed the stretching of thin films along a wall (docs/method/choices.md, "ISPH: shifting beside the
+// surface").
 //
 //  - Fickian (Lind, Xu, Stansby & Rogers 2012, J. Comput. Phys. 231:1499-1523, Eqs. 21-24): the
 //    particles diffuse down the gradient of their concentration C_i = sum_j V_j W_ij,

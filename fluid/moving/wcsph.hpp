@@ -72,9 +72,8 @@
 //   every wcsph.smooth_every steps rho^{n+1/2} <- sum_j m rho_j W_ij / sum_j m W_ij   A Eq. (29)
 //   r^{n+1} = r^n + dt xsph(v^{n+1/2})                                          A Eq. (21)
 // The first step kicks by dt/2 (v^{1/2} = v^0 + dt/2 a^0), the leapfrog's start. Its viscous
-// stability is narrower than C Eq. (19)'s 0.125 h^2/nu, which the constructor still checks:
-// measured on the Poiseuille of A Section 6.1 (30^2, h = 2.2 dx), stable at 0.85 of it, blown up
-// (stopped by the run's guards) at 0.99; the cases take half. After a step, u()
+// stability is narrower than C Eq. (19)'s 0.125 h^2/nu, which the constructor still checks
+// (docs/method/choices.md, "WCSPH: the viscous step"); the cases take half. After a step, u()
 // is the next predictor v^{n+1}; p, rho and the volumes are those of the evaluation at r^n.
 // delta-SPH (wcsph.delta > 0; Antuono, Colagrossi, Marrone & Molteni 2010, Comput. Phys. Commun.
 // 181:532, Eq. 7 and Antuono, Colagrossi & Marrone 2012, Comput. Phys. Commun. 183:2570, Eqs. 5-6;
