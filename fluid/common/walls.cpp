@@ -93,4 +93,18 @@ void append_gate(const Lattice& L, double support, const GateParams& g, double t
     }
 }
 
+bool move_gate(const Lattice& L, double support, const GateParams& g, double top, double t, double fluid_top, int tank,
+               bool& in, VirtualWalls& w) {
+  if (!in) return false;
+  if (w.size() > tank && g.velocity(t) == 0 && g.lift(t) == 0) return false;
+  w.x.conservativeResize(tank, 2);
+  w.u.conservativeResize(tank, 2);
+  w.side.resize(tank);
+  w.dist.resize(tank);
+  w.inner.resize(tank);
+  in = L.domain.y0 + g.lift(t) <= fluid_top + support;
+  if (in) append_gate(L, support, g, top, t, w);
+  return true;
+}
+
 }  // namespace sphib

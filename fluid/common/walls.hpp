@@ -43,6 +43,13 @@ std::optional<ParamProblem> gate_problem(const FluidParams& p);
 // be a source of volume 2h v (docs/free_surfaces.md, "Dam break: the surge front").
 void append_gate(const Lattice& L, double support, const GateParams& g, double top, double t, VirtualWalls& w);
 
+// The gate at time t in w, whose first `tank` particles are the tank's: w cut back to those and the
+// gate appended again at its lift of time t (append_gate), or left out for good (in = false) once
+// its lower edge is more than one support above fluid_top, the highest particle. Returns whether w
+// changed: not while `in` is false, nor while the gate, already placed, has not started to lift.
+bool move_gate(const Lattice& L, double support, const GateParams& g, double top, double t, double fluid_top, int tank,
+               bool& in, VirtualWalls& w);
+
 // Morris et al. (1997): a virtual particle B at distance d_B beyond its wall, seen from a fluid
 // particle A at distance d_A before it, carries u_B = u_w - (d_B/d_A)(u_A - u_w) in the viscous
 // term, i.e. u_A - u_B = beta (u_A - u_w) with beta = min(beta_max, 1 + d_B/d_A). d_A is floored at

@@ -435,22 +435,9 @@ void IsphFluid::shift_off_walls() {
 // than 2h above the highest particle (x*); the Verlet list then builds with them. Returns whether the
 // wall particles changed (before gate.start they stay).
 bool IsphFluid::place_gate(double t) {
-  if (!gate_in_) return false;
-  const bool first = walls_.size() == tank_walls_;
-  if (!first && prm_.gate.velocity(t) == 0 && prm_.gate.lift(t) == 0) return false;
-  const double bottom = prm_.domain.y0 + prm_.gate.lift(t);
-  walls_.x.conservativeResize(tank_walls_, 2);
-  walls_.u.conservativeResize(tank_walls_, 2);
-  walls_.side.resize(tank_walls_);
-  walls_.dist.resize(tank_walls_);
-  walls_.inner.resize(tank_walls_);
-  if (bottom > x_star_.col(1).maxCoeff() + W_.support()) {
-    gate_in_ = false;
-    gate_bottom_ = -INFINITY;
-  } else {
-    append_gate(lat_, W_.support(), prm_.gate, gate_top_, t, walls_);
-    gate_bottom_ = bottom;
-  }
+  if (!move_gate(lat_, W_.support(), prm_.gate, gate_top_, t, x_star_.col(1).maxCoeff(), tank_walls_, gate_in_, walls_))
+    return false;
+  gate_bottom_ = gate_in_ ? prm_.domain.y0 + prm_.gate.lift(t) : -INFINITY;
   verlet_.set_fixed(walls_.x);
   p_w_.conservativeResize(walls_.size());
   if (walls_.size() > tank_walls_) p_w_.tail(walls_.size() - tank_walls_).setZero();

@@ -70,7 +70,7 @@ void WcsphFluid::init_afanasiev() {
     gate_top_ = x_.col(1).maxCoeff() + 0.5 * lat_.dy;
     gate_in_ = true;
   }
-  find_neighbours();  // (the gate placed there)  // the state at t = 0: surface, pressures (the loads' p(0))
+  find_neighbours();  // the gate placed there; the state at t = 0: surface, pressures (the loads' p(0))
   if (surface_on_) detector_.detect(N_, pairs_, V_, m_ / rho0_, surface_);
   pressures();
   xsph_velocity(u_);
@@ -92,16 +92,9 @@ void WcsphFluid::wall_self_density() {
 // none once its lower edge is more than 2h above the highest particle; the pair search and the wall
 // particles' self-density then take the new walls. Returns whether the walls changed.
 bool WcsphFluid::place_gate(double t) {
-  if (!gate_in_) return false;
   const int M0 = walls_.size();
-  if (M0 > tank_walls_ && prm_.gate.velocity(t) == 0 && prm_.gate.lift(t) == 0) return false;
-  walls_.x.conservativeResize(tank_walls_, 2);
-  walls_.u.conservativeResize(tank_walls_, 2);
-  walls_.side.resize(tank_walls_);
-  walls_.dist.resize(tank_walls_);
-  walls_.inner.resize(tank_walls_);
-  if (prm_.domain.y0 + prm_.gate.lift(t) > x_.col(1).maxCoeff() + W_.support()) gate_in_ = false;
-  else append_gate(lat_, W_.support(), prm_.gate, gate_top_, t, walls_);
+  if (!move_gate(lat_, W_.support(), prm_.gate, gate_top_, t, x_.col(1).maxCoeff(), tank_walls_, gate_in_, walls_))
+    return false;
   const int M = walls_.size();
   search_ = PairSearch(prm_.domain, W_, N_, walls_.x);
   wall_self_density();
