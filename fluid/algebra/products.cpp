@@ -307,6 +307,19 @@ std::vector<int> reach_of(const SpMat& B) {
   return from;
 }
 
+std::vector<int> reach_of(const SpMat& B, std::vector<char>& mark) {
+  std::vector<int> from;
+  const int* c = B.innerIndexPtr();
+  for (Eigen::Index k = 0; k < B.nonZeros(); ++k)
+    if (!mark[c[k]]) {
+      mark[c[k]] = 1;
+      from.push_back(c[k]);
+    }
+  for (int j : from) mark[j] = 0;
+  std::sort(from.begin(), from.end());
+  return from;
+}
+
 SpMat transposed_rows(const SpMat& G, const std::vector<int>& cols, int c0, int m) {
   return transposed_rows(G, {}, cols, c0, m, false);
 }
@@ -467,6 +480,62 @@ SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const
                               int r0, int m) {
   const SpMat a2 = s2 * A2.middleRows(r0, m);
   return SpMat(SpMat(SpMat(A1.middleRows(r0, m)) * B1) + SpMat(a2 * B2));
+}
+
+void SumOfProductRows::row(const SpMat& A, const SpMat& B, double s, bool scaled, int i, std::vector<int>& c,
+                           std::vector<double>& p) {
+  // as Eigen's conservative product of row-major matrices: for each entry (k, y) of A's row, in
+  // order, each entry (j, x) of B's row k, in order: the first x y of column j assigned, the next added
+  const long tag = tag_++;
+  const int *oa = A.outerIndexPtr(), *ca = A.innerIndexPtr(), *ob = B.outerIndexPtr(), *cb = B.innerIndexPtr();
+  const double *va = A.valuePtr(), *vb = B.valuePtr();
+  c.clear();
+  for (int e = oa[i]; e < oa[i + 1]; ++e) {
+    const double y = scaled ? s * va[e] : va[e];  // (Eigen's s2 * A2, entry by entry)
+    const int k = ca[e];
+    for (int f = ob[k]; f < ob[k + 1]; ++f) {
+      const int j = cb[f];
+      const double x = vb[f];
+      if (stamp_[j] != tag) {
+        stamp_[j] = tag;
+        v_[j] = x * y;
+        c.push_back(j);
+      } else {
+        v_[j] += x * y;
+      }
+    }
+  }
+  std::sort(c.begin(), c.end());
+  p.resize(c.size());
+  for (size_t q = 0; q < c.size(); ++q) p[q] = v_[c[q]];
+}
+
+SpMat SumOfProductRows::operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2) {
+  const int m = static_cast<int>(A1.rows());
+  SpMat R(m, B1.cols());
+  R.reserve(static_cast<Eigen::Index>(A1.nonZeros() + A2.nonZeros()) * 4);
+  for (int i = 0; i < m; ++i) {
+    row(A1, B1, 1.0, false, i, c1_, p1_);
+    row(A2, B2, s2, true, i, c2_, p2_);
+    R.startVec(i);
+    // the sum as Eigen's: both, p1 + p2; one alone, p1 + 0 or 0 + p2 (the same bits but for a -0)
+    size_t a = 0, b = 0;
+    while (a < c1_.size() || b < c2_.size()) {
+      if (b == c2_.size() || (a < c1_.size() && c1_[a] < c2_[b])) {
+        R.insertBack(i, c1_[a]) = p1_[a] + 0.0;
+        ++a;
+      } else if (a == c1_.size() || c2_[b] < c1_[a]) {
+        R.insertBack(i, c2_[b]) = 0.0 + p2_[b];
+        ++b;
+      } else {
+        R.insertBack(i, c1_[a]) = p1_[a] + p2_[b];
+        ++a;
+        ++b;
+      }
+    }
+  }
+  R.finalize();
+  return R;
 }
 
 SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2, int block) {

@@ -52,6 +52,9 @@ SpMat transposed_rows(const SpMat& R, const std::vector<int>& at, const std::vec
 // The columns of the rows of B, ascending, each once (of G's rows c0 .. c0 + m - 1: by the
 // pattern's symmetry, the rows that reach the columns c0 .. c0 + m - 1)
 std::vector<int> reach_of(const SpMat& B);
+// The same with `mark` (B.cols() zeros, left zero) for the columns seen: only the distinct columns
+// sorted, not every entry (the setup's blocks read it for every block of rows)
+std::vector<int> reach_of(const SpMat& B, std::vector<char>& mark);
 
 // An operator kept compact by a stencil (stencil_rows_only over `st`), its rows whole again: a row
 // of a class is its reference row translated (the same coefficient bits, the columns shifted), the
@@ -108,6 +111,25 @@ SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& 
 SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
                               int r0, int m);
 inline int product_block(int n) { return n / 64 > 1024 ? n / 64 : 1024; }
+// rows_of_sum_of_products(A1, B1, s2, A2, B2, 0, A1.rows()) bit for bit (the same products, summed
+// in the same order, the rows sorted by column, the entries of one product alone added to 0.0 as
+// Eigen's sum does), from per-column scratch kept from one block to the next: no work or storage in
+// proportion to B's columns per block, where Eigen's product allocates and clears three arrays of
+// B's column count and converts the result's storage order twice (the setup's G^T G by blocks).
+class SumOfProductRows {
+ public:
+  explicit SumOfProductRows(long cols) : stamp_(cols, -1), v_(cols) {}
+  SpMat operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2);
+
+ private:
+  // row i of s A B into (c, p), ascending columns; s = 1 reads A's values as they are
+  void row(const SpMat& A, const SpMat& B, double s, bool scaled, int i, std::vector<int>& c, std::vector<double>& p);
+  std::vector<long> stamp_;  // the row (a running count) whose product last touched the column
+  std::vector<double> v_;
+  long tag_ = 0;
+  std::vector<int> c1_, c2_;
+  std::vector<double> p1_, p2_;
+};
 // A = -A in place, exactly (no new storage: an assignment of -A would grow its own)
 void negate(SpMat& A);
 

@@ -99,10 +99,11 @@ ExactProjection::Divergence ExactProjection::divergence_by_blocks(const SpMat& g
   const int N = static_cast<int>(grad_phix.rows()), block = product_block(N);
   const StencilRows sr(st, N);
   const std::vector<int> cols_x = sr.column_counts(grad_phix), cols_y = sr.column_counts(grad_phiy);
+  std::vector<char> mark(N, 0);  // (reach_of's)
   const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
     for (int r0 = 0; r0 < N; r0 += block) {
       const int m = std::min(block, N - r0);
-      const std::vector<int> at = reach_of(sr.rows(grad_phix, r0, m));  // (one pattern)
+      const std::vector<int> at = reach_of(sr.rows(grad_phix, r0, m), mark);  // (one pattern)
       SpMat dx = transposed_rows(sr.rows(grad_phix, at), at, cols_x, r0, m, false);
       SpMat dy = transposed_rows(sr.rows(grad_phiy, at), at, cols_y, r0, m, false);
       negate(dx);  // D = -G^T
@@ -173,8 +174,9 @@ void ExactProjection::make_psi_solver() {
   std::vector<int> cols_x, cols_y;
   // the block's transposes, and the gradients' rows they reach (`local`: the transposes' columns
   // numbered as those rows, for the products with them)
+  std::vector<char> mark(compact_ ? N : 0, 0);  // (reach_of's)
   const auto transposes = [&](int r0, int m, SpMat& ty, SpMat& tx, SpMat* ry, SpMat* rx, bool local) {
-    const std::vector<int> at = reach_of(sr->rows(Gy, r0, m));  // (Gx's pattern is Gy's)
+    const std::vector<int> at = reach_of(sr->rows(Gy, r0, m), mark);  // (Gx's pattern is Gy's)
     SpMat y = sr->rows(Gy, at), x = sr->rows(Gx, at);
     ty = transposed_rows(y, at, cols_y, r0, m, local);
     tx = transposed_rows(x, at, cols_x, r0, m, local);
@@ -241,10 +243,11 @@ void ExactProjection::make_psi_solver() {
   SystemSolver s;
   if (compact_) {
     const MatrixRows gtg = [&](const std::function<void(const SpMat&, int)>& f) {
+      SumOfProductRows product(N);  // (rows_of_sum_of_products's bits)
       by_blocks([&](int r0, int m) {
         SpMat ty, tx, ry, rx;
         transposes(r0, m, ty, tx, &ry, &rx, true);
-        f(rows_of_sum_of_products(ty, ry, -1.0, tx, rx, 0, m), r0);
+        f(product(ty, ry, -1.0, tx, rx), r0);
       });
     };
     s = lattice_singular_solver(system, Field::Stream, gtg, N, psi_gauge_, kind_, lat_);
