@@ -8,6 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <map>
 #include <unordered_map>
 
 namespace sphib {
@@ -177,7 +178,130 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   return st;
 }
 
+namespace {
+
+// find_row_stencil over OperatorRows in one pass over the rows, where the two passes below take two:
+// each row is compared as it passes with the first row of its hash (the reference row of its class,
+// should the hash turn out to be a class's), and the rows that may be kept are copied as they pass
+// (every reference row; a row unlike its hash's first; the rows of a hash until it has
+// kMinClassRows of them). At the end the classes are numbered as the passes number them (the most
+// common hash first, then by first row), so the stencil and the kept rows are theirs. false (the
+// caller then takes the passes) where the passes would need their third: no stencil, or a class with
+// fewer than kMinClassRows rows like its reference row.
+bool find_row_stencil_in_one_pass(const OperatorRows& rows, int n, std::vector<SpMat>& kept, RowStencil& st) {
+  struct Copy {  // a row: its column offsets (column - row) and its values in every operator
+    std::vector<int> offset;
+    std::vector<std::vector<double>> val;
+  };
+  struct Hash {
+    int count = 0, first = -1;
+    Copy ref;                  // the first row
+    std::vector<int> members;  // the rows like it, ascending
+  };
+  std::unordered_map<std::uint64_t, Hash> table;
+  std::map<int, Copy> held;  // rows that may be kept (plain), by row
+  int nops = 0;
+  long cols = 0;
+  const auto copy = [](const std::vector<const SpMat*>& ops, int q, int i) {
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    Copy r;
+    for (int e = o[q]; e < o[q + 1]; ++e) r.offset.push_back(c[e] - i);
+    for (const SpMat* B : ops) r.val.emplace_back(B->valuePtr() + o[q], B->valuePtr() + o[q + 1]);
+    return r;
+  };
+  rows([&](const std::vector<const SpMat*>& ops, int r0) {
+    nops = static_cast<int>(ops.size());
+    cols = ops[0]->cols();
+    for (const SpMat* B : ops)
+      if (!same_pattern(*ops[0], *B)) throw std::logic_error("find_row_stencil: the operators do not share one pattern");
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    for (int q = 0; q < ops[0]->rows(); ++q) {
+      const int i = r0 + q;
+      Hash& e = table[row_hash(ops, q, i)];
+      ++e.count;
+      if (e.first < 0) {
+        e.first = i;
+        e.ref = copy(ops, q, i);
+      }
+      // as the passes' comparison with the class's reference row
+      const int n_i = o[q + 1] - o[q];
+      bool same = n_i == static_cast<int>(e.ref.offset.size());
+      for (int k = 0; same && k < n_i; ++k) same = c[o[q] + k] - i == e.ref.offset[k];
+      for (int b = 0; same && b < nops; ++b)
+        same = std::memcmp(ops[b]->valuePtr() + o[q], e.ref.val[b].data(), sizeof(double) * n_i) == 0;
+      if (!same) {
+        held[i] = copy(ops, q, i);  // plain whatever the hash's count
+        continue;
+      }
+      e.members.push_back(i);
+      if (e.count < kMinClassRows) {
+        if (i != e.first) held[i] = copy(ops, q, i);  // plain should the hash stay rare
+      } else if (e.count == kMinClassRows) {
+        for (int j : e.members)  // a class's rows from now on (its reference row is e.ref)
+          if (j != e.first) held.erase(j);
+      }
+    }
+  });
+  // the most common hash (the first row's on ties), and the classes in the passes' order
+  const Hash* best = nullptr;
+  for (const auto& [h, e] : table)
+    if (!best || e.count > best->count || (e.count == best->count && e.first < best->first)) best = &e;
+  if (!best || best->count < std::max(2, n / 4) || best->count < kMinClassRows) return false;
+  std::vector<const Hash*> cls{best};
+  for (const auto& [h, e] : table)
+    if (&e != best && e.count >= kMinClassRows) cls.push_back(&e);
+  std::sort(cls.begin() + 1, cls.end(), [](const Hash* a, const Hash* b) { return a->first < b->first; });
+  std::vector<char> plain(n, 1);
+  std::map<int, const Copy*> keep;  // the kept rows: the reference rows and the plain rows
+  st.classes.resize(cls.size());
+  for (size_t k = 0; k < cls.size(); ++k) {
+    if (static_cast<int>(cls[k]->members.size()) < kMinClassRows) return false;  // (the passes' third)
+    st.classes[k].ref = cls[k]->first;
+    st.classes[k].offset = cls[k]->ref.offset;
+    for (int i : cls[k]->members) plain[i] = 0;
+    add_blocks(static_cast<int>(k), cls[k]->members, st.blocks);
+    keep[cls[k]->first] = &cls[k]->ref;
+  }
+  std::sort(st.blocks.begin(), st.blocks.end(), [](const Blk& a, const Blk& b) { return a.begin < b.begin; });
+  std::unordered_map<int, const Copy*> first;  // a rare hash's first row: its reference copy
+  for (const auto& [h, e] : table)
+    if (e.count < kMinClassRows) first[e.first] = &e.ref;
+  for (int i = 0; i < n; ++i)
+    if (plain[i]) {
+      st.rest.push_back(i);
+      const auto it = held.find(i);
+      const auto f = first.find(i);
+      if (it != held.end()) keep[i] = &it->second;
+      else if (f != first.end()) keep[i] = f->second;
+      else throw std::logic_error("find_row_stencil: a plain row was not kept");
+    }
+  kept.assign(nops, SpMat());
+  long nnz = 0;
+  for (const auto& [i, r] : keep) nnz += static_cast<long>(r->offset.size());
+  for (int b = 0; b < nops; ++b) {
+    SpMat& R = kept[b];
+    R.resize(n, cols);
+    R.reserve(static_cast<Eigen::Index>(nnz));
+    auto it = keep.begin();
+    for (int i = 0; i < n; ++i) {
+      R.startVec(i);
+      if (it == keep.end() || it->first != i) continue;
+      const Copy& r = *it->second;
+      for (size_t k = 0; k < r.offset.size(); ++k) R.insertBack(i, i + r.offset[k]) = r.val[b][k];  // zeros kept
+      ++it;
+    }
+    R.finalize();
+  }
+  return true;
+}
+
+}  // namespace
+
 RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept) {
+  {
+    RowStencil st;
+    if (find_row_stencil_in_one_pass(rows, n, kept, st)) return st;
+  }
   // find_row_stencil above, pass by pass: the hashes; the classes (each reference row copied as it
   // passes, the rows compared with it); the kept rows.
   RowStencil st;
