@@ -168,8 +168,9 @@ void ExactProjection::make_psi_solver() {
   // The compact storage holds the velocity gradients by their stencil's rows only, and never their
   // transposes whole: a block of the transposes' rows at a time (the same bits as the whole
   // transposes' rows), from the gradients' rows that reach them made whole again (StencilRows), read
-  // twice for the transposes' stencil and kept rows, once for the flux's terms and up to three times
-  // by the lattice solver for G^T G; the gradients' rows themselves a block at a time.
+  // once for the transposes' stencil, kept rows and a channel's flux terms (find_row_stencil's passes
+  // should a class fall short) and once by the lattice solver for G^T G (its two passes should the
+  // matrix fail a check); the gradients' rows themselves a block at a time.
   std::unique_ptr<StencilRows> sr;
   std::vector<int> cols_x, cols_y;
   // the block's transposes, and the gradients' rows they reach (`local`: the transposes' columns
@@ -187,27 +188,6 @@ void ExactProjection::make_psi_solver() {
   const auto by_blocks = [&](const std::function<void(int, int)>& f) {
     for (int r0 = 0; r0 < N; r0 += block) f(r0, std::min(block, N - r0));
   };
-  if (compact_) {
-    sr = std::make_unique<StencilRows>(*vel_st_, N);
-    cols_x = sr->column_counts(Gx);
-    cols_y = sr->column_counts(Gy);
-    const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
-      SpMat ty, tx;
-      by_blocks([&](int r0, int m) {
-        transposes(r0, m, ty, tx, nullptr, nullptr, false);
-        f({&ty, &tx}, r0);
-      });
-    };
-    std::vector<SpMat> kept;
-    psi_st_ = find_row_stencil(rows, N, kept);  // read from here on only through psi_st_
-    psi_ty_.swap(kept[0]);
-    psi_tx_.swap(kept[1]);
-  } else {
-    psi_ty_ = Gy.transpose();
-    psi_tx_ = Gx.transpose();
-    negate(psi_tx_);  // -Gx^T
-    psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
-  }
   const Domain& d = lat_.domain;
   const int M = im_.size();
   psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
@@ -220,18 +200,37 @@ void ExactProjection::make_psi_solver() {
       if (im_.wall[m] == far) c1[m] = c_far;
     psi_by1_ = op_.grad_uy.B * c1;
     psi_bx1_ = op_.grad_ux.B * c1;
-    if (compact_)  // by rows of the transposes: each row's sums as the whole products'
-      by_blocks([&](int r0, int m) {
-        SpMat ty, tx;
-        transposes(r0, m, ty, tx, nullptr, nullptr, false);
-        const Vec f = ty * psi_by1_ - tx * psi_bx1_;
-        psi_flux_.segment(r0, m) = f;
-      });
-    else
-      psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
     mpsi_flux_ = op_.lap_u.B * c1;  // lap of psi_m's wall values per unit flux
   } else {
     mpsi_flux_ = Vec::Zero(N);
+  }
+  if (compact_) {
+    sr = std::make_unique<StencilRows>(*vel_st_, N);
+    cols_x = sr->column_counts(Gx);
+    cols_y = sr->column_counts(Gy);
+    // the transposes' stencil and kept rows, and a channel's flux terms Gy^T By c1 + Gx^T Bx c1 by
+    // the same rows of the transposes (each row's sums as the whole products')
+    const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
+      SpMat ty, tx;
+      by_blocks([&](int r0, int m) {
+        transposes(r0, m, ty, tx, nullptr, nullptr, false);
+        if (channel) {
+          const Vec flux = ty * psi_by1_ - tx * psi_bx1_;
+          psi_flux_.segment(r0, m) = flux;
+        }
+        f({&ty, &tx}, r0);
+      });
+    };
+    std::vector<SpMat> kept;
+    psi_st_ = find_row_stencil(rows, N, kept);  // read from here on only through psi_st_
+    psi_ty_.swap(kept[0]);
+    psi_tx_.swap(kept[1]);
+  } else {
+    psi_ty_ = Gy.transpose();
+    psi_tx_ = Gx.transpose();
+    negate(psi_tx_);  // -Gx^T
+    psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
+    if (channel) psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
   }
   psi_gauge_ = Gauge(lat_, NullSpace::GradientStream);
   // G^T G = Gy^T Gy + Gx^T Gx (Gx^T = -psi_tx_, exactly), a block of rows at a time: the same bits
