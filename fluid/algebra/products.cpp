@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <map>
@@ -610,7 +611,11 @@ void SumOfProductRows::row(const SpMat& A, const SpMat& B, double s, bool scaled
                            std::vector<double>& p) {
   // as Eigen's conservative product of row-major matrices: for each entry (k, y) of A's row, in
   // order, each entry (j, x) of B's row k, in order: the first x y of column j assigned, the next added
-  const long tag = tag_++;
+  if (tag_ == std::numeric_limits<int>::max()) {  // (the running count starts again)
+    std::fill(stamp_.begin(), stamp_.end(), -1);
+    tag_ = 0;
+  }
+  const int tag = tag_++;
   const int *oa = A.outerIndexPtr(), *ca = A.innerIndexPtr(), *ob = B.outerIndexPtr(), *cb = B.innerIndexPtr();
   const double *va = A.valuePtr(), *vb = B.valuePtr();
   c.clear();
@@ -634,9 +639,11 @@ void SumOfProductRows::row(const SpMat& A, const SpMat& B, double s, bool scaled
   for (size_t q = 0; q < c.size(); ++q) p[q] = v_[c[q]];
 }
 
-SpMat SumOfProductRows::operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2) {
+const SpMat& SumOfProductRows::operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2,
+                                         const SpMat& B2) {
   const int m = static_cast<int>(A1.rows());
-  SpMat R(m, B1.cols());
+  SpMat& R = out_;
+  R.resize(m, B1.cols());  // (keeps the room of the last block's entries)
   R.reserve(static_cast<Eigen::Index>(A1.nonZeros() + A2.nonZeros()) * 4);
   for (int i = 0; i < m; ++i) {
     row(A1, B1, 1.0, false, i, c1_, p1_);

@@ -29,13 +29,14 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
 
 // Operators of one pattern given as their rows: rows(f) calls f(ops, r0) with rows r0 .. r0 + m - 1
 // of every operator (ops[q]: m x cols, compressed), consecutive blocks, every row once, in order;
-// it is called two or three times, and must give the same rows each time.
+// it is called once, or up to four times (below), and must give the same rows each time.
 using OperatorRows = std::function<void(const std::function<void(const std::vector<const SpMat*>& ops, int r0)>&)>;
 // find_row_stencil of the n-row operators given by `rows`, and kept[q] = stencil_rows_only of
 // operator q, without any operator ever whole (EPSPH's compact storage: the transposes of the
-// velocity gradients): the same stencil and the same kept rows, bit for bit. Two passes over the
-// rows (the hashes; the classes and the kept rows), a third only should a class fall below
-// kMinClassRows (hash collisions) or no stencil apply.
+// velocity gradients): the same stencil and the same kept rows, bit for bit. One pass over the rows
+// (each compared as it passes with the first row of its hash, the rows that may be kept copied);
+// should a class fall below kMinClassRows (hash collisions) or no stencil apply, then two or three
+// more (the hashes; the classes and the kept rows; the kept rows again).
 RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept);
 
 // Rows c0 .. c0 + m - 1 of G^T (an m x G.rows() matrix), the same bits and order as those rows of
@@ -119,14 +120,16 @@ inline int product_block(int n) { return n / 64 > 1024 ? n / 64 : 1024; }
 class SumOfProductRows {
  public:
   explicit SumOfProductRows(long cols) : stamp_(cols, -1), v_(cols) {}
-  SpMat operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2);
+  // the rows, valid until the next call (their storage is reused)
+  const SpMat& operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2);
 
  private:
   // row i of s A B into (c, p), ascending columns; s = 1 reads A's values as they are
   void row(const SpMat& A, const SpMat& B, double s, bool scaled, int i, std::vector<int>& c, std::vector<double>& p);
-  std::vector<long> stamp_;  // the row (a running count) whose product last touched the column
+  std::vector<int> stamp_;  // the row (a running count) whose product last touched the column
   std::vector<double> v_;
-  long tag_ = 0;
+  int tag_ = 0;
+  SpMat out_;
   std::vector<int> c1_, c2_;
   std::vector<double> p1_, p2_;
 };
