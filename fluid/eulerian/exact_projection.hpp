@@ -73,6 +73,11 @@ class ExactProjection {
   void velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, Mat2& grad_phi);
   // D f with the divergence the exact projection makes zero (D = -G^T, even images).
   void divergence(const Mat2& f, Vec& d) const;
+  // The divergence of a velocity u the projection made: D u, and with flow through the sides D u
+  // minus the inflow's source D b (b = (By c, -Bx c), the velocity of psi's prescribed image parts
+  // alone): D b = -Dx's image part of the inflow's normal velocity as psi prescribes it (2 Gy psi_in
+  // on the images), nonzero only near the inflow; D u - D b = D (C psi) = 0.
+  void velocity_divergence(const Mat2& u, Vec& d) const;
   // The markers' psi_m of u (solved when u's revision differs from the last one's).
   StreamFunction markers(const Mat2& u, long revision);
   double normal_equations_residual(const Mat2& u_star);  // ||C^T C psi - C^T u*|| / ||C^T u*||
@@ -93,6 +98,7 @@ class ExactProjection {
   static void finish_divergence(Divergence& d, bool compact);  // D = -(the transposes), its stencil
   void curl_transpose(const Mat2& u);  // cu_ = C^T u, Q_ = the least-squares flux of u
   void psi_rhs();                      // b_psi_ = cu_ - Q_ (flux term), projected
+  double flux(const Mat2& u) const;    // Q of u: the channel's least-squares flux, 1 with open sides, else 0
 
   const Lattice& lat_;
   const Images& im_;
@@ -115,6 +121,7 @@ class ExactProjection {
   RowStencil psi_st_;
   Vec psi_, psi_flux_, b_psi_, psi_by1_, psi_bx1_;
   Mat2 psi_r1_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
+  Vec div_source_;  // flow through the sides: D b, the inflow's source in D u (velocity_divergence)
   double Q_ = 0;
   Eigen::Vector2d mean_ = Eigen::Vector2d::Zero();  // the uniform flow of a doubly periodic box
   // the markers' psi_m: its solver, the wall term per unit flux, C^T u and Q of the last state (exact
