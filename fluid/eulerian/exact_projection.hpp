@@ -14,9 +14,17 @@
 // projection would be oblique and, with those tiny eigenvalues, unstable: measured on Poiseuille at
 // h = 3 dx. The two divergences differ only within 2h of a wall.)
 //
+// Flow through the sides (an inflow and an outflow between walls): psi's images carry prescribed
+// values c (image_stream_offsets, fluid/common/boundary.hpp: psi = int_0^s u_in along the inflow,
+// constant on each wall, the two constants differing by the inflow's flux; even images, dpsi/dn = 0,
+// on the outflow), and the flux term above with Q = 1 is that of c: u^{n+1} = C psi + b,
+// b = (By c, -Bx c), psi the least-squares solution of C^T C psi = C^T (u* - b). The curl of the
+// extended psi is divergence-free on the extended lattice, so D u^{n+1} = D b, the inflow's source
+// (nonzero only next to the inflow); velocity_divergence reports D u - D b.
+//
 // The markers' stream function psi_m (stream_function(), either projection): -lap psi_m = C^T u / m,
-// lap the Morris Laplacian of Eq. (31) with odd images (psi_m constant along each wall, 0 on the
-// bottom or left wall and the flux on the other), C^T u = Gy^T u - Gx^T v the discrete vorticity, m
+// lap the Morris Laplacian of Eq. (31) with the velocity's images (psi_m constant along each wall, 0
+// on the bottom or left wall and the flux on the other; with flow through the sides the values c), C^T u = Gy^T u - Gx^T v the discrete vorticity, m
 // the lattice normalisation of G. Its curl is divergence-free and, like Eq. (63), smooths u at the
 // scale h; the least-squares psi (u = its curl exactly) would instead give the markers the
 // grid-scale velocity unsmoothed, amplified by 1/|G| near the gradient's null modes (measured: a
