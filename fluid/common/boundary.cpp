@@ -1,6 +1,7 @@
 #include "fluid/common/boundary.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -121,32 +122,50 @@ double side_flux(const Domain& d, Side w, double along) {
 }
 }  // namespace
 
+namespace {
+// The whole flux F_w through each side, counted along +x on the left and right sides and along +y on
+// the bottom and top (int u dy, int v dx): prescribed on an inflow (0 on a wall), and on the one
+// outflow side what the balance F_L + F_B - F_R - F_T = 0 (no net source) leaves.
+std::array<double, 4> side_fluxes(const Domain& d) {
+  std::array<double, 4> F{};
+  int out = -1;
+  for (int k = 0; k < 4; ++k) {
+    const Side w = static_cast<Side>(k);
+    if (d.kind(w) == SideKind::Outflow) out = k;
+    else F[k] = side_flux(d, w, (w == Left || w == Right) ? d.y1 : d.x1);
+  }
+  if (out == Left) F[Left] = F[Right] + F[Top] - F[Bottom];
+  if (out == Bottom) F[Bottom] = F[Right] + F[Top] - F[Left];
+  if (out == Right) F[Right] = F[Left] + F[Bottom] - F[Top];
+  if (out == Top) F[Top] = F[Left] + F[Bottom] - F[Right];
+  return F;
+}
+}  // namespace
+
 double side_stream_value(const Domain& d, Side w, double along) {
   switch (w) {
     case Left: return side_flux(d, Left, along);
     case Bottom: return -side_flux(d, Bottom, along);
-    case Top: return side_flux(d, Left, d.y1) - side_flux(d, Top, along);
-    case Right: return -side_flux(d, Bottom, d.x1) + side_flux(d, Right, along);
+    case Top: return side_fluxes(d)[Left] - side_flux(d, Top, along);      // psi(x0, y1) = F_L
+    case Right: return -side_fluxes(d)[Bottom] + side_flux(d, Right, along);  // psi(x1, y0) = -F_B
   }
   return 0.0;
 }
 
 std::string stream_function_refusal(const Domain& d) {
   if (!d.any_through()) return "";
-  bool inflow = false, outflow = false;
+  int inflows = 0, outflows = 0;
   for (int k = 0; k < 4; ++k) {
-    inflow = inflow || d.kind(static_cast<Side>(k)) == SideKind::Inflow;
-    outflow = outflow || d.kind(static_cast<Side>(k)) == SideKind::Outflow;
+    inflows += d.kind(static_cast<Side>(k)) == SideKind::Inflow;
+    outflows += d.kind(static_cast<Side>(k)) == SideKind::Outflow;
   }
-  const std::string key = inflow ? "domain.inflow" : "domain.outflow";
+  const std::string key = inflows > 0 ? "domain.inflow" : "domain.outflow";
   if (d.periodic_x || d.periodic_y)
     return key + ": a stream function with flow through a side needs walls on the other axis (not periodic)";
-  if (inflow && !outflow) return "domain.inflow: a stream function needs an outflow side to carry the inflow's flux out";
-  // the values of side_stream_value run from the corner (x0, y0) through the left and bottom sides
-  const bool top = d.kind(Top) != SideKind::Outflow, right = d.kind(Right) != SideKind::Outflow;
-  if ((top && d.kind(Left) == SideKind::Outflow) || (right && d.kind(Bottom) == SideKind::Outflow))
-    return "domain.outflow: a stream function with an outflow on the left or bottom side and prescribed values "
-           "beyond it (put the outflow on the right or top side)";
+  if (outflows == 0) return "domain.inflow: a stream function needs an outflow side to carry the inflow's flux out";
+  if (outflows > 1)
+    return "domain.outflow: a stream function with two outflow sides (how the flux divides between them is not "
+           "prescribed); use one";
   return "";
 }
 

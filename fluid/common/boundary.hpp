@@ -55,15 +55,17 @@ Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x)
 // sides, x on the bottom and top; clamped to the side), with u = dpsi/dy, v = -dpsi/dx and psi = 0 at
 // the corner (x0, y0): the flux through the sides from there,
 //   left   psi(y) =  int_{y0}^{y} u(x0, y') dy'            bottom psi(x) = -int_{x0}^{x} v(x', y0) dx'
-//   top    psi(x) =  psi_left(y1) - int_{x0}^{x} v(x', y1) dx'
-//   right  psi(y) =  psi_bottom(x1) + int_{y0}^{y} u(x1, y') dy'
+//   top    psi(x) =  psi(x0, y1) - int_{x0}^{x} v(x', y1) dx',    psi(x0, y1) =  F_left
+//   right  psi(y) =  psi(x1, y0) + int_{y0}^{y} u(x1, y') dy',    psi(x1, y0) = -F_bottom
 // (constant along an impermeable wall; the integral of the inflow's profile along an inflow:
-// profile_integral, boundary_rule.hpp). Not defined on an outflow (dpsi/dn = 0 there).
+// profile_integral, boundary_rule.hpp), F_w a side's whole flux (int u dy, int v dx), the one
+// outflow's from the balance F_left + F_bottom - F_right - F_top = 0. Not used on an outflow
+// (dpsi/dn = 0 there).
 double side_stream_value(const Domain& d, Side w, double along);
 
 // Why a stream function with these prescribed values cannot describe the domain's flow through
-// its sides, naming the scene key; empty when it can (no inflow or outflow, or an inflow and an
-// outflow between walls with the values above defined).
+// its sides, naming the scene key; empty when it can (no inflow or outflow, or one outflow side and
+// any inflows, no periodic axis).
 std::string stream_function_refusal(const Domain& d);
 
 // The prescribed parts of the stream function's images (M), psi_img = parity psi_p + offset, the
