@@ -167,7 +167,7 @@ void ExactProjection::make_psi_solver() {
   // The compact storage holds the velocity gradients by their stencil's rows only, and never their
   // transposes whole: a block of the transposes' rows at a time (the same bits as the whole
   // transposes' rows), from the gradients' rows that reach them made whole again (StencilRows), read
-  // once for the transposes' stencil, kept rows and a channel's flux terms (find_row_stencil's passes
+  // once for the transposes' stencil, kept rows and the flux terms (find_row_stencil's passes
   // should a class fall short) and once by the lattice solver for G^T G (its two passes should the
   // matrix fail a check); the gradients' rows themselves a block at a time.
   std::unique_ptr<StencilRows> sr;
@@ -190,8 +190,8 @@ void ExactProjection::make_psi_solver() {
   const Domain& d = lat_.domain;
   const int M = im_.size();
   psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
-  const bool channel = d.periodic_x != d.periodic_y;
-  if (channel || d.any_through()) {
+  const bool channel = d.periodic_x != d.periodic_y, offsets = channel || d.any_through();
+  if (offsets) {
     Vec c1 = Vec::Zero(M);
     if (channel) {
       const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
@@ -214,13 +214,14 @@ void ExactProjection::make_psi_solver() {
     sr = std::make_unique<StencilRows>(*vel_st_, N);
     cols_x = sr->column_counts(Gx);
     cols_y = sr->column_counts(Gy);
-    // the transposes' stencil and kept rows, and a channel's flux terms Gy^T By c1 + Gx^T Bx c1 by
-    // the same rows of the transposes (each row's sums as the whole products')
+    // the transposes' stencil and kept rows, and the flux terms Gy^T By c1 + Gx^T Bx c1 (a channel,
+    // flow through the sides) by the same rows of the transposes (each row's sums as the whole
+    // products')
     const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
       SpMat ty, tx;
       by_blocks([&](int r0, int m) {
         transposes(r0, m, ty, tx, nullptr, nullptr, false);
-        if (channel) {
+        if (offsets) {
           const Vec flux = ty * psi_by1_ - tx * psi_bx1_;
           psi_flux_.segment(r0, m) = flux;
         }
@@ -236,7 +237,7 @@ void ExactProjection::make_psi_solver() {
     psi_tx_ = Gx.transpose();
     negate(psi_tx_);  // -Gx^T
     psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
-    if (channel) psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
+    if (offsets) psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
   }
   psi_gauge_ = Gauge(lat_, NullSpace::GradientStream);
   // G^T G = Gy^T Gy + Gx^T Gx (Gx^T = -psi_tx_, exactly), a block of rows at a time: the same bits
