@@ -8,6 +8,7 @@
 
 #include <cstring>
 #include <functional>
+#include <cmath>
 #include <random>
 
 #include "fluid/eulerian/eulerian.hpp"
@@ -80,6 +81,53 @@ TEST(CompactStorage, NormalEquationsByRowBlocksEqualTheWholeProducts) {
       EXPECT_TRUE(same_matrix(blocks, whole)) << box.n << " block " << block;
     }
   }
+}
+
+// SumOfProductRows (the setup's G^T G by blocks, its scratch kept from block to block) gives
+// rows_of_sum_of_products's bits: on the lattices' normal equations by blocks of 7 rows, and on random
+// sparse matrices holding exact zeros of both signs (so that a product alone is -0 somewhere, which
+// Eigen's sum turns into +0: dropping the kernel's "+ 0.0" fails this), with s2 = -1 and +1.
+TEST(CompactStorage, SumOfProductRowsGiveEigensBits) {
+  for (const Box& box : kBoxes) {
+    const EulerianFluid f(box_params(box));
+    const Operators& op = f.operators();
+    const SpMat& Gx = op.grad_ux.A;
+    const SpMat& Gy = op.grad_uy.A;
+    const SpMat ty = Gy.transpose(), tx = -SpMat(Gx.transpose());
+    const int N = f.size();
+    SumOfProductRows product(N);
+    bool same = true;
+    for (int r0 = 0; r0 < N; r0 += 7) {
+      const int m = std::min(7, N - r0);
+      same &= same_matrix(product(SpMat(ty.middleRows(r0, m)), Gy, -1.0, SpMat(tx.middleRows(r0, m)), Gx),
+                          rows_of_sum_of_products(ty, Gy, -1.0, tx, Gx, r0, m));
+    }
+    EXPECT_TRUE(same) << box.n;
+  }
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const auto random = [&](int rows, int cols, double fill) {
+    std::vector<Triplet> t;
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j)
+        if (U(gen) < 2 * fill - 1) {
+          const double r = U(gen);
+          t.emplace_back(i, j, r < -0.6 ? -0.0 : r < -0.2 ? 0.0 : U(gen));
+        }
+    SpMat A(rows, cols);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+  };
+  SumOfProductRows product(40);
+  int negative_zeros = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const SpMat A1 = random(9, 30, 0.2), B1 = random(30, 40, 0.15), A2 = random(9, 30, 0.2), B2 = random(30, 40, 0.15);
+    const double s2 = trial % 2 ? 1.0 : -1.0;
+    const SpMat P = SpMat(A1 * B1);
+    for (Eigen::Index k = 0; k < P.nonZeros(); ++k) negative_zeros += P.valuePtr()[k] == 0.0 && std::signbit(P.valuePtr()[k]);
+    EXPECT_TRUE(same_matrix(product(A1, B1, s2, A2, B2), rows_of_sum_of_products(A1, B1, s2, A2, B2, 0, 9))) << trial;
+  }
+  EXPECT_GT(negative_zeros, 0);  // (the case the comment names occurs)
 }
 
 // The assembly the operators had before (triplets, duplicates summed by setFromTriplets, exact

@@ -345,6 +345,28 @@ TEST(FftSolver, RefusesWhatItCannotSolve) {
     EXPECT_FALSE(make_fft_solver("Poisson", A, box.L, Field::Scalar, true, &why));
     EXPECT_NE(why.find("row " + std::to_string(row) + " "), std::string::npos) << why;
   }
+  // The rows are checked in one pass, each as soon as its lattice row's reference row (between x
+  // walls the middle one) has passed: rows before it and after it, one coefficient moved or one
+  // entry of the model missing (set to 0 and pruned), in the closed box, the doubly periodic box and
+  // walls in x with y periodic (whose one reference row is the 8th: rows 0-7 wait for it).
+  for (const DomainCase& dc : {kDomains[1], kDomains[2], kDomains[3]}) {
+    const LatticeOperators f = lattice_operators(dc, 16, 16, 1.2);
+    const SpMat Q = -f.op.lap_phi;
+    for (int row : {3, 16 * 5 + 3, 16 * 5 + 12}) {
+      for (bool missing : {false, true}) {
+        SpMat A = Q;
+        if (missing) {
+          A.coeffRef(row, row + 1) = 0.0;
+          A.prune(0.0, 0.0);
+        } else {
+          A.coeffRef(row, row + 1) *= 1.0 + 1e-6;
+        }
+        std::string why;
+        EXPECT_FALSE(make_fft_solver("Poisson", A, f.L, Field::Scalar, true, &why)) << dc.name << " " << row;
+        EXPECT_NE(why.find("row " + std::to_string(row) + (missing ? " lacks" : " is not")), std::string::npos) << why;
+      }
+    }
+  }
   {
     std::string why;
     const SpMat mixed = P - box.op.lap_u.A;

@@ -213,6 +213,104 @@ bool model_even(const Model& m, std::string& why) {
   return true;
 }
 
+// extract_model and rows_match in one pass over A's rows (A's rows are made once, not twice: the
+// setup's G^T G is a product per row): each row is compared with its class's reference row as soon as
+// that row has passed (the rows of a lattice row before it, between x walls the first n_x / 2, wait
+// for it), and the largest deviation from the model and max |A| are kept, to be compared at the end
+// (a deviation <= 1e-12 max |A| everywhere is rows_match's test with extract_model's tolerance). The
+// reference rows are extract_model's and every prediction is rows_match's, summed in the same order,
+// so the model and the verdict are theirs; true with m made as extract_model makes it when A passes
+// every check of both, false otherwise (the caller then runs them, for the reason).
+bool analyse_in_one_pass(const MatrixRows& A, Model& m, int left, int right) {
+  const int nx = m.nx, ny = m.ny, N = nx * ny;
+  const int ix0 = m.x_periodic ? 0 : nx / 2;
+  double amax = 0, dev = 0;  // max |A|, the largest deviation from the model
+  bool bad = false;          // a prediction off the lattice (a stencil reaching across a wall)
+  std::vector<std::vector<std::pair<int, double>>> ref(m.classes());  // (column, value) of each class's row
+  std::vector<char> have(m.classes(), 0);
+  std::vector<double> acc(N, 0.0);
+  std::vector<int> stamp(N, -1), seen(N, -1), touched;
+  struct Pending {  // a row waiting for its class's reference row
+    int i;
+    std::vector<int> col;
+    std::vector<double> val;
+  };
+  std::vector<Pending> pending;
+  // row i (entries c[0 .. n - 1], a[...]) against its class's reference row, as rows_match
+  const auto match = [&](int i, const int* c, const double* a, int n) {
+    const int ix = i % nx, iy = i / nx, cl = m.class_of(iy);
+    touched.clear();
+    for (const auto& [col, v] : ref[cl]) {
+      int jx;
+      double sign = 1.0;
+      if (m.x_periodic) {
+        jx = (ix + col % nx) % nx;  // (ix0 = 0)
+      } else {
+        jx = ix + col % nx - ix0;
+        if (jx < 0 || jx >= nx) {
+          sign = jx < 0 ? left : right;
+          jx = jx < 0 ? -1 - jx : 2 * nx - 1 - jx;
+          if (jx < 0 || jx >= nx) {
+            bad = true;
+            return;
+          }
+        }
+      }
+      const int jy = m.y_periodic ? (iy + col / nx) % ny : col / nx;  // (the reference row's lattice row: iy, or 0)
+      const int j = jx + nx * jy;
+      if (stamp[j] != i) {
+        stamp[j] = i;
+        acc[j] = 0.0;
+        touched.push_back(j);
+      }
+      acc[j] += sign * v;
+    }
+    for (int k = 0; k < n; ++k) {
+      const int j = c[k];
+      dev = std::max(dev, std::fabs(a[k] - (stamp[j] == i ? acc[j] : 0.0)));
+      seen[j] = i;
+    }
+    for (int j : touched)
+      if (seen[j] != i) dev = std::max(dev, std::fabs(acc[j]));
+  };
+  A([&](const SpMat& B, int r0) {
+    const int* o = B.outerIndexPtr();
+    const int* c = B.innerIndexPtr();
+    const double* a = B.valuePtr();
+    m.nnz += B.nonZeros();
+    for (int t = 0; t < B.rows(); ++t) {
+      const int i = r0 + t, cl = m.class_of(i / nx);
+      for (int k = o[t]; k < o[t + 1]; ++k) {
+        amax = std::max(amax, std::fabs(a[k]));
+        if (!m.y_periodic) m.wy = std::max(m.wy, std::abs(c[k] / nx - i / nx));
+      }
+      if (i % nx == ix0 && (!m.y_periodic || i / nx == 0)) {
+        for (int k = o[t]; k < o[t + 1]; ++k) ref[cl].emplace_back(c[k], a[k]);
+        have[cl] = 1;
+        for (const Pending& p : pending) match(p.i, p.col.data(), p.val.data(), static_cast<int>(p.col.size()));
+        pending.clear();
+      }
+      if (have[cl]) match(i, c + o[t], a + o[t], o[t + 1] - o[t]);
+      else pending.push_back({i, std::vector<int>(c + o[t], c + o[t + 1]), std::vector<double>(a + o[t], a + o[t + 1])});
+    }
+  });
+  // extract_model's checks and model, then rows_match's verdict
+  if (bad || !pending.empty() || !(amax > 0)) return false;
+  if (!m.y_periodic && 2 * m.wy + 1 > m.ny) return false;
+  m.tol = 1e-12 * amax;
+  m.ix0 = ix0;
+  if (!m.x_periodic) {
+    for (int cl = 0; cl < m.classes(); ++cl)
+      for (const auto& [col, v] : ref[cl]) m.wx = std::max(m.wx, std::abs(col % nx - m.ix0));
+    if (m.ix0 - m.wx < 1 || m.ix0 + m.wx > nx - 2) return false;
+  }
+  if (dev > m.tol) return false;
+  m.cls.assign(m.classes(), {});
+  for (int cl = 0; cl < m.classes(); ++cl)
+    for (const auto& [col, v] : ref[cl]) m.cls[cl].push_back({m.slot_x(m.ix0, col % nx), m.slot_y(cl, col / nx), v});
+  return true;
+}
+
 // The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parities at the
 // two walls given by the boundary rule (+1 even, -1 odd; unused along a periodic x); false (and why)
 // when A does not have that structure.
@@ -223,12 +321,21 @@ bool analyse(const MatrixRows& A, long rows, long cols, int nx, int ny, bool px,
   m.ny = ny;
   m.x_periodic = px;
   m.y_periodic = py;
+  const bool given = (xp.left == 1 || xp.left == -1) && (xp.right == 1 || xp.right == -1);
+  if (px || given) {  // A's rows made once; should A fail a check, the two passes below say which
+    Model one = m;
+    if (analyse_in_one_pass(A, one, px ? 1 : xp.left, px ? 1 : xp.right)) {
+      m = std::move(one);
+      m.x = px ? XKind::Periodic
+               : xp.left == xp.right ? (xp.left > 0 ? XKind::Even : XKind::Odd) : (xp.left > 0 ? XKind::EvenOdd : XKind::OddEven);
+      return model_even(m, why);
+    }
+  }
   if (!extract_model(A, m, why)) return false;
   if (px) {
     m.x = XKind::Periodic;
     if (!rows_match(A, m, 1, 1, why)) return false;
   } else {
-    const bool given = (xp.left == 1 || xp.left == -1) && (xp.right == 1 || xp.right == -1);
     if (!given) return refuse(why, "the boundary rule gives the x walls no image parity (no transform for them)");
     if (!rows_match(A, m, xp.left, xp.right, why)) return false;
     m.x = xp.left == xp.right ? (xp.left > 0 ? XKind::Even : XKind::Odd) : (xp.left > 0 ? XKind::EvenOdd : XKind::OddEven);

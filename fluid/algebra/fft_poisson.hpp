@@ -83,7 +83,9 @@ std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const M
 
 // The same for an n x n matrix given as its rows, a block at a time: A(f) calls
 // f(B, r0) for consecutive compressed blocks B of rows r0 .. r0 + B.rows() - 1, every row once, in
-// order, and may be called twice (the model, then the rows against it with the rule's x images). The matrix itself need never exist (EPSPH's compact storage: G^T G).
+// order, once (the model and the rows against it with the rule's x images, in one pass), and twice
+// more should A fail a check (the model, then the rows, for the reason). The matrix itself need never
+// exist (EPSPH's compact storage: G^T G).
 std::unique_ptr<LinearSolver> make_fft_solver(const std::string& system, const MatrixRows& A, long n, const Lattice& L,
                                               Field field, bool singular, std::string* why = nullptr);
 

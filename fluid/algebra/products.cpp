@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <map>
 #include <unordered_map>
 
 namespace sphib {
@@ -177,7 +179,130 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> list) {
   return st;
 }
 
+namespace {
+
+// find_row_stencil over OperatorRows in one pass over the rows, where the two passes below take two:
+// each row is compared as it passes with the first row of its hash (the reference row of its class,
+// should the hash turn out to be a class's), and the rows that may be kept are copied as they pass
+// (every reference row; a row unlike its hash's first; the rows of a hash until it has
+// kMinClassRows of them). At the end the classes are numbered as the passes number them (the most
+// common hash first, then by first row), so the stencil and the kept rows are theirs. false (the
+// caller then takes the passes) where the passes would need their third: no stencil, or a class with
+// fewer than kMinClassRows rows like its reference row.
+bool find_row_stencil_in_one_pass(const OperatorRows& rows, int n, std::vector<SpMat>& kept, RowStencil& st) {
+  struct Copy {  // a row: its column offsets (column - row) and its values in every operator
+    std::vector<int> offset;
+    std::vector<std::vector<double>> val;
+  };
+  struct Hash {
+    int count = 0, first = -1;
+    Copy ref;                  // the first row
+    std::vector<int> members;  // the rows like it, ascending
+  };
+  std::unordered_map<std::uint64_t, Hash> table;
+  std::map<int, Copy> held;  // rows that may be kept (plain), by row
+  int nops = 0;
+  long cols = 0;
+  const auto copy = [](const std::vector<const SpMat*>& ops, int q, int i) {
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    Copy r;
+    for (int e = o[q]; e < o[q + 1]; ++e) r.offset.push_back(c[e] - i);
+    for (const SpMat* B : ops) r.val.emplace_back(B->valuePtr() + o[q], B->valuePtr() + o[q + 1]);
+    return r;
+  };
+  rows([&](const std::vector<const SpMat*>& ops, int r0) {
+    nops = static_cast<int>(ops.size());
+    cols = ops[0]->cols();
+    for (const SpMat* B : ops)
+      if (!same_pattern(*ops[0], *B)) throw std::logic_error("find_row_stencil: the operators do not share one pattern");
+    const int *o = ops[0]->outerIndexPtr(), *c = ops[0]->innerIndexPtr();
+    for (int q = 0; q < ops[0]->rows(); ++q) {
+      const int i = r0 + q;
+      Hash& e = table[row_hash(ops, q, i)];
+      ++e.count;
+      if (e.first < 0) {
+        e.first = i;
+        e.ref = copy(ops, q, i);
+      }
+      // as the passes' comparison with the class's reference row
+      const int n_i = o[q + 1] - o[q];
+      bool same = n_i == static_cast<int>(e.ref.offset.size());
+      for (int k = 0; same && k < n_i; ++k) same = c[o[q] + k] - i == e.ref.offset[k];
+      for (int b = 0; same && b < nops; ++b)
+        same = std::memcmp(ops[b]->valuePtr() + o[q], e.ref.val[b].data(), sizeof(double) * n_i) == 0;
+      if (!same) {
+        held[i] = copy(ops, q, i);  // plain whatever the hash's count
+        continue;
+      }
+      e.members.push_back(i);
+      if (e.count < kMinClassRows) {
+        if (i != e.first) held[i] = copy(ops, q, i);  // plain should the hash stay rare
+      } else if (e.count == kMinClassRows) {
+        for (int j : e.members)  // a class's rows from now on (its reference row is e.ref)
+          if (j != e.first) held.erase(j);
+      }
+    }
+  });
+  // the most common hash (the first row's on ties), and the classes in the passes' order
+  const Hash* best = nullptr;
+  for (const auto& [h, e] : table)
+    if (!best || e.count > best->count || (e.count == best->count && e.first < best->first)) best = &e;
+  if (!best || best->count < std::max(2, n / 4) || best->count < kMinClassRows) return false;
+  std::vector<const Hash*> cls{best};
+  for (const auto& [h, e] : table)
+    if (&e != best && e.count >= kMinClassRows) cls.push_back(&e);
+  std::sort(cls.begin() + 1, cls.end(), [](const Hash* a, const Hash* b) { return a->first < b->first; });
+  std::vector<char> plain(n, 1);
+  std::map<int, const Copy*> keep;  // the kept rows: the reference rows and the plain rows
+  st.classes.resize(cls.size());
+  for (size_t k = 0; k < cls.size(); ++k) {
+    if (static_cast<int>(cls[k]->members.size()) < kMinClassRows) return false;  // (the passes' third)
+    st.classes[k].ref = cls[k]->first;
+    st.classes[k].offset = cls[k]->ref.offset;
+    for (int i : cls[k]->members) plain[i] = 0;
+    add_blocks(static_cast<int>(k), cls[k]->members, st.blocks);
+    keep[cls[k]->first] = &cls[k]->ref;
+  }
+  std::sort(st.blocks.begin(), st.blocks.end(), [](const Blk& a, const Blk& b) { return a.begin < b.begin; });
+  std::unordered_map<int, const Copy*> first;  // a rare hash's first row: its reference copy
+  for (const auto& [h, e] : table)
+    if (e.count < kMinClassRows) first[e.first] = &e.ref;
+  for (int i = 0; i < n; ++i)
+    if (plain[i]) {
+      st.rest.push_back(i);
+      const auto it = held.find(i);
+      const auto f = first.find(i);
+      if (it != held.end()) keep[i] = &it->second;
+      else if (f != first.end()) keep[i] = f->second;
+      else throw std::logic_error("find_row_stencil: a plain row was not kept");
+    }
+  kept.assign(nops, SpMat());
+  long nnz = 0;
+  for (const auto& [i, r] : keep) nnz += static_cast<long>(r->offset.size());
+  for (int b = 0; b < nops; ++b) {
+    SpMat& R = kept[b];
+    R.resize(n, cols);
+    R.reserve(static_cast<Eigen::Index>(nnz));
+    auto it = keep.begin();
+    for (int i = 0; i < n; ++i) {
+      R.startVec(i);
+      if (it == keep.end() || it->first != i) continue;
+      const Copy& r = *it->second;
+      for (size_t k = 0; k < r.offset.size(); ++k) R.insertBack(i, i + r.offset[k]) = r.val[b][k];  // zeros kept
+      ++it;
+    }
+    R.finalize();
+  }
+  return true;
+}
+
+}  // namespace
+
 RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept) {
+  {
+    RowStencil st;
+    if (find_row_stencil_in_one_pass(rows, n, kept, st)) return st;
+  }
   // find_row_stencil above, pass by pass: the hashes; the classes (each reference row copied as it
   // passes, the rows compared with it); the kept rows.
   RowStencil st;
@@ -304,6 +429,19 @@ std::vector<int> reach_of(const SpMat& B) {
   std::vector<int> from(B.innerIndexPtr(), B.innerIndexPtr() + B.nonZeros());
   std::sort(from.begin(), from.end());
   from.erase(std::unique(from.begin(), from.end()), from.end());
+  return from;
+}
+
+std::vector<int> reach_of(const SpMat& B, std::vector<char>& mark) {
+  std::vector<int> from;
+  const int* c = B.innerIndexPtr();
+  for (Eigen::Index k = 0; k < B.nonZeros(); ++k)
+    if (!mark[c[k]]) {
+      mark[c[k]] = 1;
+      from.push_back(c[k]);
+    }
+  for (int j : from) mark[j] = 0;
+  std::sort(from.begin(), from.end());
   return from;
 }
 
@@ -467,6 +605,68 @@ SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const
                               int r0, int m) {
   const SpMat a2 = s2 * A2.middleRows(r0, m);
   return SpMat(SpMat(SpMat(A1.middleRows(r0, m)) * B1) + SpMat(a2 * B2));
+}
+
+void SumOfProductRows::row(const SpMat& A, const SpMat& B, double s, bool scaled, int i, std::vector<int>& c,
+                           std::vector<double>& p) {
+  // as Eigen's conservative product of row-major matrices: for each entry (k, y) of A's row, in
+  // order, each entry (j, x) of B's row k, in order: the first x y of column j assigned, the next added
+  if (tag_ == std::numeric_limits<int>::max()) {  // (the running count starts again)
+    std::fill(stamp_.begin(), stamp_.end(), -1);
+    tag_ = 0;
+  }
+  const int tag = tag_++;
+  const int *oa = A.outerIndexPtr(), *ca = A.innerIndexPtr(), *ob = B.outerIndexPtr(), *cb = B.innerIndexPtr();
+  const double *va = A.valuePtr(), *vb = B.valuePtr();
+  c.clear();
+  for (int e = oa[i]; e < oa[i + 1]; ++e) {
+    const double y = scaled ? s * va[e] : va[e];  // (Eigen's s2 * A2, entry by entry)
+    const int k = ca[e];
+    for (int f = ob[k]; f < ob[k + 1]; ++f) {
+      const int j = cb[f];
+      const double x = vb[f];
+      if (stamp_[j] != tag) {
+        stamp_[j] = tag;
+        v_[j] = x * y;
+        c.push_back(j);
+      } else {
+        v_[j] += x * y;
+      }
+    }
+  }
+  std::sort(c.begin(), c.end());
+  p.resize(c.size());
+  for (size_t q = 0; q < c.size(); ++q) p[q] = v_[c[q]];
+}
+
+const SpMat& SumOfProductRows::operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2,
+                                         const SpMat& B2) {
+  const int m = static_cast<int>(A1.rows());
+  SpMat& R = out_;
+  R.resize(m, B1.cols());  // (keeps the room of the last block's entries)
+  R.reserve(static_cast<Eigen::Index>(A1.nonZeros() + A2.nonZeros()) * 4);
+  for (int i = 0; i < m; ++i) {
+    row(A1, B1, 1.0, false, i, c1_, p1_);
+    row(A2, B2, s2, true, i, c2_, p2_);
+    R.startVec(i);
+    // the sum as Eigen's: both, p1 + p2; one alone, p1 + 0 or 0 + p2 (the same bits but for a -0)
+    size_t a = 0, b = 0;
+    while (a < c1_.size() || b < c2_.size()) {
+      if (b == c2_.size() || (a < c1_.size() && c1_[a] < c2_[b])) {
+        R.insertBack(i, c1_[a]) = p1_[a] + 0.0;
+        ++a;
+      } else if (a == c1_.size() || c2_[b] < c1_[a]) {
+        R.insertBack(i, c2_[b]) = 0.0 + p2_[b];
+        ++b;
+      } else {
+        R.insertBack(i, c1_[a]) = p1_[a] + p2_[b];
+        ++a;
+        ++b;
+      }
+    }
+  }
+  R.finalize();
+  return R;
 }
 
 SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2, int block) {

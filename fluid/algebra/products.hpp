@@ -29,13 +29,14 @@ RowStencil find_row_stencil(std::initializer_list<const SpMat*> ops);
 
 // Operators of one pattern given as their rows: rows(f) calls f(ops, r0) with rows r0 .. r0 + m - 1
 // of every operator (ops[q]: m x cols, compressed), consecutive blocks, every row once, in order;
-// it is called two or three times, and must give the same rows each time.
+// it is called once, or up to four times (below), and must give the same rows each time.
 using OperatorRows = std::function<void(const std::function<void(const std::vector<const SpMat*>& ops, int r0)>&)>;
 // find_row_stencil of the n-row operators given by `rows`, and kept[q] = stencil_rows_only of
 // operator q, without any operator ever whole (EPSPH's compact storage: the transposes of the
-// velocity gradients): the same stencil and the same kept rows, bit for bit. Two passes over the
-// rows (the hashes; the classes and the kept rows), a third only should a class fall below
-// kMinClassRows (hash collisions) or no stencil apply.
+// velocity gradients): the same stencil and the same kept rows, bit for bit. One pass over the rows
+// (each compared as it passes with the first row of its hash, the rows that may be kept copied);
+// should a class fall below kMinClassRows (hash collisions) or no stencil apply, then two or three
+// more (the hashes; the classes and the kept rows; the kept rows again).
 RowStencil find_row_stencil(const OperatorRows& rows, int n, std::vector<SpMat>& kept);
 
 // Rows c0 .. c0 + m - 1 of G^T (an m x G.rows() matrix), the same bits and order as those rows of
@@ -52,6 +53,9 @@ SpMat transposed_rows(const SpMat& R, const std::vector<int>& at, const std::vec
 // The columns of the rows of B, ascending, each once (of G's rows c0 .. c0 + m - 1: by the
 // pattern's symmetry, the rows that reach the columns c0 .. c0 + m - 1)
 std::vector<int> reach_of(const SpMat& B);
+// The same with `mark` (B.cols() zeros, left zero) for the columns seen: only the distinct columns
+// sorted, not every entry (the setup's blocks read it for every block of rows)
+std::vector<int> reach_of(const SpMat& B, std::vector<char>& mark);
 
 // An operator kept compact by a stencil (stencil_rows_only over `st`), its rows whole again: a row
 // of a class is its reference row translated (the same coefficient bits, the columns shifted), the
@@ -108,6 +112,27 @@ SpMat sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& 
 SpMat rows_of_sum_of_products(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2,
                               int r0, int m);
 inline int product_block(int n) { return n / 64 > 1024 ? n / 64 : 1024; }
+// rows_of_sum_of_products(A1, B1, s2, A2, B2, 0, A1.rows()) bit for bit (the same products, summed
+// in the same order, the rows sorted by column, the entries of one product alone added to 0.0 as
+// Eigen's sum does), from per-column scratch kept from one block to the next: no work or storage in
+// proportion to B's columns per block, where Eigen's product allocates and clears three arrays of
+// B's column count and converts the result's storage order twice (the setup's G^T G by blocks).
+class SumOfProductRows {
+ public:
+  explicit SumOfProductRows(long cols) : stamp_(cols, -1), v_(cols) {}
+  // the rows, valid until the next call (their storage is reused)
+  const SpMat& operator()(const SpMat& A1, const SpMat& B1, double s2, const SpMat& A2, const SpMat& B2);
+
+ private:
+  // row i of s A B into (c, p), ascending columns; s = 1 reads A's values as they are
+  void row(const SpMat& A, const SpMat& B, double s, bool scaled, int i, std::vector<int>& c, std::vector<double>& p);
+  std::vector<int> stamp_;  // the row (a running count) whose product last touched the column
+  std::vector<double> v_;
+  int tag_ = 0;
+  SpMat out_;
+  std::vector<int> c1_, c2_;
+  std::vector<double> p1_, p2_;
+};
 // A = -A in place, exactly (no new storage: an assignment of -A would grow its own)
 void negate(SpMat& A);
 

@@ -50,9 +50,9 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   gauge_ = Gauge(lat_, NullSpace::Constants);
   if (compact_) {
     // Each set of operators by blocks of rows, never whole: the pairs of a block searched, its rows
-    // assembled (operator_rows), read twice (find_row_stencil: the classes' hashes; the classes and
-    // the kept rows); the velocity operators' image parts B whole (rows near the walls only) from the
-    // first pass. Where a reader needs the whole rows again (the lattice solvers' models and row
+    // assembled (operator_rows), read once by find_row_stencil (the classes and the kept rows; more
+    // passes only should a class fall short); the velocity operators' image parts B whole (rows near
+    // the walls only) from the first pass. Where a reader needs the whole rows again (the lattice solvers' models and row
     // checks, the transposes), StencilRows makes them from the kept ones, a block at a time.
     std::vector<Triplet> tB[3];
     const auto rows_of = [&](OperatorSet set, bool images) -> OperatorRows {

@@ -98,10 +98,11 @@ ExactProjection::Divergence ExactProjection::divergence_by_blocks(const SpMat& g
   const int N = static_cast<int>(grad_phix.rows()), block = product_block(N);
   const StencilRows sr(st, N);
   const std::vector<int> cols_x = sr.column_counts(grad_phix), cols_y = sr.column_counts(grad_phiy);
+  std::vector<char> mark(N, 0);  // (reach_of's)
   const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
     for (int r0 = 0; r0 < N; r0 += block) {
       const int m = std::min(block, N - r0);
-      const std::vector<int> at = reach_of(sr.rows(grad_phix, r0, m));  // (one pattern)
+      const std::vector<int> at = reach_of(sr.rows(grad_phix, r0, m), mark);  // (one pattern)
       SpMat dx = transposed_rows(sr.rows(grad_phix, at), at, cols_x, r0, m, false);
       SpMat dy = transposed_rows(sr.rows(grad_phiy, at), at, cols_y, r0, m, false);
       negate(dx);  // D = -G^T
@@ -166,14 +167,16 @@ void ExactProjection::make_psi_solver() {
   // The compact storage holds the velocity gradients by their stencil's rows only, and never their
   // transposes whole: a block of the transposes' rows at a time (the same bits as the whole
   // transposes' rows), from the gradients' rows that reach them made whole again (StencilRows), read
-  // twice for the transposes' stencil and kept rows, once for the flux's terms and up to three times
-  // by the lattice solver for G^T G; the gradients' rows themselves a block at a time.
+  // once for the transposes' stencil, kept rows and the flux terms (find_row_stencil's passes
+  // should a class fall short) and once by the lattice solver for G^T G (its two passes should the
+  // matrix fail a check); the gradients' rows themselves a block at a time.
   std::unique_ptr<StencilRows> sr;
   std::vector<int> cols_x, cols_y;
   // the block's transposes, and the gradients' rows they reach (`local`: the transposes' columns
   // numbered as those rows, for the products with them)
+  std::vector<char> mark(compact_ ? N : 0, 0);  // (reach_of's)
   const auto transposes = [&](int r0, int m, SpMat& ty, SpMat& tx, SpMat* ry, SpMat* rx, bool local) {
-    const std::vector<int> at = reach_of(sr->rows(Gy, r0, m));  // (Gx's pattern is Gy's)
+    const std::vector<int> at = reach_of(sr->rows(Gy, r0, m), mark);  // (Gx's pattern is Gy's)
     SpMat y = sr->rows(Gy, at), x = sr->rows(Gx, at);
     ty = transposed_rows(y, at, cols_y, r0, m, local);
     tx = transposed_rows(x, at, cols_x, r0, m, local);
@@ -184,32 +187,11 @@ void ExactProjection::make_psi_solver() {
   const auto by_blocks = [&](const std::function<void(int, int)>& f) {
     for (int r0 = 0; r0 < N; r0 += block) f(r0, std::min(block, N - r0));
   };
-  if (compact_) {
-    sr = std::make_unique<StencilRows>(*vel_st_, N);
-    cols_x = sr->column_counts(Gx);
-    cols_y = sr->column_counts(Gy);
-    const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
-      SpMat ty, tx;
-      by_blocks([&](int r0, int m) {
-        transposes(r0, m, ty, tx, nullptr, nullptr, false);
-        f({&ty, &tx}, r0);
-      });
-    };
-    std::vector<SpMat> kept;
-    psi_st_ = find_row_stencil(rows, N, kept);  // read from here on only through psi_st_
-    psi_ty_.swap(kept[0]);
-    psi_tx_.swap(kept[1]);
-  } else {
-    psi_ty_ = Gy.transpose();
-    psi_tx_ = Gx.transpose();
-    negate(psi_tx_);  // -Gx^T
-    psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
-  }
   const Domain& d = lat_.domain;
   const int M = im_.size();
   psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
-  const bool channel = d.periodic_x != d.periodic_y;
-  if (channel || d.any_through()) {
+  const bool channel = d.periodic_x != d.periodic_y, offsets = channel || d.any_through();
+  if (offsets) {
     Vec c1 = Vec::Zero(M);
     if (channel) {
       const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
@@ -224,18 +206,38 @@ void ExactProjection::make_psi_solver() {
     }
     psi_by1_ = op_.grad_uy.B * c1;
     psi_bx1_ = op_.grad_ux.B * c1;
-    if (compact_)  // by rows of the transposes: each row's sums as the whole products'
-      by_blocks([&](int r0, int m) {
-        SpMat ty, tx;
-        transposes(r0, m, ty, tx, nullptr, nullptr, false);
-        const Vec f = ty * psi_by1_ - tx * psi_bx1_;
-        psi_flux_.segment(r0, m) = f;
-      });
-    else
-      psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
     mpsi_flux_ = op_.lap_u.B * c1;  // lap of psi_m's wall values per unit flux
   } else {
     mpsi_flux_ = Vec::Zero(N);
+  }
+  if (compact_) {
+    sr = std::make_unique<StencilRows>(*vel_st_, N);
+    cols_x = sr->column_counts(Gx);
+    cols_y = sr->column_counts(Gy);
+    // the transposes' stencil and kept rows, and the flux terms Gy^T By c1 + Gx^T Bx c1 (a channel,
+    // flow through the sides) by the same rows of the transposes (each row's sums as the whole
+    // products')
+    const OperatorRows rows = [&](const std::function<void(const std::vector<const SpMat*>&, int)>& f) {
+      SpMat ty, tx;
+      by_blocks([&](int r0, int m) {
+        transposes(r0, m, ty, tx, nullptr, nullptr, false);
+        if (offsets) {
+          const Vec flux = ty * psi_by1_ - tx * psi_bx1_;
+          psi_flux_.segment(r0, m) = flux;
+        }
+        f({&ty, &tx}, r0);
+      });
+    };
+    std::vector<SpMat> kept;
+    psi_st_ = find_row_stencil(rows, N, kept);  // read from here on only through psi_st_
+    psi_ty_.swap(kept[0]);
+    psi_tx_.swap(kept[1]);
+  } else {
+    psi_ty_ = Gy.transpose();
+    psi_tx_ = Gx.transpose();
+    negate(psi_tx_);  // -Gx^T
+    psi_st_ = find_row_stencil({&psi_ty_, &psi_tx_});
+    if (offsets) psi_flux_ = psi_ty_ * psi_by1_ - psi_tx_ * psi_bx1_;  // Gy^T By c1 + Gx^T Bx c1
   }
   psi_gauge_ = Gauge(lat_, NullSpace::GradientStream);
   // G^T G = Gy^T Gy + Gx^T Gx (Gx^T = -psi_tx_, exactly), a block of rows at a time: the same bits
@@ -247,10 +249,11 @@ void ExactProjection::make_psi_solver() {
   SystemSolver s;
   if (compact_) {
     const MatrixRows gtg = [&](const std::function<void(const SpMat&, int)>& f) {
+      SumOfProductRows product(N);  // (rows_of_sum_of_products's bits)
       by_blocks([&](int r0, int m) {
         SpMat ty, tx, ry, rx;
         transposes(r0, m, ty, tx, &ry, &rx, true);
-        f(rows_of_sum_of_products(ty, ry, -1.0, tx, rx, 0, m), r0);
+        f(product(ty, ry, -1.0, tx, rx), r0);
       });
     };
     s = lattice_singular_solver(system, Field::Stream, gtg, N, psi_gauge_, kind_, lat_);
