@@ -20,8 +20,8 @@ over the markers.
   vesicle_shear.py RUN_DIR ... [--csv FILE] [--plot PNG]
 
 --plot draws theta(t) of the runs and the tank-treading angle against lambda beside the 2-D
-fixed-ellipse models; it reads the lattice and lambda from run names nNX_lLAMBDA (H4_ in front: the
-wider channel; a suffix _tT for a longer run, which then stands for its lambda), as
+fixed-ellipse models; it reads the lattice and lambda from run names nNX_lLAMBDA (H4_ or H8_ in front: the
+wider channels; a suffix _tT for a longer run, which then stands for its lambda), as
 bench/validate.sh vesicle_shear names them.
 """
 import argparse
@@ -162,10 +162,10 @@ def plot(runs, res, png):
     for run, r in zip(runs, res):
         if "t_end" not in r:
             continue
-        m = re.fullmatch(r"(H4_)?n(\d+)_l([\d.]+)(_t\d+)?", os.path.basename(os.path.normpath(run)))
+        m = re.fullmatch(r"(?:H(\d+)_)?n(\d+)_l([\d.]+)(_t\d+)?", os.path.basename(os.path.normpath(run)))
         if not m:
             continue
-        key = ("H = 4, " if m.group(1) else "") + f"{m.group(2)} x {int(m.group(2)) // 2}"
+        key = f"{m.group(2)} x {int(m.group(2)) // 2}" + (f" spacing, H = {m.group(1)}" if m.group(1) else "")
         groups.setdefault(key, []).append((float(m.group(3)), r, run))
     for key in groups:  # one run per lambda: the longest
         best = {}
@@ -192,7 +192,10 @@ def plot(runs, res, png):
         th = [0.5 * np.degrees(np.arccos(min(1.0, 1.0 / vt.coefficients(a, b, l, field)[0]))) for l in lams]
         ax2.plot(lams, th, style, label=name + ", unbounded")
         ax2.axvline(lc, color="k", ls=":", lw=0.8)
-    for key, marker in zip(sorted(groups, key=lambda k: (k.startswith("H"), int(k.split(", ")[-1].split()[0]))), "osd^v"):
+    def order(k):  # the scene's channel first, then the wider ones; coarse lattices first
+        return (int(k.split("H = ")[1]) if "H = " in k else 0, int(k.split()[0]))
+
+    for key, marker in zip(sorted(groups, key=order), "osd^v"):
         pts = sorted(groups[key])
         tt = [(l, r["theta_deg"]) for l, r, _ in pts if r["motion"] == "tank-treading"]
         tu = [l for l, r, _ in pts if r["motion"] == "tumbling"]
@@ -202,7 +205,7 @@ def plot(runs, res, png):
     ax2.axhline(0.0, color="k", lw=0.5)
     ax2.set_xlabel("lambda = mu_in / mu_out")
     ax2.set_ylabel("tank-treading angle (degrees); open at 0: tumbling")
-    ax2.set_title("reduced area 0.8, confinement 2 R0/H = 0.4 (0.2 with H = 4)")
+    ax2.set_title("nu = 0.8; confinement 2 R0/H: 0.4 (H = 2), 0.2, 0.1")
     ax2.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
