@@ -16,6 +16,7 @@
 #include <toml++/toml.h>
 
 #include "fluid/factory.hpp"
+#include "fluid/common/boundary.hpp"
 #include "fluid/common/free_surface.hpp"
 #include "io/digest.hpp"
 #include "io/scene_checks.hpp"
@@ -636,7 +637,7 @@ void read_fluid(Reader& r, Scene& s) {
       "Poisson operator of the projection: exact (D G: the projected velocity is discretely divergence-free), "
       "approximate (the paper's Morris Laplacian, Eq. 31); auto: exact for eulerian, approximate for lagrangian and isph");
   if (projection != "auto" && s.method == FluidMethod::Wcsph) r.fail("fluid.projection", "does not apply to method \"wcsph\" (no projection)");
-  if (f.domain.any_through()) {  // inflow and outflow: the fixed lattice's images (EPSPH) and no stream function
+  if (f.domain.any_through()) {  // inflow and outflow: the fixed lattice's images (EPSPH)
     const char* key = "domain.inflow";
     for (int k = 0; k < 4; ++k)
       if (f.domain.kind(static_cast<Side>(k)) == SideKind::Outflow) key = "domain.outflow";
@@ -645,9 +646,10 @@ void read_fluid(Reader& r, Scene& s) {
     if (s.method != FluidMethod::Eulerian)
       r.fail(key, std::string("inflow and outflow sides are available for method \"eulerian\" only (not \"") +
                       to_string(s.method) + "\")");
-    if (projection == "exact")
-      r.fail("fluid.projection", "\"exact\" needs walls or periodic sides (its stream function is constant along a "
-                                 "wall); with domain.inflow or domain.outflow use \"approximate\"");
+    const std::string refusal = stream_function_refusal(f.domain);
+    if (projection == "exact" && !refusal.empty())
+      r.fail("fluid.projection", "\"exact\" needs a stream function of the domain's sides (" + refusal +
+                                     "); use \"approximate\"");
   }
   if (projection == "exact" && s.method == FluidMethod::Lagrangian)
     r.fail("fluid.projection", "\"exact\" is available for method \"eulerian\" only (lagrangian: \"approximate\")");

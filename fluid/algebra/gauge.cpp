@@ -21,10 +21,11 @@ Gauge::Gauge(const Lattice& L, NullSpace ns) : nx_(L.nx), ny_(L.ny) {
   auto factors = [&](Side lo, Side hi, int n) -> std::vector<int> {
     if (ns == NullSpace::Constants) return {0};
     if (L.domain.is_periodic(lo)) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
-    const int p = L.domain.parity(lo, field);
-    if (p == 0 || p != L.domain.parity(hi, field))
+    const int p = L.domain.parity(lo, field), q = L.domain.parity(hi, field);
+    if (p == 0 || q == 0)
       throw std::invalid_argument(std::string("gauge: the ") + side_name(lo) + " and " + side_name(hi) +
                                   " sides give no common image parity (walls on both needed)");
+    if (p != q) return {};  // even on one side, odd on the other (an inflow facing an outflow): no mode continues
     return {p > 0 ? 0 : 1};
   };
   const std::vector<int> fx = factors(Left, Right, L.nx), fy = factors(Bottom, Top, L.ny);
@@ -119,13 +120,15 @@ VelocityModes::VelocityModes(const Lattice& L) {
     // The velocity of a stream function psi: across a wall its normal component (the tangential
     // derivative of psi) has psi's parity, its tangential one (the normal derivative) the opposite;
     // a mode continues through even images as the constant, through odd ones alternating.
-    auto factors = [&](Side lo, int n, bool normal) -> std::vector<int> {
+    // A mode continues only where both sides give it (not between an inflow and an outflow).
+    auto factors = [&](Side lo, Side hi, int n, bool normal) -> std::vector<int> {
       if (L.domain.is_periodic(lo)) return n % 2 == 0 ? std::vector<int>{0, 1} : std::vector<int>{0};
       const int psi = L.domain.parity(lo, Field::Stream), p = normal ? psi : -psi;
+      if (L.domain.parity(hi, Field::Stream) != psi) return {};
       return {p > 0 ? 0 : 1};
     };
-    const std::vector<int> fx = factors(Left, L.nx, comp == 0);
-    const std::vector<int> fy = factors(Bottom, L.ny, comp == 1);
+    const std::vector<int> fx = factors(Left, Right, L.nx, comp == 0);
+    const std::vector<int> fy = factors(Bottom, Top, L.ny, comp == 1);
     const bool channel = L.domain.periodic_x != L.domain.periodic_y;
     for (int sy : fy)
       for (int sx : fx) {

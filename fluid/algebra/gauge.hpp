@@ -9,7 +9,9 @@
 // alternating one (the half-spacing lattice reflects row 0 onto row -1). The null vectors are the
 // products of one factor per axis, e.g. for G^T G with even images: a channel 1 and (-1)^{i_x}, a
 // closed box 1, a doubly periodic box 1, (-1)^{i_x}, (-1)^{i_y}, (-1)^{i_x + i_y}; with odd images a
-// channel (-1)^{i_y} and (-1)^{i_x + i_y}, a closed box (-1)^{i_x + i_y}. They are mutually
+// channel (-1)^{i_y} and (-1)^{i_x + i_y}, a closed box (-1)^{i_x + i_y}; an axis with even images on
+// one side and odd on the other (a stream function between an inflow and an outflow) carries
+// neither mode, so the operator has no null vector. They are mutually
 // orthogonal. The Morris Laplacian (Eq. 31) sees the alternating modes: its only null vector is 1.
 //
 // The gauge: right-hand sides are projected onto the orthogonal complement of the null space (the

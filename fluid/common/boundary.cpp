@@ -1,6 +1,7 @@
 #include "fluid/common/boundary.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -107,6 +108,93 @@ Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x)
   const double a = vertical ? d.y0 : d.x0, b = vertical ? d.y1 : d.x1;
   const double s = std::clamp(((vertical ? x.y() : x.x()) - a) / (b - a), 0.0, 1.0);
   return (4.0 * s * (1.0 - s)) * u;
+}
+
+namespace {
+// The flux through side w from its start (x0 or y0) to `along`: int u_n, u_n the side velocity's
+// component along the axis normal to the side, shaped by the inflow's profile.
+double side_flux(const Domain& d, Side w, double along) {
+  const bool vertical = w == Left || w == Right;
+  const double a = vertical ? d.y0 : d.x0, b = vertical ? d.y1 : d.x1;
+  const double s = std::clamp((along - a) / (b - a), 0.0, 1.0);
+  const InflowProfile p = d.kind(w) == SideKind::Inflow ? d.inflow_profile : InflowProfile::Uniform;
+  return d.wall_velocity[w][vertical ? 0 : 1] * (b - a) * profile_integral(p, s);
+}
+}  // namespace
+
+namespace {
+// The whole flux F_w through each side, counted along +x on the left and right sides and along +y on
+// the bottom and top (int u dy, int v dx): prescribed on an inflow (0 on a wall), and on the one
+// outflow side what the balance F_L + F_B - F_R - F_T = 0 (no net source) leaves.
+std::array<double, 4> side_fluxes(const Domain& d) {
+  std::array<double, 4> F{};
+  int out = -1;
+  for (int k = 0; k < 4; ++k) {
+    const Side w = static_cast<Side>(k);
+    if (d.kind(w) == SideKind::Outflow) out = k;
+    else F[k] = side_flux(d, w, (w == Left || w == Right) ? d.y1 : d.x1);
+  }
+  if (out == Left) F[Left] = F[Right] + F[Top] - F[Bottom];
+  if (out == Bottom) F[Bottom] = F[Right] + F[Top] - F[Left];
+  if (out == Right) F[Right] = F[Left] + F[Bottom] - F[Top];
+  if (out == Top) F[Top] = F[Left] + F[Bottom] - F[Right];
+  return F;
+}
+}  // namespace
+
+double side_stream_value(const Domain& d, Side w, double along) {
+  switch (w) {
+    case Left: return side_flux(d, Left, along);
+    case Bottom: return -side_flux(d, Bottom, along);
+    case Top: return side_fluxes(d)[Left] - side_flux(d, Top, along);      // psi(x0, y1) = F_L
+    case Right: return -side_fluxes(d)[Bottom] + side_flux(d, Right, along);  // psi(x1, y0) = -F_B
+  }
+  return 0.0;
+}
+
+std::string stream_function_refusal(const Domain& d) {
+  if (!d.any_through()) return "";
+  int inflows = 0, outflows = 0;
+  for (int k = 0; k < 4; ++k) {
+    inflows += d.kind(static_cast<Side>(k)) == SideKind::Inflow;
+    outflows += d.kind(static_cast<Side>(k)) == SideKind::Outflow;
+  }
+  const std::string key = inflows > 0 ? "domain.inflow" : "domain.outflow";
+  if (d.periodic_x || d.periodic_y)
+    return key + ": a stream function with flow through a side needs walls on the other axis (not periodic)";
+  if (outflows == 0) return "domain.inflow: a stream function needs an outflow side to carry the inflow's flux out";
+  if (outflows > 1)
+    return "domain.outflow: a stream function with two outflow sides (how the flux divides between them is not "
+           "prescribed); use one";
+  return "";
+}
+
+void image_stream_offsets(const Images& im, const Domain& d, Vec& offset) {
+  offset = Vec::Zero(im.size());
+  const auto value = [&](Side w, const Eigen::Vector2d& x) {  // (1 - parity) psi_w: the prescribed part
+    const int p = d.parity(w, Field::Stream);
+    return p > 0 ? 0.0 : image_prescribed(p, side_stream_value(d, w, (w == Left || w == Right) ? x.y() : x.x()));
+  };
+  for (int k = 0; k < im.size(); ++k) {
+    const Eigen::Vector2d xk = im.x.row(k).transpose();
+    const int w = im.wall[k];
+    if (w >= 0) {
+      offset[k] = value(static_cast<Side>(w), xk);
+      continue;
+    }
+    // corner: across the x side at the parent's place (psi_in within the side), then across the y
+    // side at the image's (a wall's constant, or an outflow's nothing): psi' = py (px psi + ox) + oy.
+    // The other order gives the same where the y side's value continues oddly beyond the corner
+    // (psi_in(y0 - s) = 2 psi(y0) - psi_in(y0 + s)), the extension the odd images of the wall make;
+    // with an inflow on the y side the order is reversed.
+    const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
+    const Eigen::Vector2d parent(sx == Left ? 2.0 * d.x0 - xk.x() : 2.0 * d.x1 - xk.x(),
+                                 sy == Bottom ? 2.0 * d.y0 - xk.y() : 2.0 * d.y1 - xk.y());
+    if (d.kind(sy) != SideKind::Inflow)
+      offset[k] = d.parity(sy, Field::Stream) * value(sx, parent) + value(sy, Eigen::Vector2d(xk.x(), parent.y()));
+    else
+      offset[k] = d.parity(sx, Field::Stream) * value(sy, parent) + value(sx, Eigen::Vector2d(parent.x(), xk.y()));
+  }
 }
 
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,

@@ -17,6 +17,7 @@
 //                           lid corner of a cavity, where u is singular anyway).
 //  - phi (and any scalar with homogeneous Neumann data): the Scalar parity, +1 at a no-slip wall
 //    (phi_img = phi_p, Eq. 9); at a corner the product.
+#include <string>
 #include <vector>
 
 #include "fluid/common/lattice.hpp"
@@ -49,6 +50,29 @@ void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const 
 // The velocity a side prescribes at x (on or beyond it): its wall velocity, an inflow's shaped by
 // Domain::inflow_profile at x's place along the side.
 Eigen::Vector2d side_velocity(const Domain& d, Side w, const Eigen::Vector2d& x);
+
+// The stream function's prescribed value on side w at the place `along` (y on the left and right
+// sides, x on the bottom and top; clamped to the side), with u = dpsi/dy, v = -dpsi/dx and psi = 0 at
+// the corner (x0, y0): the flux through the sides from there,
+//   left   psi(y) =  int_{y0}^{y} u(x0, y') dy'            bottom psi(x) = -int_{x0}^{x} v(x', y0) dx'
+//   top    psi(x) =  psi(x0, y1) - int_{x0}^{x} v(x', y1) dx',    psi(x0, y1) =  F_left
+//   right  psi(y) =  psi(x1, y0) + int_{y0}^{y} u(x1, y') dy',    psi(x1, y0) = -F_bottom
+// (constant along an impermeable wall; the integral of the inflow's profile along an inflow:
+// profile_integral, boundary_rule.hpp), F_w a side's whole flux (int u dy, int v dx), the one
+// outflow's from the balance F_left + F_bottom - F_right - F_top = 0. Not used on an outflow
+// (dpsi/dn = 0 there).
+double side_stream_value(const Domain& d, Side w, double along);
+
+// Why a stream function with these prescribed values cannot describe the domain's flow through
+// its sides, naming the scene key; empty when it can (no inflow or outflow, or one outflow side and
+// any inflows, no periodic axis).
+std::string stream_function_refusal(const Domain& d);
+
+// The prescribed parts of the stream function's images (M), psi_img = parity psi_p + offset, the
+// parity the velocity's (Images::v_sign): (1 - parity) psi_side for a single reflection; at a corner
+// the two reflections in turn, the side with a varying value (an inflow) first, so that its value
+// is taken within the side.
+void image_stream_offsets(const Images& im, const Domain& d, Vec& offset);
 
 // The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
 // plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.

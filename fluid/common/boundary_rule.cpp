@@ -17,7 +17,7 @@ int image_parity(SideKind k, Field f) {
         case Field::VelocityNormal:
         case Field::VelocityTangential: return -1;  // u_img = 2 u_in - u: u = u_in on the side (Eq. 42's form)
         case Field::Scalar: return +1;              // dphi/dn = 0
-        case Field::Stream: return 0;               // psi is not constant along it
+        case Field::Stream: return -1;              // psi_img = 2 psi_in - psi, psi_in = int u_n along the side
       }
       break;
     case SideKind::Outflow:
@@ -25,13 +25,18 @@ int image_parity(SideKind k, Field f) {
         case Field::VelocityNormal:
         case Field::VelocityTangential: return +1;  // du/dn = 0 (zero gradient)
         case Field::Scalar: return -1;              // phi = 0 (the pressure's reference)
-        case Field::Stream: return 0;
+        case Field::Stream: return +1;              // dpsi/dn = 0: d(u_n)/dn = d^2 psi/dn ds = 0, u_t = 0
       }
       break;
     case SideKind::Periodic:
     case SideKind::Open: return 0;
   }
   return 0;
+}
+
+double profile_integral(InflowProfile p, double s) {
+  if (p == InflowProfile::Parabolic) return s * s * (2.0 - 4.0 * s / 3.0);  // int_0^s 4 t (1 - t) dt
+  return s;                                                                // int_0^s 1 dt
 }
 
 const char* side_kind_name(SideKind k) {

@@ -8,7 +8,11 @@
 // with g the value the wall prescribes for the field f (Section 3.3). Odd images (parity -1) make
 // f = g on the wall (Dirichlet: the no-slip velocity, Eq. 42, prescribed part 2 U_wall); even
 // images (parity +1) make df/dn = 0 there (Neumann: phi and the pressure, Eq. 9; no prescribed part).
-// A stream function is constant along an impermeable wall (psi = psi_w: odd images).
+// A stream function is constant along an impermeable wall (psi = psi_w: odd images). Through an
+// inflow it takes the integral of the prescribed normal velocity along the side (psi = psi_in, odd
+// images), across an outflow dpsi/dn = 0 (even images: the curl's normal velocity has zero normal
+// gradient, as the velocity's even images there); the stream function's images take the velocity's
+// parity at every side (the exact projection makes them with the velocity's operators).
 //
 // Everything that makes or folds images takes its parities from here: the image construction
 // (boundary.cpp), the operators' assembly (fluid/algebra/operators.cpp), the exact projection's
@@ -32,6 +36,11 @@ enum class SideKind {
 // times 1 (uniform) or 4 s (1 - s) (parabolic, s in [0, 1] along the side: zero at its ends, the
 // side's velocity at its middle).
 enum class InflowProfile { None, Uniform, Parabolic };
+
+// The integral of an inflow's shape from the side's start to s in [0, 1]: int_0^s shape(t) dt, s
+// (uniform) or 2 s^2 - 4 s^3 / 3 (parabolic, shape 4 t (1 - t)): the stream function along an inflow
+// is psi(s) = L u_n profile_integral(s), L the side's length, u_n the side velocity's normal component.
+double profile_integral(InflowProfile p, double s);
 
 // The fields an image carries, by their role at the wall: the velocity component normal to the
 // wall, the tangential one, a scalar with homogeneous Neumann data (phi, the pressure), a stream

@@ -9,8 +9,8 @@
 namespace sphib {
 
 EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : ProjectionFluid(params, false, profiler) {
-  if (prm_.projection == Projection::Auto)  // exact, but its stream function needs walls or periodic sides
-    prm_.projection = prm_.domain.any_through() ? Projection::Approximate : Projection::Exact;
+  if (prm_.projection == Projection::Auto)  // exact where the domain has a stream function (boundary.hpp)
+    prm_.projection = stream_function_refusal(prm_.domain).empty() ? Projection::Exact : Projection::Approximate;
   const int N = lat_.size();
 
   // Neighbours: images and the pair list, once (the compact storage: the pairs a block of rows at a
@@ -157,9 +157,9 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   add_setup("factorisation", seconds_since(t0) + factorisation);
   k_psi_ = prof_.on_demand_phase("stream function");
   convective_ = prm_.convection;
-  // the markers' stream function is constant along walls: none with flow through a side (the markers
-  // then interpolate by SPH, coupling/interpolate.hpp)
-  has_stream_function_ = !prm_.domain.any_through();
+  // the markers' stream function: constant along walls, prescribed through an inflow; none where the
+  // domain's sides give it no values (the markers then interpolate by SPH, coupling/interpolate.hpp)
+  has_stream_function_ = stream_function_refusal(prm_.domain).empty();
   variable_viscosity_ = true;
   prof_.set_reporter([this](FluidReport& r) { report(r); });
   prof_.set_floor([this](FloorTimer& t) { floor_kernels(t); });
@@ -280,7 +280,7 @@ const Vec& EulerianFluid::phi() const {
 double EulerianFluid::max_abs_divergence() const {
   if (!exact()) return ProjectionFluid::max_abs_divergence();
   Vec d(size());
-  streams_->divergence(u_, d);  // the divergence the projection makes zero
+  streams_->velocity_divergence(u_, d);  // the divergence the projection makes zero
   return max_abs(d);
 }
 

@@ -49,15 +49,14 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Ope
   // every resolution).
   mpsi_scale_ = 1.0 / m;
   // The stream functions take the velocity's operators (their images): the boundary rule's stream
-  // function parity must be the velocity's at every wall (no-slip: both odd); flow through a side
-  // (inflow, outflow) has no stream function constant along it.
-  if (lat_.domain.any_through())
-    throw std::invalid_argument(
-        "fluid.projection: the exact projection needs walls or periodic sides (its stream function is constant "
-        "along a wall); with domain.inflow or domain.outflow use \"approximate\"");
+  // function parity must be the velocity's at every side with images (no-slip and inflow: both odd;
+  // outflow: both even). Flow through the sides: psi's prescribed values (side_stream_value,
+  // fluid/common/boundary.hpp) where the domain gives them.
+  const std::string refusal = stream_function_refusal(lat_.domain);
+  if (!refusal.empty()) throw std::invalid_argument(refusal);
   for (int k = 0; k < 4; ++k) {
     const Side w = static_cast<Side>(k);
-    if (lat_.domain.is_wall(w) && velocity_parity(lat_.domain.kind(w)) != lat_.domain.parity(w, Field::Stream))
+    if (makes_images(lat_.domain.kind(w)) && velocity_parity(lat_.domain.kind(w)) != lat_.domain.parity(w, Field::Stream))
       throw std::invalid_argument("walls." + wall_name(w) + ": the exact projection's stream function needs the velocity's image parity at the wall");
   }
   if (projection_) {
@@ -210,12 +209,19 @@ void ExactProjection::make_psi_solver() {
   const int M = im_.size();
   psi_ = b_psi_ = psi_flux_ = psi_by1_ = psi_bx1_ = Vec::Zero(N);
   const bool channel = d.periodic_x != d.periodic_y;
-  if (channel) {
-    const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
+  if (channel || d.any_through()) {
     Vec c1 = Vec::Zero(M);
-    const double c_far = image_prescribed(d.parity(far, Field::Stream), 1.0);  // 2: psi_w = Q = 1, odd images
-    for (int m = 0; m < M; ++m)
-      if (im_.wall[m] == far) c1[m] = c_far;
+    if (channel) {
+      const Side far = d.periodic_x ? Top : Right;  // the wall that carries psi = Q
+      const double c_far = image_prescribed(d.parity(far, Field::Stream), 1.0);  // 2: psi_w = Q = 1, odd images
+      for (int m = 0; m < M; ++m)
+        if (im_.wall[m] == far) c1[m] = c_far;
+    } else {
+      // flow through the sides: psi's images carry the prescribed values of the walls and the inflow
+      // (psi_img = parity psi + (1 - parity) psi_side, side_stream_value); the flux is the inflow's,
+      // so Q = 1 multiplies these offsets every step (flux_)
+      image_stream_offsets(im_, d, c1);
+    }
     psi_by1_ = op_.grad_uy.B * c1;
     psi_bx1_ = op_.grad_ux.B * c1;
     if (compact_)  // by rows of the transposes: each row's sums as the whole products'
@@ -264,6 +270,13 @@ void ExactProjection::make_psi_solver() {
   psi_solver_ = std::move(s.solver);
   psi_unpinned_ = s.unpinned;
   psi_r1_ = Mat2::Zero(N, 2);
+  if (projection_ && d.any_through()) {
+    Mat2 b(N, 2);
+    b.col(0) = psi_by1_;
+    b.col(1) = -psi_bx1_;
+    div_source_.resize(N);
+    divergence(b, div_source_);
+  }
   if (channel) {
     // The flux Q by least squares too: with C psi + Q b1 the velocity of (psi, Q) (b1 = (By c1,
     // -Bx c1)), the best Q for u is <u, r1> / <r1, r1> with r1 = (I - P_C) b1 = C psi1 + b1,
@@ -296,8 +309,14 @@ void ExactProjection::curl_transpose(const Mat2& u) {
   sphib::divergence(psi_ty_, psi_tx_, u, cu_, &psi_st_);  // Gy^T u - Gx^T v (= C^T u)
   // psi on the far wall: the flux (int u dy along a channel in x, -int v dx in y), the least-squares
   // value (make_psi_solver)
+  Q_ = flux(u);
+}
+
+double ExactProjection::flux(const Mat2& u) const {
+  // a channel: the least-squares flux of u (make_psi_solver); flow through the sides: the inflow's,
+  // prescribed (1 x the offsets); else none
   const Domain& d = lat_.domain;
-  Q_ = d.periodic_x != d.periodic_y ? u.cwiseProduct(psi_r1_).sum() : 0.0;
+  return d.periodic_x != d.periodic_y ? u.cwiseProduct(psi_r1_).sum() : d.any_through() ? 1.0 : 0.0;
 }
 
 void ExactProjection::psi_rhs() {
@@ -313,8 +332,7 @@ bool ExactProjection::markers_in_one_pass() const {
 void ExactProjection::rhs(const Mat2& u_star, long revision) {
   // curl_transpose() and psi_rhs() (and the markers' right-hand side) in one pass: C^T u* and the
   // flux Q of u* (the least-squares value, make_psi_solver), b_psi_ = C^T u* - Q ..., b_m_
-  const Domain& d = lat_.domain;
-  Q_ = d.periodic_x != d.periodic_y ? u_star.cwiseProduct(psi_r1_).sum() : 0.0;
+  Q_ = flux(u_star);
   const bool bm = markers_in_one_pass();
   curl_transpose_rhs({&psi_ty_, &psi_tx_, &psi_st_, u_star.data(),
                       {Q_, mpsi_scale_, psi_flux_.data(), mpsi_flux_.data(), cu_.data(), b_psi_.data(),
@@ -354,6 +372,11 @@ void ExactProjection::velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, 
 }
 
 void ExactProjection::divergence(const Mat2& f, Vec& d) const { sphib::divergence(div_x_, div_y_, f, d, &div_st_); }
+
+void ExactProjection::velocity_divergence(const Mat2& u, Vec& d) const {
+  divergence(u, d);
+  if (div_source_.size() > 0) d -= div_source_;
+}
 
 StreamFunction ExactProjection::markers(const Mat2& u, long revision) {
   if (psi_revision_ != revision) {

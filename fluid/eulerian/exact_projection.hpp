@@ -14,9 +14,17 @@
 // projection would be oblique and, with those tiny eigenvalues, unstable: measured on Poiseuille at
 // h = 3 dx. The two divergences differ only within 2h of a wall.)
 //
+// Flow through the sides (an inflow and an outflow between walls): psi's images carry prescribed
+// values c (image_stream_offsets, fluid/common/boundary.hpp: psi = int_0^s u_in along the inflow,
+// constant on each wall, the two constants differing by the inflow's flux; even images, dpsi/dn = 0,
+// on the outflow), and the flux term above with Q = 1 is that of c: u^{n+1} = C psi + b,
+// b = (By c, -Bx c), psi the least-squares solution of C^T C psi = C^T (u* - b). The curl of the
+// extended psi is divergence-free on the extended lattice, so D u^{n+1} = D b, the inflow's source
+// (nonzero only next to the inflow); velocity_divergence reports D u - D b.
+//
 // The markers' stream function psi_m (stream_function(), either projection): -lap psi_m = C^T u / m,
-// lap the Morris Laplacian of Eq. (31) with odd images (psi_m constant along each wall, 0 on the
-// bottom or left wall and the flux on the other), C^T u = Gy^T u - Gx^T v the discrete vorticity, m
+// lap the Morris Laplacian of Eq. (31) with the velocity's images (psi_m constant along each wall, 0
+// on the bottom or left wall and the flux on the other; with flow through the sides the values c), C^T u = Gy^T u - Gx^T v the discrete vorticity, m
 // the lattice normalisation of G. Its curl is divergence-free and, like Eq. (63), smooths u at the
 // scale h; the least-squares psi (u = its curl exactly) would instead give the markers the
 // grid-scale velocity unsmoothed, amplified by 1/|G| near the gradient's null modes (measured: a
@@ -73,6 +81,11 @@ class ExactProjection {
   void velocity(const Mat2& u_star, double dt_over_rho, Mat2& u, Mat2& grad_phi);
   // D f with the divergence the exact projection makes zero (D = -G^T, even images).
   void divergence(const Mat2& f, Vec& d) const;
+  // The divergence of a velocity u the projection made: D u, and with flow through the sides D u
+  // minus the inflow's source D b (b = (By c, -Bx c), the velocity of psi's prescribed image parts
+  // alone): D b = -Dx's image part of the inflow's normal velocity as psi prescribes it (2 Gy psi_in
+  // on the images), nonzero only near the inflow; D u - D b = D (C psi) = 0.
+  void velocity_divergence(const Mat2& u, Vec& d) const;
   // The markers' psi_m of u (solved when u's revision differs from the last one's).
   StreamFunction markers(const Mat2& u, long revision);
   double normal_equations_residual(const Mat2& u_star);  // ||C^T C psi - C^T u*|| / ||C^T u*||
@@ -93,6 +106,7 @@ class ExactProjection {
   static void finish_divergence(Divergence& d, bool compact);  // D = -(the transposes), its stencil
   void curl_transpose(const Mat2& u);  // cu_ = C^T u, Q_ = the least-squares flux of u
   void psi_rhs();                      // b_psi_ = cu_ - Q_ (flux term), projected
+  double flux(const Mat2& u) const;    // Q of u: the channel's least-squares flux, 1 with open sides, else 0
 
   const Lattice& lat_;
   const Images& im_;
@@ -115,6 +129,7 @@ class ExactProjection {
   RowStencil psi_st_;
   Vec psi_, psi_flux_, b_psi_, psi_by1_, psi_bx1_;
   Mat2 psi_r1_;  // the least-squares flux Q = sum u . psi_r1_ (make_psi_solver)
+  Vec div_source_;  // flow through the sides: D b, the inflow's source in D u (velocity_divergence)
   double Q_ = 0;
   Eigen::Vector2d mean_ = Eigen::Vector2d::Zero();  // the uniform flow of a doubly periodic box
   // the markers' psi_m: its solver, the wall term per unit flux, C^T u and Q of the last state (exact
