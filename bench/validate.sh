@@ -36,8 +36,9 @@
 #                  128 x 64) to t = 10 (docs/viscosity_contrast.md)
 #   vesicle_shear  a vesicle (inextensible + bending, reduced area 0.8, cases/vesicle_shear.toml) in shear:
 #                  tank-treading angle and the tank-treading/tumbling transition against lambda (1 to 16) at
-#                  128 x 64, a wider channel (H = 4), 256 x 128, and the semi-implicit force's time-step error,
-#                  against the 2-D Keller-Skalak model (scripts/vesicle_theory.py; docs/vesicle_shear.md).
+#                  128 x 64, wider channels (H = 4, 8), 256 x 128, and the semi-implicit force's time-step error,
+#                  against the 2-D fixed-shape models (scripts/vesicle_theory.py; docs/vesicle_shear.md); the
+#                  markers' angular velocity against the model on the runs' own shapes and on a near-circle.
 #                  About 3 hours on one core.
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
@@ -367,12 +368,25 @@ for s in "${sections[@]}"; do
           --set 'walls.bottom=[-2.0, 0.0]' --set 'walls.top=[2.0, 0.0]')  # H = 4 (confinement 0.2), same dx
       N256="--set grid.nx=256 --set grid.ny=128 --set membrane.nb=256"
       D=$OUT/vesicle_shear
-      mkdir -p $D/semi_implicit
+      mkdir -p $D/semi_implicit $D/checks
       /usr/bin/python3 scripts/vesicle_theory.py check | tee $D/theory.txt
       /usr/bin/python3 scripts/vesicle_theory.py angle --nu 0.8 --lam 1,2,3,4,5,6,8,12,16 | tee -a $D/theory.txt
       for l in 1 2 3 4 5 6 8 12 16; do $V --set membrane.viscosity_ratio=$l --out $D/n128_l$l; done  # 1-6 min each
       $V --set membrane.viscosity_ratio=16 --set time.end=40 --out $D/n128_l16_t40
       for l in 1 3; do $V --set membrane.viscosity_ratio=$l "${H4[@]}" --out $D/H4_n128_l$l; done  # 2 and 10 min
+      # the markers' angular velocity (docs/vesicle_shear.md, "checks"): the walls (H = 8: 512 x 256), the
+      # model on the runs' own shapes, the near-circle against the ellipse model of its reduced area
+      H8=(--set grid.nx=512 --set grid.ny=256 --set 'domain.x=[-8.0, 8.0]' --set 'domain.y=[-4.0, 4.0]'
+          --set 'walls.bottom=[-4.0, 0.0]' --set 'walls.top=[4.0, 0.0]')
+      $V "${H8[@]}" --set output.interval=1 --set time.end=16 --out $D/H8_n128_l1   # 2 min
+      $V "${H8[@]}" --set membrane.viscosity_ratio=3 --set time.end=14 --out $D/H8_n128_l3   # 15 min
+      C=(--set membrane.shape=circle --set membrane.radius=0.4 --set time.end=3)
+      $V "${C[@]}" --out $D/checks/c_H2; $V "${C[@]}" "${H4[@]}" --out $D/checks/c_H4; $V "${C[@]}" "${H8[@]}" --out $D/checks/c_H8
+      $V "${C[@]}" --set grid.nx=64 --set grid.ny=32 --set membrane.nb=64 --out $D/checks/c_n64
+      $V "${C[@]}" $N256 --set time.dt=5e-4 --out $D/checks/c_n256
+      /usr/bin/python3 scripts/vesicle_shear.py $D/checks/* | tee $D/checks.txt
+      /usr/bin/python3 scripts/vesicle_theory.py shape $D/n128_l1 $D/H4_n128_l1 $D/H8_n128_l1 --lam 1 | tee -a $D/checks.txt
+      /usr/bin/python3 scripts/vesicle_theory.py shape $D/n128_l3 $D/H4_n128_l3 $D/H8_n128_l3 --lam 3 | tee -a $D/checks.txt
       $V --set membrane.viscosity_ratio=3 --set membrane.Eb=0.64 --set time.dt=5e-4 --set time.end=15 --out $D/ca0.1_n128_l3
       for l in 1 3; do $V --set membrane.viscosity_ratio=$l $N256 --set time.dt=2.5e-4 --set time.end=10 --out $D/n256_l$l; done
       # the semi-implicit force (membrane.semi_implicit = true): its time-step error, and the lattices
@@ -385,7 +399,7 @@ for s in "${sections[@]}"; do
         $S --set membrane.viscosity_ratio=$l --set time.end=30 --out $D/semi_implicit/n128_l$l
       done
       for l in 1 3; do $S --set membrane.viscosity_ratio=$l $N256 --set time.dt=5e-4 --set time.end=30 --out $D/semi_implicit/n256_l$l; done
-      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/n256_l* $D/ca0.1_* --csv $D/sweep.csv --plot $D/vesicle_shear.png | tee $D/sweep.txt
+      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/H8_* $D/n256_l* $D/ca0.1_* --csv $D/sweep.csv --plot $D/vesicle_shear.png | tee $D/sweep.txt
       /usr/bin/python3 scripts/vesicle_shear.py $D/semi_implicit/* --csv $D/semi_implicit.csv | tee $D/semi_implicit.txt ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac

@@ -3,7 +3,7 @@
 
 For each run directory: the inclination theta(t) of membrane 0 (m0_inclination, the ellipse of the
 same second moments of area, unwrapped modulo 180 degrees), its motion and, against the 2-D
-Keller-Skalak model (scripts/vesicle_theory.py), the angle or the verdict.
+fixed-shape models (scripts/vesicle_theory.py), the angle or the verdict.
 
   tumbling      theta fell by more than 90 degrees during the run; the period is the time between
                 the last two crossings of theta = -90 k degrees (n/a if fewer than two);
@@ -11,11 +11,17 @@ Keller-Skalak model (scripts/vesicle_theory.py), the angle or the verdict.
                 and its drift (last - first value of that quarter) as the test of steadiness;
   not settled   no fall of 90 degrees, but a drift over the last quarter above 1 degree.
 
+omega is the diagnostics' m0_omega (the markers' mean angular velocity from their velocities) over the
+last quarter; omega_X, when output.h5 holds at least three snapshots in the last half of the run
+(output.interval), is the same rate measured from the markers' positions only: each marker's polar
+angle about the centroid of the enclosed polygon, unwrapped, fitted by a line in time, averaged
+over the markers.
+
   vesicle_shear.py RUN_DIR ... [--csv FILE] [--plot PNG]
 
 --plot draws theta(t) of the runs and the tank-treading angle against lambda beside the 2-D
-Keller-Skalak model; it reads the lattice and lambda from run names nNX_lLAMBDA (H4_ in front: the
-wider channel; a suffix _tT for a longer run, which then stands for its lambda), as
+fixed-ellipse models; it reads the lattice and lambda from run names nNX_lLAMBDA (H4_ or H8_ in front: the
+wider channels; a suffix _tT for a longer run, which then stands for its lambda), as
 bench/validate.sh vesicle_shear names them.
 """
 import argparse
@@ -70,6 +76,9 @@ def analyse(run):
         out["theta_min_deg"] = float(th_deg.min())
         if abs(out["theta_drift_deg"]) > 1.0:  # still turning: neither verdict yet
             out["motion"] = "not settled"
+    wx = omega_from_positions(run)
+    if wx is not None:
+        out["omega_X"] = wx
     try:
         with open(os.path.join(run, "summary.json")) as f:
             s = json.load(f)
@@ -77,6 +86,37 @@ def analyse(run):
     except OSError:
         pass
     return out
+
+
+def omega_from_positions(run):
+    """The markers' mean angular velocity from the positions of membrane 0 in output.h5's snapshots of
+    the last half of the run (None without h5py or with fewer than three)."""
+    path = os.path.join(run, "output.h5")
+    try:
+        import h5py
+    except ImportError:
+        return None
+    if not os.path.exists(path):
+        return None
+    with h5py.File(path, "r") as f:
+        snaps = [f["snapshots"][k] for k in sorted(f["snapshots"].keys())]
+        t = np.array([float(g.attrs["time"]) for g in snaps])
+        keep = t >= 0.5 * t[-1]
+        if keep.sum() < 3:
+            return None
+        ang = []
+        for g, k in zip(snaps, keep):
+            if not k:
+                continue
+            X = g["membrane_0"]["X"][()]
+            x, y = X[:, 0], X[:, 1]
+            x1, y1 = np.roll(x, -1), np.roll(y, -1)
+            cr = x * y1 - x1 * y
+            A = 0.5 * cr.sum()
+            cx, cy = ((x + x1) * cr).sum() / (6 * A), ((y + y1) * cr).sum() / (6 * A)
+            ang.append(np.arctan2(y - cy, x - cx))
+    ang = np.unwrap(np.array(ang), axis=0)  # snapshots closer than half a turn of a marker
+    return float(np.polyfit(t[keep], ang, 1)[0].mean())
 
 
 def main():
@@ -90,7 +130,7 @@ def main():
     for r in sorted(set(a.runs) - set(runs)):
         print(f"run={r}  (no diagnostics yet)")
     res = [analyse(r) for r in runs]
-    keys = ["run", "motion", "nu_start", "nu_end", "theta_deg", "theta_sd_deg", "theta_drift_deg", "theta_min_deg", "omega", "D",
+    keys = ["run", "motion", "nu_start", "nu_end", "theta_deg", "theta_sd_deg", "theta_drift_deg", "theta_min_deg", "omega", "omega_X", "D",
             "first_minus90_time", "period", "area_rel_error_end", "strain_max_end", "t_end", "wall_seconds"]
     for r in res:
         line = []
@@ -122,10 +162,10 @@ def plot(runs, res, png):
     for run, r in zip(runs, res):
         if "t_end" not in r:
             continue
-        m = re.fullmatch(r"(H4_)?n(\d+)_l([\d.]+)(_t\d+)?", os.path.basename(os.path.normpath(run)))
+        m = re.fullmatch(r"(?:H(\d+)_)?n(\d+)_l([\d.]+)(_t\d+)?", os.path.basename(os.path.normpath(run)))
         if not m:
             continue
-        key = ("H = 4, " if m.group(1) else "") + f"{m.group(2)} x {int(m.group(2)) // 2}"
+        key = f"{m.group(2)} x {int(m.group(2)) // 2}" + (f" spacing, H = {m.group(1)}" if m.group(1) else "")
         groups.setdefault(key, []).append((float(m.group(3)), r, run))
     for key in groups:  # one run per lambda: the longest
         best = {}
@@ -145,21 +185,27 @@ def plot(runs, res, png):
     ax1.set_title(f"inclination, {finest}, H = 2")
     ax1.legend(fontsize=8)
     a, b = vt.axes_for_reduced_area(0.8)
-    lams = np.linspace(0.5, 4.0507, 60)
-    th = [0.5 * np.degrees(np.arccos(min(1.0, 1.0 / vt.ks_coefficients(a, b, l, 200)[0]))) for l in lams]
-    ax2.plot(lams, th, "k-", label="2-D Keller-Skalak, unbounded")
-    for key, marker in zip(sorted(groups, key=lambda k: (k.startswith("H"), int(k.split(", ")[-1].split()[0]))), "osd^v"):
+    for field, style, name in (("inextensible", "k-", "fixed ellipse, inextensible membrane"),
+                               ("ks", "k--", "fixed ellipse, Keller-Skalak field")):
+        lc = vt.lambda_c(a, b, field)
+        lams = np.linspace(0.5, lc, 60)
+        th = [0.5 * np.degrees(np.arccos(min(1.0, 1.0 / vt.coefficients(a, b, l, field)[0]))) for l in lams]
+        ax2.plot(lams, th, style, label=name + ", unbounded")
+        ax2.axvline(lc, color="k", ls=":", lw=0.8)
+    def order(k):  # the scene's channel first, then the wider ones; coarse lattices first
+        return (int(k.split("H = ")[1]) if "H = " in k else 0, int(k.split()[0]))
+
+    for key, marker in zip(sorted(groups, key=order), "osd^v"):
         pts = sorted(groups[key])
         tt = [(l, r["theta_deg"]) for l, r, _ in pts if r["motion"] == "tank-treading"]
         tu = [l for l, r, _ in pts if r["motion"] == "tumbling"]
         line, = ax2.plot([p[0] for p in tt], [p[1] for p in tt], marker + "-", label=key)
         if tu:
             ax2.plot(tu, [0.0] * len(tu), marker, mfc="none", color=line.get_color())
-    ax2.axvline(4.0507, color="k", ls=":", lw=0.8)
     ax2.axhline(0.0, color="k", lw=0.5)
     ax2.set_xlabel("lambda = mu_in / mu_out")
     ax2.set_ylabel("tank-treading angle (degrees); open at 0: tumbling")
-    ax2.set_title("reduced area 0.8, confinement 2 R0/H = 0.4 (0.2 with H = 4)")
+    ax2.set_title("nu = 0.8; confinement 2 R0/H: 0.4 (H = 2), 0.2, 0.1")
     ax2.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
