@@ -144,7 +144,7 @@ TEST(OpenChannel, ExactProjectionCarriesThePoiseuilleParabola) {
 // The same channel turned upright and run downwards: inflow on the top side (v = -4 x (1 - x)),
 // outflow at the bottom, so the right wall's stream function comes from the outflow's flux by the
 // balance (side_stream_value). It is the first channel reflected through the diagonal and the
-// flow's direction: the same errors, measured equal to 7e-14 (u), 1.8e-12 (v) at n = 16 (the solvers'
+// flow's direction: the same errors, measured equal to 3e-14 (u), 3.1e-12 (v) at n = 16 (the solvers'
 // round-off); tolerance 1e-10.
 TEST(OpenChannel, ExactProjectionTurnedDownwardsIsTheSame) {
   const int n = 16;
@@ -242,8 +242,8 @@ end = 0.01
 // stream function (B-splines), whose values on the inflow, the walls and the outflow the boundary
 // rule gives, and the exact projection's velocity is a curl (max_div_u at round-off). Measured
 // (128 x 32, 64 markers, t = 1): area error 2.76e-7 with the scene's settings (exact projection,
-// B-splines), max_div_u 7.8e-14; the approximate projection with the SPH interpolation (the only
-// path before the stream function had open sides) 1.43e-4, max_div_u 0.114. Tolerances: 3x the
+// B-splines), max_div_u 7.5e-14; the approximate projection with the SPH interpolation (the only
+// path before the stream function had open sides) 1.42e-4, max_div_u 0.052. Tolerances: 3x the
 // measured area error, which the old path exceeds 170-fold; the divergence 1e-11 (round-off,
 // 130x the measured).
 TEST(OpenChannel, CapsuleKeepsItsAreaWithTheStreamFunction) {
