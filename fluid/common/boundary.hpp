@@ -14,11 +14,12 @@
 //                           at the parent's place, then across B, u'' = p_B (p_A u_p + (1 - p_A) g_A)
 //                           + (1 - p_B) g_B, per component; an inflow goes first (corner_reflections),
 //                           so its profile is taken within the side: at an inflow's corner with a wall
-//                           at rest u'' = u_p - 2 u_in(y_p). Between sides of constant value the two
-//                           orders agree except for two no-slip walls moving differently (the lid
-//                           corner of a cavity: u_p + 2 (g_B - g_A) and the opposite, u singular
-//                           there anyway): there we take their mean (u_img = u_p between two walls).
-//                           No Eq. (42) correction at corners.
+//                           at rest u'' = u_p - 2 u_in(y_p). g includes each side's Eq. (42)
+//                           correction of its tangential component (grad phi~ at the parent). Between
+//                           sides of constant value the two orders agree except for two no-slip
+//                           walls, where they give u_p + 2 (g_B - g_A) and the opposite (walls moving
+//                           differently: the lid corner of a cavity, u singular there anyway; or the
+//                           two walls' Eq. (42) corrections): there we take their mean, u_img = u_p.
 //  - phi (and any scalar with homogeneous Neumann data): the Scalar parity, +1 at a no-slip wall
 //    (phi_img = phi_p, Eq. 9); at a corner the product.
 #include <string>
