@@ -111,7 +111,7 @@ TEST(BoundaryRule, InflowAndOutflowImages) {
   const Images im = make_images(L, 2.0 * L.dx);
   Mat2 c(im.size(), 2);
   image_velocity_offsets(im, d, nullptr, 0.0, c);
-  int left = 0, right = 0;
+  int left = 0, right = 0, corner = 0;
   for (int k = 0; k < im.size(); ++k) {
     const double y = im.x(k, 1);
     if (im.wall[k] == Left) {
@@ -129,10 +129,41 @@ TEST(BoundaryRule, InflowAndOutflowImages) {
       EXPECT_EQ(im.v_sign[k], -1.0);
       EXPECT_EQ(im.s_sign[k], -1.0);
       EXPECT_EQ(c(k, 0), 0.0);
+    } else if (im.wall[k] < 0) {  // inflow-wall corner: across the inflow at the parent, then the wall
+      ++corner;
+      const double yp = y < d.y0 ? 2.0 * d.y0 - y : 2.0 * d.y1 - y;  // the parent's height
+      EXPECT_EQ(im.v_sign[k], 1.0);
+      EXPECT_EQ(im.s_sign[k], 1.0);
+      EXPECT_NEAR(c(k, 0), -(1.0 - (-1.0)) * 2.0 * 4.0 * yp * (1.0 - yp), 1e-14);  // p_B (1 - p_A) g_A
+      EXPECT_EQ(c(k, 1), 0.0);
     }
   }
   EXPECT_GT(left, 0);
   EXPECT_GT(right, 0);
+  EXPECT_GT(corner, 0);
+}
+
+// The composition of two reflections: f'' = p_B (p_A f + (1 - p_A) g_A) + (1 - p_B) g_B.
+TEST(BoundaryRule, CornerComposesTheTwoReflections) {
+  for (int pA : {-1, 1})
+    for (int pB : {-1, 1}) {
+      const double f = 0.3, gA = pA < 0 ? 0.7 : 0.0, gB = pB < 0 ? -1.1 : 0.0;
+      const double once = pA * f + image_prescribed(pA, gA), twice = pB * once + image_prescribed(pB, gB);
+      EXPECT_DOUBLE_EQ(pA * pB * f + corner_prescribed(pA, gA, pB, gB), twice);
+    }
+  EXPECT_EQ(corner_prescribed(-1, 0.0, -1, 0.0), 0.0);  // two walls at rest
+}
+
+// The solvers' log lines name the parities the rule gives: the stream function's images are even at
+// an outflow.
+TEST(BoundaryRule, LogLinesNameTheParities) {
+  Domain d;
+  d.periodic_x = d.periodic_y = false;
+  EXPECT_EQ(image_parities_text(d, Field::Stream), "odd images");
+  EXPECT_EQ(image_parities_text(d, Field::Scalar), "even images");
+  d.bounded[Left] = SideKind::Inflow;
+  d.bounded[Right] = SideKind::Outflow;
+  EXPECT_EQ(image_parities_text(d, Field::Stream), "odd images at the left, bottom and top sides, even at the right");
 }
 
 // The gauge's null vectors follow the rule's parity across the walls: on a closed box G^T G of phi

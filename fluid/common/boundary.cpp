@@ -169,63 +169,86 @@ std::string stream_function_refusal(const Domain& d) {
   return "";
 }
 
+std::string image_parities_text(const Domain& d, Field f) {
+  std::vector<Side> odd, even;
+  for (int k = 0; k < 4; ++k) {
+    const Side w = static_cast<Side>(k);
+    if (d.is_periodic(w) || !makes_images(d.kind(w))) continue;
+    (d.parity(w, f) < 0 ? odd : even).push_back(w);
+  }
+  const auto sides = [](const std::vector<Side>& s) {
+    std::string t;
+    for (size_t i = 0; i < s.size(); ++i) t += (i == 0 ? "" : i + 1 == s.size() ? " and " : ", ") + std::string(side_name(s[i]));
+    return t + (s.size() > 1 ? " sides" : "");
+  };
+  if (even.empty()) return "odd images";
+  if (odd.empty()) return "even images";
+  return "odd images at the " + sides(odd) + ", even at the " + sides(even);
+}
+
+CornerReflections corner_reflections(const Domain& d, const Eigen::Vector2d& xk) {
+  const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
+  const Eigen::Vector2d parent(sx == Left ? 2.0 * d.x0 - xk.x() : 2.0 * d.x1 - xk.x(),
+                               sy == Bottom ? 2.0 * d.y0 - xk.y() : 2.0 * d.y1 - xk.y());
+  if (d.kind(sy) != SideKind::Inflow) return {sx, sy, parent, Eigen::Vector2d(xk.x(), parent.y())};
+  return {sy, sx, parent, Eigen::Vector2d(parent.x(), xk.y())};
+}
+
 void image_stream_offsets(const Images& im, const Domain& d, Vec& offset) {
   offset = Vec::Zero(im.size());
-  const auto value = [&](Side w, const Eigen::Vector2d& x) {  // (1 - parity) psi_w: the prescribed part
-    const int p = d.parity(w, Field::Stream);
-    return p > 0 ? 0.0 : image_prescribed(p, side_stream_value(d, w, (w == Left || w == Right) ? x.y() : x.x()));
+  // psi_w at x on side w where the images are odd; 0 where they are even (an outflow: no value)
+  const auto value = [&](Side w, const Eigen::Vector2d& x) {
+    return d.parity(w, Field::Stream) > 0 ? 0.0 : side_stream_value(d, w, (w == Left || w == Right) ? x.y() : x.x());
   };
   for (int k = 0; k < im.size(); ++k) {
     const Eigen::Vector2d xk = im.x.row(k).transpose();
     const int w = im.wall[k];
     if (w >= 0) {
-      offset[k] = value(static_cast<Side>(w), xk);
+      const Side side = static_cast<Side>(w);
+      offset[k] = image_prescribed(d.parity(side, Field::Stream), value(side, xk));
       continue;
     }
-    // corner: across the x side at the parent's place (psi_in within the side), then across the y
-    // side at the image's (a wall's constant, or an outflow's nothing): psi' = py (px psi + ox) + oy.
-    // The other order gives the same where the y side's value continues oddly beyond the corner
-    // (psi_in(y0 - s) = 2 psi(y0) - psi_in(y0 + s)), the extension the odd images of the wall make;
-    // with an inflow on the y side the order is reversed.
-    const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
-    const Eigen::Vector2d parent(sx == Left ? 2.0 * d.x0 - xk.x() : 2.0 * d.x1 - xk.x(),
-                                 sy == Bottom ? 2.0 * d.y0 - xk.y() : 2.0 * d.y1 - xk.y());
-    if (d.kind(sy) != SideKind::Inflow)
-      offset[k] = d.parity(sy, Field::Stream) * value(sx, parent) + value(sy, Eigen::Vector2d(xk.x(), parent.y()));
-    else
-      offset[k] = d.parity(sx, Field::Stream) * value(sy, parent) + value(sx, Eigen::Vector2d(parent.x(), xk.y()));
+    // corner: psi'' = p_B (p_A psi + (1 - p_A) psi_A) + (1 - p_B) psi_B, an inflow first (psi_in
+    // within the side), then a wall's constant or an outflow's nothing
+    const CornerReflections c = corner_reflections(d, xk);
+    offset[k] = corner_prescribed(d.parity(c.first, Field::Stream), value(c.first, c.at_first),
+                                  d.parity(c.second, Field::Stream), value(c.second, c.at_second));
   }
 }
 
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
   // Per side, out of the loop (this runs every step): whether the tangential velocity is prescribed
-  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile; and
-  // whether any corner has an offset (a side with even velocity images, an outflow, next to another).
-  bool tangential_odd[4], shaped[4], corner_offsets = false;
+  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile.
+  bool tangential_odd[4], shaped[4];
   for (int w = 0; w < 4; ++w) {
     const Side side = static_cast<Side>(w);
     tangential_odd[w] = d.parity(side, Field::VelocityTangential) < 0;
     shaped[w] = d.kind(side) == SideKind::Inflow && d.inflow_profile == InflowProfile::Parabolic;
-    corner_offsets = corner_offsets || d.parity(side, Field::VelocityNormal) > 0;
   }
+  // the parity of velocity component a (0: x, 1: y) across side w: normal on the left and right
+  const auto parity = [&](Side w, int a) {
+    return d.parity(w, (a == 0) == (w == Left || w == Right) ? Field::VelocityNormal : Field::VelocityTangential);
+  };
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
     if (w < 0) {
-      // corner image: the mean of the two orders of reflection, across the x side (parity px, value
-      // gx) then the y side and the reverse: px py u + ((1 - px)(1 + py) gx + (1 - py)(1 + px) gy) / 2
-      // (0 between two sides with odd images, two no-slip walls: u_img = u_p, see header)
-      Eigen::Vector2d c = Eigen::Vector2d::Zero();
-      if (corner_offsets) {
-        const Eigen::Vector2d xk = im.x.row(k).transpose();
-        const Side sx = xk.x() < d.x0 ? Left : Right, sy = xk.y() < d.y0 ? Bottom : Top;
-        const double px = d.parity(sx, Field::VelocityNormal), py = d.parity(sy, Field::VelocityNormal);
-        const double cx = 0.5 * (1.0 - px) * (1.0 + py), cy = 0.5 * (1.0 - py) * (1.0 + px);
-        if (cx != 0.0) c += cx * side_velocity(d, sx, xk);
-        if (cy != 0.0) c += cy * side_velocity(d, sy, xk);
+      // corner image: u'' = p_B (p_A u + (1 - p_A) g_A) + (1 - p_B) g_B per component (header), an
+      // inflow first with its profile at the parent's place; between sides of constant value the
+      // mean of the two orders (0 between two no-slip walls)
+      const CornerReflections c = corner_reflections(d, im.x.row(k).transpose());
+      Eigen::Vector2d gA = side_velocity(d, c.first, c.at_first), gB = side_velocity(d, c.second, c.at_second);
+      if (grad_phi) {  // each side's Eq. (42) correction of its tangential component, at the parent
+        const int tA = (c.first == Bottom || c.first == Top) ? 0 : 1, tB = 1 - tA;
+        if (tangential_odd[c.first]) gA[tA] += dt_over_rho * (*grad_phi)(im.parent[k], tA);
+        if (tangential_odd[c.second]) gB[tB] += dt_over_rho * (*grad_phi)(im.parent[k], tB);
       }
-      offset(k, 0) = c.x();
-      offset(k, 1) = c.y();
+      const bool inflow = d.kind(c.first) == SideKind::Inflow || d.kind(c.second) == SideKind::Inflow;
+      for (int a = 0; a < 2; ++a) {
+        const int pA = parity(c.first, a), pB = parity(c.second, a);
+        const double ab = corner_prescribed(pA, gA[a], pB, gB[a]);
+        offset(k, a) = inflow ? ab : 0.5 * (ab + corner_prescribed(pB, gB[a], pA, gA[a]));
+      }
       continue;
     }
     const int t = (w == Bottom || w == Top) ? 0 : 1;  // tangent direction of the wall

@@ -9,12 +9,17 @@
 // image parity of the wall's kind (fluid/common/boundary_rule.hpp), the offset its prescribed part:
 //  - velocity, one wall w:  u_img = parity u_p + (1 - parity) g_w; for a no-slip wall (parity -1)
 //                           u_img = 2 g_w - u_p,  g_w = u_w + dt/rho (tau.grad phi~) tau  (Eq. 42)
-//  - velocity, corner:      the product of the two sides' parities, the mean of the two orders'
-//                           offsets (image_velocity_offsets); reflecting across w1 then w2
-//                           gives u_p + 2 (g_w2 - g_w1) for two no-slip walls, and the other order
-//                           the opposite offset; they agree (u_img = u_p) for walls at rest, and we
-//                           take their mean, u_img = u_p, also when the walls move differently (the
-//                           lid corner of a cavity, where u is singular anyway).
+//  - velocity, corner:      the product of the two sides' parities and the composition of the two
+//                           reflections (corner_prescribed, boundary_rule.hpp): across the side A
+//                           at the parent's place, then across B, u'' = p_B (p_A u_p + (1 - p_A) g_A)
+//                           + (1 - p_B) g_B, per component; an inflow goes first (corner_reflections),
+//                           so its profile is taken within the side: at an inflow's corner with a wall
+//                           at rest u'' = u_p - 2 u_in(y_p). g includes each side's Eq. (42)
+//                           correction of its tangential component (grad phi~ at the parent). Between
+//                           sides of constant value the two orders agree except for two no-slip
+//                           walls, where they give u_p + 2 (g_B - g_A) and the opposite (walls moving
+//                           differently: the lid corner of a cavity, u singular there anyway; or the
+//                           two walls' Eq. (42) corrections): there we take their mean, u_img = u_p.
 //  - phi (and any scalar with homogeneous Neumann data): the Scalar parity, +1 at a no-slip wall
 //    (phi_img = phi_p, Eq. 9); at a corner the product.
 #include <string>
@@ -68,14 +73,31 @@ double side_stream_value(const Domain& d, Side w, double along);
 // any inflows, no periodic axis).
 std::string stream_function_refusal(const Domain& d);
 
+// The images' parities of field f at the sides that make images, for the solvers' log lines: "odd
+// images", "even images", or e.g. "odd images at the left, bottom and top sides, even at the right".
+std::string image_parities_text(const Domain& d, Field f);
+
+// A corner image's two reflections in the order they are composed (corner_prescribed,
+// boundary_rule.hpp): across `first`, its value taken at `at_first` (the parent), then across
+// `second`, its value taken at `at_second` (the parent's image across `first`). The side with a
+// varying value goes first, so that its value is taken within the side: the y side if it is an
+// inflow, else the x side. The other order gives the same where the second side's value continues
+// beyond the corner as the first side's images make it (a wall's or an outflow's constant).
+struct CornerReflections {
+  Side first, second;
+  Eigen::Vector2d at_first, at_second;
+};
+CornerReflections corner_reflections(const Domain& d, const Eigen::Vector2d& image);
+
 // The prescribed parts of the stream function's images (M), psi_img = parity psi_p + offset, the
 // parity the velocity's (Images::v_sign): (1 - parity) psi_side for a single reflection; at a corner
-// the two reflections in turn, the side with a varying value (an inflow) first, so that its value
-// is taken within the side.
+// the two reflections composed (corner_reflections, corner_prescribed).
 void image_stream_offsets(const Images& im, const Domain& d, Vec& offset);
 
-// The offset part of Eq. (42) for every image, M x 2: 2 u_w for a single reflection (0 at corners),
-// plus, when grad_phi (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau.
+// The offset part of Eq. (42) for every image, M x 2: (1 - parity) u_w for a single reflection
+// (an inflow's profile at the image) plus, where the tangential velocity is prescribed and grad_phi
+// (N x 2, at the particles) is given, 2 dt/rho (tau.grad phi~_p) tau; at a corner the two
+// reflections composed (see the header's velocity, corner).
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset);
 

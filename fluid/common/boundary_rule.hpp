@@ -70,6 +70,15 @@ inline int velocity_parity(SideKind k) {
 // component, a stream function's wall value) counts twice on odd images, not at all on even ones.
 inline double image_prescribed(int parity, double g) { return (1.0 - parity) * g; }
 
+// The prescribed part of a corner image made by two reflections in turn: across side A (parity pA,
+// value gA at the parent's place on A), then across side B (parity pB, value gB at the place of the
+// parent's image across A on B):
+//   f'' = pB (pA f + (1 - pA) gA) + (1 - pB) gB = pA pB f + [pB (1 - pA) gA + (1 - pB) gB],
+// the bracket returned. Pass g = 0 for an even side (it prescribes no value).
+inline double corner_prescribed(int pA, double gA, int pB, double gB) {
+  return pB * image_prescribed(pA, gA) + image_prescribed(pB, gB);
+}
+
 // "periodic", "no_slip", "open", "inflow", "outflow".
 const char* side_kind_name(SideKind k);
 

@@ -138,7 +138,7 @@ void ExactProjection::make_markers_solver() {
   // wall, the constants its null space on a doubly periodic box.
   const Domain& d = lat_.domain;
   mpsi_gauge_ = Gauge(lat_, d.periodic_x && d.periodic_y ? NullSpace::Constants : NullSpace::None);
-  const std::string system = "stream function of the markers (Morris Laplacian, odd images)";
+  const std::string system = "stream function of the markers (Morris Laplacian, " + image_parities_text(d, Field::Stream) + ")";
   SystemSolver m;
   const int N = lat_.size();
   std::unique_ptr<StencilRows> sr;  // compact: lap_u.A by its stencil's rows only
@@ -244,8 +244,9 @@ void ExactProjection::make_psi_solver() {
   // as the whole products. The compact storage hands the lattice solver the blocks alone (G^T G,
   // 3-4 times the non-zeros of G, never held whole); otherwise, or where it lacks the structure,
   // the matrix is made from them.
-  const std::string system = projection_ ? "Poisson (exact projection: the stream function, G^T G, odd images)"
-                                         : "stream function (G^T G, odd images)";
+  const std::string images = image_parities_text(d, Field::Stream);  // what the rule gives at each side
+  const std::string system = projection_ ? "Poisson (exact projection: the stream function, G^T G, " + images + ")"
+                                         : "stream function (G^T G, " + images + ")";
   SystemSolver s;
   if (compact_) {
     const MatrixRows gtg = [&](const std::function<void(const SpMat&, int)>& f) {
