@@ -82,6 +82,13 @@ struct Model {
   // |d| for a cosine: along a periodic axis the slot itself (cos(2 pi k s / n) has period n in s)
   int cos_dx(int sx) const { return x_periodic ? sx : std::abs(sx - wx); }
   int cos_dy(int sy) const { return y_periodic ? sy : std::abs(sy - wy); }
+  // Row i's entries (columns c, values a, n of them) into max |A| and the half-width in y.
+  void note_extent(int i, const int* c, const double* a, int n, double& amax) {
+    for (int k = 0; k < n; ++k) {
+      amax = std::max(amax, std::fabs(a[k]));
+      if (!y_periodic) wy = std::max(wy, std::abs(c[k] / nx - i / nx));
+    }
+  }
 };
 
 // Half-widths, reference rows and their entries; false (and why) when the lattice cannot hold them.
@@ -99,10 +106,7 @@ bool extract_model(const MatrixRows& A, Model& m, std::string& why) {
     m.nnz += B.nonZeros();
     for (int t = 0; t < B.rows(); ++t) {
       const int i = r0 + t;
-      for (int k = o[t]; k < o[t + 1]; ++k) {
-        amax = std::max(amax, std::fabs(a[k]));
-        if (!m.y_periodic) m.wy = std::max(m.wy, std::abs(c[k] / nx - i / nx));
-      }
+      m.note_extent(i, c + o[t], a + o[t], o[t + 1] - o[t], amax);
       if (i % nx == ix0 && (!m.y_periodic || i / nx == 0))
         for (int k = o[t]; k < o[t + 1]; ++k) ref[m.class_of(i / nx)].emplace_back(c[k], a[k]);
     }
@@ -280,10 +284,7 @@ bool analyse_in_one_pass(const MatrixRows& A, Model& m, int left, int right) {
     m.nnz += B.nonZeros();
     for (int t = 0; t < B.rows(); ++t) {
       const int i = r0 + t, cl = m.class_of(i / nx);
-      for (int k = o[t]; k < o[t + 1]; ++k) {
-        amax = std::max(amax, std::fabs(a[k]));
-        if (!m.y_periodic) m.wy = std::max(m.wy, std::abs(c[k] / nx - i / nx));
-      }
+      m.note_extent(i, c + o[t], a + o[t], o[t + 1] - o[t], amax);
       if (i % nx == ix0 && (!m.y_periodic || i / nx == 0)) {
         for (int k = o[t]; k < o[t + 1]; ++k) ref[cl].emplace_back(c[k], a[k]);
         have[cl] = 1;
