@@ -91,13 +91,41 @@ struct Model {
   }
 };
 
+// (column, value) of each class's reference row, as read from A
+using ReferenceRows = std::vector<std::vector<std::pair<int, double>>>;
+
+// The model from the reference rows, max |A| and the half-width in y: the tolerance, the half-width
+// in x between walls and the classes' entries; false (and why, when asked) when the lattice cannot
+// hold them.
+bool finish_model(Model& m, int ix0, double amax, const ReferenceRows& ref, std::string* why) {
+  const auto no = [&](std::string reason) { return why ? refuse(*why, std::move(reason)) : false; };
+  if (!(amax > 0)) return no("the matrix is zero");
+  if (!m.y_periodic && 2 * m.wy + 1 > m.ny) return no("the band in y is as wide as the lattice");
+  m.tol = 1e-12 * amax;
+  m.ix0 = ix0;
+  if (!m.x_periodic) {
+    for (int cl = 0; cl < m.classes(); ++cl)
+      for (const auto& [col, v] : ref[cl]) m.wx = std::max(m.wx, std::abs(col % m.nx - m.ix0));
+    if (m.ix0 - m.wx < 1 || m.ix0 + m.wx > m.nx - 2) {
+      std::ostringstream s;
+      s << "the stencil (half-width " << m.wx << " in x) reaches a wall from the middle of the lattice (n_x = " << m.nx
+        << "): no row free of images to take the model from";
+      return no(s.str());
+    }
+  }
+  m.cls.assign(m.classes(), {});
+  for (int cl = 0; cl < m.classes(); ++cl)
+    for (const auto& [col, v] : ref[cl]) m.cls[cl].push_back({m.slot_x(m.ix0, col % m.nx), m.slot_y(cl, col / m.nx), v});
+  return true;
+}
+
 // Half-widths, reference rows and their entries; false (and why) when the lattice cannot hold them.
 // One pass over A's rows: max |A|, the half-width in y and the rows the model may take its entries
 // from (every row of column ix0 candidates: the half-width in x between walls comes from them).
 bool extract_model(const MatrixRows& A, Model& m, std::string& why) {
   const int nx = m.nx;
   double amax = 0;
-  std::vector<std::vector<std::pair<int, double>>> ref(m.classes());  // (column, value) of each class's row
+  ReferenceRows ref(m.classes());
   const int ix0 = m.x_periodic ? 0 : nx / 2;
   A([&](const SpMat& B, int r0) {
     const int* o = B.outerIndexPtr();
@@ -111,24 +139,7 @@ bool extract_model(const MatrixRows& A, Model& m, std::string& why) {
         for (int k = o[t]; k < o[t + 1]; ++k) ref[m.class_of(i / nx)].emplace_back(c[k], a[k]);
     }
   });
-  if (!(amax > 0)) return refuse(why, "the matrix is zero");
-  if (!m.y_periodic && 2 * m.wy + 1 > m.ny) return refuse(why, "the band in y is as wide as the lattice");
-  m.tol = 1e-12 * amax;
-  m.ix0 = ix0;
-  if (!m.x_periodic) {
-    for (int cl = 0; cl < m.classes(); ++cl)
-      for (const auto& [col, v] : ref[cl]) m.wx = std::max(m.wx, std::abs(col % nx - m.ix0));
-    if (m.ix0 - m.wx < 1 || m.ix0 + m.wx > nx - 2) {
-      std::ostringstream s;
-      s << "the stencil (half-width " << m.wx << " in x) reaches a wall from the middle of the lattice (n_x = " << nx
-        << "): no row free of images to take the model from";
-      return refuse(why, s.str());
-    }
-  }
-  m.cls.assign(m.classes(), {});
-  for (int cl = 0; cl < m.classes(); ++cl)
-    for (const auto& [col, v] : ref[cl]) m.cls[cl].push_back({m.slot_x(m.ix0, col % nx), m.slot_y(cl, col / nx), v});
-  return true;
+  return finish_model(m, ix0, amax, ref, &why);
 }
 
 const char* parity_name(int p) { return p > 0 ? "even" : "odd"; }
@@ -230,7 +241,7 @@ bool analyse_in_one_pass(const MatrixRows& A, Model& m, int left, int right) {
   const int ix0 = m.x_periodic ? 0 : nx / 2;
   double amax = 0, dev = 0;  // max |A|, the largest deviation from the model
   bool bad = false;          // a prediction off the lattice (a stencil reaching across a wall)
-  std::vector<std::vector<std::pair<int, double>>> ref(m.classes());  // (column, value) of each class's row
+  ReferenceRows ref(m.classes());
   std::vector<char> have(m.classes(), 0);
   std::vector<double> acc(N, 0.0);
   std::vector<int> stamp(N, -1), seen(N, -1), touched;
@@ -296,20 +307,8 @@ bool analyse_in_one_pass(const MatrixRows& A, Model& m, int left, int right) {
     }
   });
   // extract_model's checks and model, then rows_match's verdict
-  if (bad || !pending.empty() || !(amax > 0)) return false;
-  if (!m.y_periodic && 2 * m.wy + 1 > m.ny) return false;
-  m.tol = 1e-12 * amax;
-  m.ix0 = ix0;
-  if (!m.x_periodic) {
-    for (int cl = 0; cl < m.classes(); ++cl)
-      for (const auto& [col, v] : ref[cl]) m.wx = std::max(m.wx, std::abs(col % nx - m.ix0));
-    if (m.ix0 - m.wx < 1 || m.ix0 + m.wx > nx - 2) return false;
-  }
-  if (dev > m.tol) return false;
-  m.cls.assign(m.classes(), {});
-  for (int cl = 0; cl < m.classes(); ++cl)
-    for (const auto& [col, v] : ref[cl]) m.cls[cl].push_back({m.slot_x(m.ix0, col % nx), m.slot_y(cl, col / nx), v});
-  return true;
+  if (bad || !pending.empty()) return false;
+  return finish_model(m, ix0, amax, ref, nullptr) && dev <= m.tol;
 }
 
 // The model of A on an n_x x n_y lattice with the given periodic axes, its x images' parities at the
