@@ -82,6 +82,8 @@ struct Model {
   // |d| for a cosine: along a periodic axis the slot itself (cos(2 pi k s / n) has period n in s)
   int cos_dx(int sx) const { return x_periodic ? sx : std::abs(sx - wx); }
   int cos_dy(int sy) const { return y_periodic ? sy : std::abs(sy - wy); }
+  // Whether row i is its class's reference row (column ix0; lattice row 0 when y is periodic).
+  bool is_reference(int i, int ix0) const { return i % nx == ix0 && (!y_periodic || i / nx == 0); }
   // Row i's entries (columns c, values a, n of them) into max |A| and the half-width in y.
   void note_extent(int i, const int* c, const double* a, int n, double& amax) {
     for (int k = 0; k < n; ++k) {
@@ -90,6 +92,22 @@ struct Model {
     }
   }
 };
+
+// f(i, columns, values, count) for every row i of A in order, A's non-zeros counted and its extent
+// (max |A|, the half-width in y) noted into m and amax on the way.
+template <class F>
+void each_row(const MatrixRows& A, Model& m, double& amax, F&& f) {
+  A([&](const SpMat& B, int r0) {
+    const int* o = B.outerIndexPtr();
+    const int* c = B.innerIndexPtr();
+    const double* a = B.valuePtr();
+    m.nnz += B.nonZeros();
+    for (int t = 0; t < B.rows(); ++t) {
+      m.note_extent(r0 + t, c + o[t], a + o[t], o[t + 1] - o[t], amax);
+      f(r0 + t, c + o[t], a + o[t], o[t + 1] - o[t]);
+    }
+  });
+}
 
 // (column, value) of each class's reference row, as read from A
 using ReferenceRows = std::vector<std::vector<std::pair<int, double>>>;
@@ -127,17 +145,9 @@ bool extract_model(const MatrixRows& A, Model& m, std::string& why) {
   double amax = 0;
   ReferenceRows ref(m.classes());
   const int ix0 = m.x_periodic ? 0 : nx / 2;
-  A([&](const SpMat& B, int r0) {
-    const int* o = B.outerIndexPtr();
-    const int* c = B.innerIndexPtr();
-    const double* a = B.valuePtr();
-    m.nnz += B.nonZeros();
-    for (int t = 0; t < B.rows(); ++t) {
-      const int i = r0 + t;
-      m.note_extent(i, c + o[t], a + o[t], o[t + 1] - o[t], amax);
-      if (i % nx == ix0 && (!m.y_periodic || i / nx == 0))
-        for (int k = o[t]; k < o[t + 1]; ++k) ref[m.class_of(i / nx)].emplace_back(c[k], a[k]);
-    }
+  each_row(A, m, amax, [&](int i, const int* c, const double* a, int n) {
+    if (m.is_reference(i, ix0))
+      for (int k = 0; k < n; ++k) ref[m.class_of(i / nx)].emplace_back(c[k], a[k]);
   });
   return finish_model(m, ix0, amax, ref, &why);
 }
@@ -288,23 +298,16 @@ bool analyse_in_one_pass(const MatrixRows& A, Model& m, int left, int right) {
     for (int j : touched)
       if (seen[j] != i) dev = std::max(dev, std::fabs(acc[j]));
   };
-  A([&](const SpMat& B, int r0) {
-    const int* o = B.outerIndexPtr();
-    const int* c = B.innerIndexPtr();
-    const double* a = B.valuePtr();
-    m.nnz += B.nonZeros();
-    for (int t = 0; t < B.rows(); ++t) {
-      const int i = r0 + t, cl = m.class_of(i / nx);
-      m.note_extent(i, c + o[t], a + o[t], o[t + 1] - o[t], amax);
-      if (i % nx == ix0 && (!m.y_periodic || i / nx == 0)) {
-        for (int k = o[t]; k < o[t + 1]; ++k) ref[cl].emplace_back(c[k], a[k]);
-        have[cl] = 1;
-        for (const Pending& p : pending) match(p.i, p.col.data(), p.val.data(), static_cast<int>(p.col.size()));
-        pending.clear();
-      }
-      if (have[cl]) match(i, c + o[t], a + o[t], o[t + 1] - o[t]);
-      else pending.push_back({i, std::vector<int>(c + o[t], c + o[t + 1]), std::vector<double>(a + o[t], a + o[t + 1])});
+  each_row(A, m, amax, [&](int i, const int* c, const double* a, int n) {
+    const int cl = m.class_of(i / nx);
+    if (m.is_reference(i, ix0)) {
+      for (int k = 0; k < n; ++k) ref[cl].emplace_back(c[k], a[k]);
+      have[cl] = 1;
+      for (const Pending& p : pending) match(p.i, p.col.data(), p.val.data(), static_cast<int>(p.col.size()));
+      pending.clear();
     }
+    if (have[cl]) match(i, c, a, n);
+    else pending.push_back({i, std::vector<int>(c, c + n), std::vector<double>(a, a + n)});
   });
   // extract_model's checks and model, then rows_match's verdict
   if (bad || !pending.empty()) return false;
