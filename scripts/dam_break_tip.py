@@ -5,7 +5,8 @@
 
 For each run and each T = t sqrt(2g/a) asked for, the snapshot nearest it (its own T is printed):
 the leading particles of the floor band (within 2 dy of the floor), each with its x, its height,
-its number of neighbours within the kernel's support 2h, u, v and p; then the front Z = x/a by
+its number of neighbours within the kernel's support 2h, u, v and p; the mean u of the particles
+within 10 dx of the leading one, row by row from the floor (rows dy apart); then the front Z = x/a by
 several measures:
   support1   the solvers' front_x: the farthest particle of the floor band with another particle
              within 2h, plus dx/2;
@@ -20,6 +21,8 @@ incompressible column released from rest (initial_field: p at t = 0+ solves Lapl
 the column [0, a] x [0, H] with p = 0 on the face x = a and the top y = H, dp/dx = 0 on the wall behind
 and dp/dy = -rho g on the floor; the series below), from a run with a snapshot at every step (e.g.
 --set time.end=1.5e-3 --set output.interval=1.5e-4 --set 'output.times=[]').
+With --curve: Z(T) of the solvers' front_x (diagnostics.csv) at T = 0.25, 0.5, ..., 3 beside the
+experiments' (interpolated; "-" outside their points), and dZ/dT over T = 0.5-1.5 and 1.5-2.5.
 With --rms: the rms of Z - Z_exp against each experiment (as scripts/dam_break_front.py, up to
 Z = 3.5) of the front by each measure over every snapshot of the run (e.g. output.interval = 0.005).
 """
@@ -31,7 +34,7 @@ import numpy as np
 import h5py
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot import attr, read_front_reference, reference_dir, require  # noqa: E402
+from plot import attr, read_csv, read_front_reference, reference_dir, require  # noqa: E402
 from dam_break_front import NAMES, rms_against  # noqa: E402
 
 
@@ -100,6 +103,31 @@ def measures(x, y, dx, dy, reach, x0, y0):
     return out, order, nb
 
 
+CURVE_T = (0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0)
+
+
+def curve(runs):
+    """Z(T) of each run's front_x and of the experiments, at CURVE_T."""
+    def row(name, T, Z):
+        z = [np.interp(t, T, Z) if T[0] <= t <= T[-1] else np.nan for t in CURVE_T]
+        s1, s2 = (np.interp(1.5, T, Z) - np.interp(0.5, T, Z), np.interp(2.5, T, Z) - np.interp(1.5, T, Z))
+        print("%-34s %s | %s %s" % (name[-34:], " ".join("  -   " if np.isnan(v) else "%6.3f" % v for v in z),
+                                    "  -  " if T[0] > 0.5 else "%5.3f" % s1, "  -  " if T[-1] < 2.5 else "%5.3f" % s2))
+    print("%-34s %s | dZ/dT 0.5-1.5, 1.5-2.5" % ("Z at T =", " ".join("%6.2f" % t for t in CURVE_T)))
+    ref = None
+    for run in runs:
+        with h5py.File(require(os.path.join(run, "output.h5")), "r") as h5:
+            fx = attr(h5, "fill.x")
+            a = float(fx[1]) - float(fx[0])
+            g = float(np.hypot(*attr(h5, "fluid.gravity", [0.0, -9.81])))
+            ref = ref or reference_dir(h5)
+        d = read_csv(require(os.path.join(run, "diagnostics.csv")))
+        row(run, d["t"] * np.sqrt(2 * g / a), d["front_x"] / a)
+    for n in NAMES:
+        e = read_front_reference(os.path.join(ref, "dam_break_front_%s.csv" % n))
+        row(n, e[:, 0], e[:, 1])
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+")
@@ -107,7 +135,10 @@ def main():
     ap.add_argument("--lead", type=int, default=8, help="how many leading floor particles to list")
     ap.add_argument("--first", action="store_true", help="the first step against the column released from rest")
     ap.add_argument("--rms", action="store_true", help="the rms against the experiments by each measure")
+    ap.add_argument("--curve", action="store_true", help="Z(T) of the runs' front_x beside the experiments'")
     args = ap.parse_args()
+    if args.curve:
+        return curve(args.runs)
     for run in args.runs:
         with h5py.File(require(os.path.join(run, "output.h5")), "r") as h5:
             fx = attr(h5, "fill.x")
@@ -142,6 +173,12 @@ def main():
                 print("  T = %.3f (t = %.4f s): Z by %s" % (times[k] * scale, times[k], ", ".join(
                     "%s %.3f" % (n, (v - dom_x[0]) / a) for n, v in m.items())))
                 cols = {c: s[c][()] for c in ("u", "v", "p") if c in s}
+                if "u" in cols:
+                    tipx, rows = x[order[0]], []
+                    for r in range(4):
+                        m = (x > tipx - 10 * dx) & (y - dom_y[0] >= r * dy) & (y - dom_y[0] < (r + 1) * dy)
+                        rows.append("%.3f (%d)" % (cols["u"][m].mean(), m.sum()) if m.any() else "-")
+                    print("    mean u within 10 dx of the tip, rows 1-4 from the floor (particles): " + ", ".join(rows))
                 print("    leading floor-band particles: (x - x_lead)/dx, y/dy, neighbours within 2h, u, v, p")
                 for i, nbi in zip(order[:args.lead], nb[:args.lead]):
                     print("      %6.2f %5.2f %3d %s" % ((x[i] - x[order[0]]) / dx, (y[i] - dom_y[0]) / dy, nbi,
