@@ -6,7 +6,7 @@
 For each run and each T = t sqrt(2g/a) asked for, the snapshot nearest it (its own T is printed):
 the leading particles of the floor band (within 2 dy of the floor), each with its x, its height,
 its number of neighbours within the kernel's support 2h, u, v and p; the mean u of the particles
-within 10 dx of the leading one, row by row from the floor (rows dy apart); then the front Z = x/a by
+0-10 dx and 10-30 dx behind the leading one, row by row from the floor (rows dy apart); then the front Z = x/a by
 several measures:
   support1   the solvers' front_x: the farthest particle of the floor band with another particle
              within 2h, plus dx/2;
@@ -174,11 +174,15 @@ def main():
                     "%s %.3f" % (n, (v - dom_x[0]) / a) for n, v in m.items())))
                 cols = {c: s[c][()] for c in ("u", "v", "p") if c in s}
                 if "u" in cols:
-                    tipx, rows = x[order[0]], []
-                    for r in range(4):
-                        m = (x > tipx - 10 * dx) & (y - dom_y[0] >= r * dy) & (y - dom_y[0] < (r + 1) * dy)
-                        rows.append("%.3f (%d)" % (cols["u"][m].mean(), m.sum()) if m.any() else "-")
-                    print("    mean u within 10 dx of the tip, rows 1-4 from the floor (particles): " + ", ".join(rows))
+                    tipx = x[order[0]]
+                    for lo, hi in ((0, 10), (10, 30)):
+                        rows = []
+                        for r in range(4):
+                            m = ((x <= tipx - lo * dx) & (x > tipx - hi * dx) & (y - dom_y[0] >= r * dy)
+                                 & (y - dom_y[0] < (r + 1) * dy))
+                            rows.append("%.3f (%d)" % (cols["u"][m].mean(), m.sum()) if m.any() else "-")
+                        print("    mean u %d-%d dx behind the tip, rows 1-4 from the floor (particles): %s"
+                              % (lo, hi, ", ".join(rows)))
                 print("    leading floor-band particles: (x - x_lead)/dx, y/dy, neighbours within 2h, u, v, p")
                 for i, nbi in zip(order[:args.lead], nb[:args.lead]):
                     print("      %6.2f %5.2f %3d %s" % ((x[i] - x[order[0]]) / dx, (y[i] - dom_y[0]) / dy, nbi,
