@@ -71,8 +71,10 @@ class VesicleTheory(unittest.TestCase):
         a, b = vt.axes_for_reduced_area(0.8)
         k = (a * a - b * b) / (a * a + b * b)
         self.assertAlmostEqual(vt.coefficients(a, b, 1e3)[0], k, delta=3e-3)
-        # converged in the number of points (200 against 500: 6e-6 in B)
-        self.assertAlmostEqual(vt.coefficients(a, b, 1.0, n=200)[0], vt.coefficients(a, b, 1.0, n=500)[0], delta=2e-5)
+        # converged in the number of points: B at n = 100, 150, ..., 500 lies within 2.4e-5 (1.61018-1.61021),
+        # a scatter that does not fall with n and depends on the machine's LAPACK (the method of fundamental
+        # solutions' conditioning): 200 against 500 measured 6e-6 on one machine, 2.3e-5 on another
+        self.assertAlmostEqual(vt.coefficients(a, b, 1.0, n=200)[0], vt.coefficients(a, b, 1.0, n=500)[0], delta=5e-5)
 
     def test_inextensible_rate_is_the_markers_mean_angular_velocity(self):
         # a uniform tangential speed v: the mean over the arclength of (x cross u)/|x|^2 is 2 pi v / L, the
