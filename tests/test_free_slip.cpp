@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "fluid/common/boundary.hpp"
@@ -38,12 +39,11 @@ FluidParams free_slip_channel(int n, double mu, double dt, Projection projection
 
 // The Taylor-Green vortex psi = sin x sin y: u = sin x cos y, v = -cos x sin y, times exp(-2 nu t), an
 // exact Navier-Stokes solution (the pressure -(rho/4)(cos 2x + cos 2y) exp(-4 nu t) balances the
-// convection) with v = 0 and du/dy = 0 at y = 0 and pi. nu = 0.1 to t = 1, dt = 1e-2 (the time error
-// is below the space error: dt = 5e-3 and 2.5e-3 change it by < 2e-5 at n = 32): the largest error
-// over the particles relative to the amplitude exp(-2 nu t). walls = Periodic: the same vortex in the
+// convection) with v = 0 and du/dy = 0 at y = 0 and pi. nu = 0.1 to t = 1, dt = 1e-2 unless given:
+// the largest error over the particles relative to the amplitude exp(-2 nu t). walls = Periodic: the same vortex in the
 // periodic box [0, 2 pi]^2 (no walls; the same spacing).
-double taylor_green_error(int n, Projection projection, SideKind walls = SideKind::FreeSlip) {
-  const double nu = 0.1, dt = 1e-2, T = 1.0;
+double taylor_green_error(int n, Projection projection, SideKind walls = SideKind::FreeSlip, double dt = 1e-2) {
+  const double nu = 0.1, T = 1.0;
   FluidParams p = free_slip_channel(n, nu, dt, projection);
   if (walls == SideKind::Periodic) {
     p.domain.periodic_y = true;
@@ -87,17 +87,40 @@ double taylor_green_error(int n, Projection projection, SideKind walls = SideKin
 TEST(FreeSlip, TaylorGreenVortexConvergesBetweenFreeSlipWalls) {
   const double a16 = taylor_green_error(16, Projection::Approximate), a32 = taylor_green_error(32, Projection::Approximate);
   const double x16 = taylor_green_error(16, Projection::Exact), x32 = taylor_green_error(32, Projection::Exact);
+  const double p16 = taylor_green_error(16, Projection::Approximate, SideKind::Periodic);
+  const double p32 = taylor_green_error(32, Projection::Approximate, SideKind::Periodic);
+  const double noslip = taylor_green_error(16, Projection::Approximate, SideKind::NoSlip);
+  std::printf("Taylor-Green, max error / amplitude at t = 1: approximate %.3e (32 x 16) %.3e (64 x 32) order %.2f; "
+              "exact %.3e %.3e order %.2f; periodic box %.3e %.3e; no-slip walls %.3e (32 x 16)\n",
+              a16, a32, std::log2(a16 / a32), x16, x32, std::log2(x16 / x32), p16, p32, noslip);
   EXPECT_LT(a16, 1.25 * 2.138e-3);
   EXPECT_LT(a32, 1.25 * 1.328e-4);
   EXPECT_LT(x16, 1.25 * 2.198e-3);
   EXPECT_LT(x32, 1.25 * 1.021e-4);
   EXPECT_GT(std::log2(a16 / a32), 3.5);
   EXPECT_GT(std::log2(x16 / x32), 3.5);
-  const double p16 = taylor_green_error(16, Projection::Approximate, SideKind::Periodic);
-  const double p32 = taylor_green_error(32, Projection::Approximate, SideKind::Periodic);
   EXPECT_NEAR(a16, p16, 0.01 * p16);
   EXPECT_NEAR(a32, p32, 0.01 * p32);
-  EXPECT_GT(taylor_green_error(16, Projection::Approximate, SideKind::NoSlip), 0.5);
+  EXPECT_GT(noslip, 0.5);
+}
+
+// Slower (about 15 s: not in the unit label; run with --gtest_also_run_disabled_tests): the finer
+// lattice and the time step. Measured: at 128 x 64 the error is 4.33e-4 between free-slip walls and
+// in the periodic box alike (the SPH operators' error at a fixed h/dx grows again there: the walls are
+// not the cause); at 64 x 32 dt = 5e-3 and 2.5e-3 give 1.065e-4 and 0.988e-4 (approximate; 1.328e-4 at
+// dt = 1e-2: a fifth of that figure is the time error) and 1.021e-4 each (exact). Bounds: the walls'
+// error within 1% of the periodic box's; halving dt changes the exact projection's error by < 1%.
+TEST(FreeSlip, DISABLED_FinerLatticeAndTimeStep) {
+  const double a64 = taylor_green_error(64, Projection::Approximate);
+  const double p64 = taylor_green_error(64, Projection::Approximate, SideKind::Periodic);
+  const double a5 = taylor_green_error(32, Projection::Approximate, SideKind::FreeSlip, 5e-3);
+  const double a25 = taylor_green_error(32, Projection::Approximate, SideKind::FreeSlip, 2.5e-3);
+  const double x10 = taylor_green_error(32, Projection::Exact);
+  const double x5 = taylor_green_error(32, Projection::Exact, SideKind::FreeSlip, 5e-3);
+  std::printf("Taylor-Green 128 x 64: free-slip %.3e, periodic box %.3e; 64 x 32, dt = 5e-3, 2.5e-3: approximate "
+              "%.3e %.3e; exact dt = 1e-2, 5e-3: %.3e %.3e\n", a64, p64, a5, a25, x10, x5);
+  EXPECT_NEAR(a64, p64, 0.01 * p64);
+  EXPECT_NEAR(x5, x10, 0.01 * x10);
 }
 
 // A plug flow u = U between free-slip walls is steady: no shear at the walls, no divergence (with no-slip
@@ -114,7 +137,9 @@ TEST(FreeSlip, PlugFlowStaysAPlug) {
     for (int s = 0; s < 100; ++s) f->step(F);
     // measured after 100 steps: 1.6e-14 (approximate), 2.4e-11 (exact: the stream function's solve
     // of G^T G); the bounds 10 times those
-    EXPECT_LT((f->u() - u0).cwiseAbs().maxCoeff(), pr == Projection::Exact ? 2.4e-10 : 1.6e-13);
+    const double e = (f->u() - u0).cwiseAbs().maxCoeff();
+    std::printf("plug flow, %s projection: max |u - U| after 100 steps %.2e\n", pr == Projection::Exact ? "exact" : "approximate", e);
+    EXPECT_LT(e, pr == Projection::Exact ? 2.4e-10 : 1.6e-13);
   }
 }
 
@@ -155,16 +180,13 @@ mu = 0.1
 dt = 1e-2
 end = 0.1
 )";
+  using test::expect_refusal;
   EXPECT_EQ(refusal(scene), "");
   EXPECT_EQ(refusal(scene, {"fluid.projection=\"exact\""}), "");
-  auto expect = [](const std::string& m, const std::string& key, const std::string& what) {
-    EXPECT_NE(m.find(key), std::string::npos) << m;
-    EXPECT_NE(m.find(what), std::string::npos) << m;
-  };
   for (const char* method : {"lagrangian", "isph", "wcsph"})
-    expect(refusal(scene, {std::string("method=\"") + method + "\""}), "domain.free_slip",
-           std::string("eulerian\" only (not \"") + method);
-  expect(refusal(scene, {"walls.top=[1.0, 0.0]"}), "walls.top", "free_slip side");
-  expect(refusal(scene, {"domain.free_slip=[\"middle\"]"}), "domain.free_slip", "side names");
-  expect(refusal(scene, {"domain.periodic_y=true"}), "domain.free_slip", "periodic");
+    expect_refusal(refusal(scene, {std::string("method=\"") + method + "\""}), "domain.free_slip",
+                   std::string("eulerian\" only (not \"") + method);
+  expect_refusal(refusal(scene, {"walls.top=[1.0, 0.0]"}), "walls.top", "free_slip side");
+  expect_refusal(refusal(scene, {"domain.free_slip=[\"middle\"]"}), "domain.free_slip", "side names");
+  expect_refusal(refusal(scene, {"domain.periodic_y=true"}), "domain.free_slip", "periodic");
 }

@@ -254,17 +254,19 @@ void image_stream_offsets(const Images& im, const Domain& d, Vec& offset) {
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
   // Per side, out of the loop (this runs every step): whether the tangential velocity is prescribed
-  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile.
+  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile, and
+  // the parity of velocity component a (0: x, 1: y) across it (x the normal one on the left and right)
   bool tangential_odd[4], shaped[4];
+  int component_parity[4][2];
   for (int w = 0; w < 4; ++w) {
     const Side side = static_cast<Side>(w);
     tangential_odd[w] = d.parity(side, Field::VelocityTangential) < 0;
     shaped[w] = d.kind(side) == SideKind::Inflow && d.inflow_profile == InflowProfile::Parabolic;
+    for (int a = 0; a < 2; ++a)
+      component_parity[w][a] =
+          d.parity(side, (a == 0) == (w == Left || w == Right) ? Field::VelocityNormal : Field::VelocityTangential);
   }
-  // the parity of velocity component a (0: x, 1: y) across side w: normal on the left and right
-  const auto parity = [&](Side w, int a) {
-    return d.parity(w, (a == 0) == (w == Left || w == Right) ? Field::VelocityNormal : Field::VelocityTangential);
-  };
+  const auto parity = [&](Side w, int a) { return component_parity[w][a]; };
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
     if (w < 0) {
@@ -296,8 +298,8 @@ void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_
     }
     // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i: the prescribed part (1 - parity) g, each
     // component's parity (the images' own, v_sign, where the components share it)
-    offset(k, 0) = image_prescribed(parity(static_cast<Side>(w), 0), g[0]);
-    offset(k, 1) = image_prescribed(parity(static_cast<Side>(w), 1), g[1]);
+    offset(k, 0) = image_prescribed(component_parity[w][0], g[0]);
+    offset(k, 1) = image_prescribed(component_parity[w][1], g[1]);
   }
 }
 
