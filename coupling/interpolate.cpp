@@ -97,19 +97,21 @@ void interpolate_curl_bspline(const CellGrid& grid, double dx, double dy, const 
       gx[c] /= dx;
       hx[c] /= dx * dx;
     }
+    double w0 = 0;  // sum_c B_x: the same in every row
+    for (int c = 0; c < box.ncol; ++c) w0 += bx[c];
     double px = 0, py = 0, pxx = 0, pxy = 0, pyy = 0, sw = 0;
     for (int rr = 0; rr < box.nrow; ++rr) {
       double by, gy, hy;
       bspline3(box.ry[rr] / dy, by, gy, hy);
       gy /= dy;
       hy /= dy * dy;
-      double s0 = 0, s1 = 0, s2 = 0, w0 = 0;
+      double s0 = 0, s1 = 0, s2 = 0;
+      const double* prow = psi.data() + box.base[rr];
       for (int c = 0; c < box.ncol; ++c) {
-        const double p = psi[box.base[rr] + box.col[c]];
+        const double p = prow[box.col[c]];
         s0 += p * bx[c];
         s1 += p * gx[c];
         s2 += p * hx[c];
-        w0 += bx[c];
       }
       sw += w0 * by;
       px += s1 * by;   // d psi_h/dx: d/dX of B((X - x_i)/dx) = B'/dx

@@ -109,23 +109,25 @@ void CellGrid::lattice_box_rows(double qx, double qy, double radius, long base_l
   if (box.ncol > LatticeBox::kMax || hi[1] - lo[1] + 1 > LatticeBox::kMax)
     throw std::invalid_argument("CellGrid: a marker's query spans more than 256 lattice columns or rows");
   auto columns = [&] {
+    const double x0 = lat_.x0[0], o = lat_.o[0], d = lat_.d[0];
+    for (int c = 0; c < box.ncol; ++c) box.cdx[c] = qx - (x0 + (lo[0] + c + o) * d);
     int iw = periodic_[0] ? wrap_index(lo[0], nx) : lo[0];
-    for (int c = 0; c < box.ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) {
-      box.col[c] = iw;
-      box.cdx[c] = qx - (lat_.x0[0] + (lo[0] + c + lat_.o[0]) * lat_.d[0]);
-    }
+    for (int c = 0; c < box.ncol; ++c, iw = iw + 1 == nx ? 0 : iw + 1) box.col[c] = iw;
   };
   if (!Ranged) columns();
   const double r2max = radius * radius;
-  box.nrow = 0;
-  for (int b = lo[1]; b <= hi[1]; ++b) {
-    const double ry = qy - (lat_.x0[1] + (b + lat_.o[1]) * lat_.d[1]);
+  const double y0 = lat_.x0[1], oy = lat_.o[1], dy = lat_.d[1];
+  int nrow = 0;
+  int bw = periodic_[1] ? wrap_index(lo[1], ny) : lo[1];  // b wrapped, stepped along with b
+  for (int b = lo[1]; b <= hi[1]; ++b, bw = bw + 1 == ny && periodic_[1] ? 0 : bw + 1) {
+    const double ry = qy - (y0 + (b + oy) * dy);
     if (ry * ry >= r2max) continue;
-    const int base = nx * (periodic_[1] ? wrap_index(b, ny) : b);
+    const int base = nx * bw;
     if (Ranged && (base < base_lo || base >= base_hi)) continue;
-    box.base[box.nrow] = base;
-    box.ry[box.nrow++] = ry;
+    box.base[nrow] = base;
+    box.ry[nrow++] = ry;
   }
+  box.nrow = nrow;
   if (Ranged && box.nrow > 0) columns();
 }
 

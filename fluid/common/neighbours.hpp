@@ -139,14 +139,24 @@ class CellGrid {
     return n;
   }
 
+  // floor(x) and ceil(x) as int for x within int's range (std::floor's value, by a truncation and a
+  // correction: the markers' boxes take four of them per query)
+  static int floor_int(double x) {
+    const int t = static_cast<int>(x);
+    return t - (x < t);
+  }
+  static int ceil_int(double x) {
+    const int t = static_cast<int>(x);
+    return t + (x > t);
+  }
   // Lattice mode: the unwrapped index ranges [lo, hi] of the lattice points in the query's box.
   template <bool Ranged>
   void lattice_box_rows(double qx, double qy, double radius, long base_lo, long base_hi, LatticeBox& box) const;
   void lattice_range(double qx, double qy, double radius, int lo[2], int hi[2]) const {
     const double q[2] = {qx, qy};
     for (int a = 0; a < 2; ++a) {
-      lo[a] = static_cast<int>(std::ceil((q[a] - radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
-      hi[a] = static_cast<int>(std::floor((q[a] + radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]));
+      lo[a] = ceil_int((q[a] - radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]);
+      hi[a] = floor_int((q[a] + radius - lat_.x0[a]) / lat_.d[a] - lat_.o[a]);
       if (!periodic_[a]) { lo[a] = std::max(lo[a], 0); hi[a] = std::min(hi[a], lat_.n[a] - 1); }
       else if (hi[a] - lo[a] >= lat_.n[a]) throw std::invalid_argument("CellGrid: query radius exceeds half a period");
     }
