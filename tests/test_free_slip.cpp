@@ -187,6 +187,17 @@ end = 0.1
     expect_refusal(refusal(scene, {std::string("method=\"") + method + "\""}), "domain.free_slip",
                    std::string("eulerian\" only (not \"") + method);
   expect_refusal(refusal(scene, {"walls.top=[1.0, 0.0]"}), "walls.top", "free_slip side");
+  // the library's factory too, for a method given in FluidParams
+  for (const FluidMethod m : {FluidMethod::Lagrangian, FluidMethod::Isph, FluidMethod::Wcsph}) {
+    FluidParams p = free_slip_channel(8, 1.0, 1e-3, Projection::Approximate);
+    p.method = m;
+    try {
+      make_fluid(p);
+      ADD_FAILURE() << to_string(m) << " took a free-slip side";
+    } catch (const std::invalid_argument& e) {
+      expect_refusal(e.what(), "domain.free_slip", std::string("(not \"") + to_string(m) + "\")");
+    }
+  }
   expect_refusal(refusal(scene, {"domain.free_slip=[\"middle\"]"}), "domain.free_slip", "side names");
   expect_refusal(refusal(scene, {"domain.periodic_y=true"}), "domain.free_slip", "periodic");
 }
