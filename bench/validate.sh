@@ -40,6 +40,11 @@
 #                  against the 2-D fixed-shape models (scripts/vesicle_theory.py; docs/vesicle_shear.md); the
 #                  markers' angular velocity against the model on the runs' own shapes and on a near-circle.
 #                  About 3 hours on one core.
+#   vesicle_published  the same vesicle at reduced area 0.66 against Quaife & Biros's published-group 2-D
+#                  curve (tank-treading angle against lambda, unbounded, boundary integral:
+#                  cases/reference/quaife_biros_vesicle_inclination_ra066.csv): lambda = 1-5 at H = 2,
+#                  1, 3, 4 at H = 4, 3 and 4 at H = 8, and Ca = 10 at lambda = 1 (docs/vesicle_shear.md). About an
+#                  hour and a half on one core.
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
 #   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
@@ -401,6 +406,25 @@ for s in "${sections[@]}"; do
       for l in 1 3; do $S --set membrane.viscosity_ratio=$l $N256 --set time.dt=5e-4 --set time.end=30 --out $D/semi_implicit/n256_l$l; done
       /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/H8_* $D/n256_l* $D/ca0.1_* --csv $D/sweep.csv --plot $D/vesicle_shear.png | tee $D/sweep.txt
       /usr/bin/python3 scripts/vesicle_shear.py $D/semi_implicit/* --csv $D/semi_implicit.csv | tee $D/semi_implicit.txt ;;
+    vesicle_published)  # (one thread per run: the two cores are shared)
+      # the ellipse of reduced area 0.66 and R0 = 0.4 (scripts/vesicle_theory.py points --nu 0.66), uniform in arclength
+      V=(env OMP_NUM_THREADS=1 build/sphib run cases/vesicle_shear.toml --quiet --set membrane.shape=ellipse
+         --set membrane.spacing=arclength --set membrane.rx=0.6951643 --set membrane.ry=0.2301614)
+      H4=(--set grid.nx=256 --set grid.ny=128 --set 'domain.x=[-4.0, 4.0]' --set 'domain.y=[-2.0, 2.0]'
+          --set 'walls.bottom=[-2.0, 0.0]' --set 'walls.top=[2.0, 0.0]')  # H = 4 (confinement 0.2), same dx
+      REF=cases/reference/quaife_biros_vesicle_inclination_ra066.csv
+      D=$OUT/vesicle_published
+      mkdir -p $D
+      /usr/bin/python3 scripts/vesicle_theory.py angle --nu 0.66 --lam 0.5,1,2,3,3.5,4,4.5,5 | tee $D/theory.txt
+      for l in 1 2 3 4 5; do "${V[@]}" --set membrane.viscosity_ratio=$l --out $D/n128_l$l; done
+      for l in 1 3 4; do "${V[@]}" "${H4[@]}" --set membrane.viscosity_ratio=$l --out $D/H4_n128_l$l; done
+      H8=(--set grid.nx=512 --set grid.ny=256 --set 'domain.x=[-8.0, 8.0]' --set 'domain.y=[-4.0, 4.0]'
+          --set 'walls.bottom=[-4.0, 0.0]' --set 'walls.top=[4.0, 0.0]')  # H = 8 (confinement 0.1)
+      "${V[@]}" "${H8[@]}" --set membrane.viscosity_ratio=3 --out $D/H8_n128_l3_t20  # 19 min
+      "${V[@]}" "${H8[@]}" --set membrane.viscosity_ratio=4 --set time.end=14 --out $D/H8_n128_l4  # 17 min
+      "${V[@]}" --set membrane.Eb=0.0064 --out $D/ca10_n128_l1
+      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/H8_* $D/ca10_* --reference $REF --nu 0.66 \
+        --csv $D/sweep.csv --plot $D/vesicle_published.png | tee $D/sweep.txt ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
 done

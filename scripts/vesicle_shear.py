@@ -17,12 +17,16 @@ last quarter; omega_X, when output.h5 holds at least three snapshots in the last
 angle about the centroid of the enclosed polygon, unwrapped, fitted by a line in time, averaged
 over the markers.
 
-  vesicle_shear.py RUN_DIR ... [--csv FILE] [--plot PNG]
+  vesicle_shear.py RUN_DIR ... [--csv FILE] [--plot PNG] [--nu NU] [--reference CSV]
 
 --plot draws theta(t) of the runs and the tank-treading angle against lambda beside the 2-D
 fixed-ellipse models; it reads the lattice and lambda from run names nNX_lLAMBDA (H4_ or H8_ in front: the
 wider channels; a suffix _tT for a longer run, which then stands for its lambda), as
-bench/validate.sh vesicle_shear names them.
+bench/validate.sh vesicle_shear names them. --nu sets the reduced area of the plot's models (0.8,
+the scene's). --reference reads a published curve (a CSV of viscosity_contrast and beta_rad, e.g.
+cases/reference/quaife_biros_vesicle_inclination_ra066.csv): each tank-treading run named .._lLAMBDA
+gets the curve's angle at its lambda (linear interpolation; none beyond the curve's last point) and
+the difference, and the plot draws the curve.
 """
 import argparse
 import csv
@@ -119,18 +123,42 @@ def omega_from_positions(run):
     return float(np.polyfit(t[keep], ang, 1)[0].mean())
 
 
+def read_reference(path):
+    """A published curve: (lambda, angle in degrees) from a CSV with columns viscosity_contrast, beta_rad
+    (lines starting with # are its source)."""
+    with open(path) as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    lam = np.array([float(r["viscosity_contrast"]) for r in rows])
+    return lam, np.degrees([float(r["beta_rad"]) for r in rows])
+
+
+def run_lambda(run):
+    m = re.search(r"_l([\d.]+)(?:_t\d+)?$", os.path.basename(os.path.normpath(run)))
+    return float(m.group(1)) if m else None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--csv", help="write the table here too")
     ap.add_argument("--plot", help="write the figure here (PNG)")
+    ap.add_argument("--nu", type=float, default=0.8, help="the reduced area of the plot's models")
+    ap.add_argument("--reference", help="a published curve: CSV of viscosity_contrast, beta_rad")
     a = ap.parse_args()
+    ref = read_reference(a.reference) if a.reference else None
     runs = [r for r in a.runs if os.path.exists(os.path.join(r, "diagnostics.csv")) or
             os.path.exists(os.path.join(r, "diagnostics.csv.part"))]
     for r in sorted(set(a.runs) - set(runs)):
         print(f"run={r}  (no diagnostics yet)")
     res = [analyse(r) for r in runs]
-    keys = ["run", "motion", "nu_start", "nu_end", "theta_deg", "theta_sd_deg", "theta_drift_deg", "theta_min_deg", "omega", "omega_X", "D",
+    if ref is not None:
+        for run, r in zip(runs, res):
+            lam = run_lambda(run)
+            if lam is not None and ref[0][0] <= lam <= ref[0][-1]:
+                r["theta_ref_deg"] = float(np.interp(lam, *ref))
+                if "theta_deg" in r:
+                    r["theta_minus_ref_deg"] = r["theta_deg"] - r["theta_ref_deg"]
+    keys = ["run", "motion", "nu_start", "nu_end", "theta_deg", "theta_ref_deg", "theta_minus_ref_deg", "theta_sd_deg", "theta_drift_deg", "theta_min_deg", "omega", "omega_X", "D",
             "first_minus90_time", "period", "area_rel_error_end", "strain_max_end", "t_end", "wall_seconds"]
     for r in res:
         line = []
@@ -141,7 +169,7 @@ def main():
             line.append(f"{k}={v:.5g}" if isinstance(v, float) else f"{k}={v}")
         print("  ".join(line))
     if a.plot:
-        plot(runs, res, a.plot)
+        plot(runs, res, a.plot, a.nu, ref)
     if a.csv:
         with open(a.csv, "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
@@ -150,7 +178,7 @@ def main():
                 w.writerow(r)
 
 
-def plot(runs, res, png):
+def plot(runs, res, png, nu=0.8, ref=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -184,7 +212,7 @@ def plot(runs, res, png):
     ax1.set_ylabel("inclination (degrees)")
     ax1.set_title(f"inclination, {finest}, H = 2")
     ax1.legend(fontsize=8)
-    a, b = vt.axes_for_reduced_area(0.8)
+    a, b = vt.axes_for_reduced_area(nu)
     for field, style, name in (("inextensible", "k-", "fixed ellipse, inextensible membrane"),
                                ("ks", "k--", "fixed ellipse, Keller-Skalak field")):
         lc = vt.lambda_c(a, b, field)
@@ -192,6 +220,8 @@ def plot(runs, res, png):
         th = [0.5 * np.degrees(np.arccos(min(1.0, 1.0 / vt.coefficients(a, b, l, field)[0]))) for l in lams]
         ax2.plot(lams, th, style, label=name + ", unbounded")
         ax2.axvline(lc, color="k", ls=":", lw=0.8)
+    if ref is not None:
+        ax2.plot(ref[0], ref[1], "r-", lw=2, alpha=0.6, label="published (boundary integral), unbounded")
     def order(k):  # the scene's channel first, then the wider ones; coarse lattices first
         return (int(k.split("H = ")[1]) if "H = " in k else 0, int(k.split()[0]))
 
@@ -205,7 +235,7 @@ def plot(runs, res, png):
     ax2.axhline(0.0, color="k", lw=0.5)
     ax2.set_xlabel("lambda = mu_in / mu_out")
     ax2.set_ylabel("tank-treading angle (degrees); open at 0: tumbling")
-    ax2.set_title("nu = 0.8; confinement 2 R0/H: 0.4 (H = 2), 0.2, 0.1")
+    ax2.set_title(f"nu = {nu:g}; confinement 2 R0/H: 0.4 (H = 2), 0.2, 0.1")
     ax2.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
