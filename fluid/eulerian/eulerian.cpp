@@ -179,6 +179,8 @@ void EulerianFluid::make_split_crank_nicolson() {
     const SpMat la = component_matrix(lap, op_.lap_u.B, im_, a);
     s[a] = crank_nicolson_solver(crank_nicolson_matrix(la), la, a_cn(), prm_.cn_solver, &lat_, Refactor::Once, {},
                                  a == 0 ? Field::VelocityNormal : Field::VelocityTangential);
+    s[a]->annotate(a == 0 ? "; the x component's (its own image parities)" : "; the y component's (its own image parities)",
+                   0.0);
   }
   cn_ = std::move(s[0]);
   cn_v_ = std::move(s[1]);
