@@ -125,13 +125,12 @@ TEST(FreeSlip, TaylorGreenVortexConvergesBetweenFreeSlipWalls) {
   EXPECT_GT(noslip, 0.5);
 }
 
-// Slower (about 15 s: not in the unit label; run with --gtest_also_run_disabled_tests): the finer
-// lattice and the time step. Measured: at 128 x 64 the error is 4.33e-4 between free-slip walls and
+// The finer lattice and the time step. Measured: at 128 x 64 the error is 4.33e-4 between free-slip walls and
 // in the periodic box alike (the SPH operators' error at a fixed h/dx grows again there: the walls
 // are not the cause; the pressure's falls to 1.70e-3, order 3.0 from 64 x 32); at 64 x 32 dt = 5e-3 and 2.5e-3 give 1.065e-4 and 0.988e-4 (approximate; 1.328e-4 at
 // dt = 1e-2: a fifth of that figure is the time error) and 1.021e-4 each (exact). Bounds: the walls'
 // error within 1% of the periodic box's; halving dt changes the exact projection's error by < 1%.
-TEST(FreeSlip, DISABLED_FinerLatticeAndTimeStep) {
+TEST(FreeSlip, FinerLatticeAndTimeStep) {
   double pa64 = 0;
   const double a64 = taylor_green_error(64, Projection::Approximate, SideKind::FreeSlip, 1e-2, &pa64);
   const double p64 = taylor_green_error(64, Projection::Approximate, SideKind::Periodic);
