@@ -20,6 +20,10 @@ std::unique_ptr<FluidSolver> make_fluid(const FluidParams& params, Profiler* pro
   if (params.domain.any_through() && params.method != FluidMethod::Eulerian)
     throw std::invalid_argument(std::string("domain.inflow/domain.outflow: inflow and outflow sides are available for "
                                             "method \"eulerian\" only (not \"") + to_string(params.method) + "\")");
+  for (int k = 0; k < 4; ++k)
+    if (params.domain.kind(static_cast<Side>(k)) == SideKind::FreeSlip && params.method != FluidMethod::Eulerian)
+      throw std::invalid_argument(std::string("domain.free_slip: a free-slip side (\"") + side_name(static_cast<Side>(k)) +
+                                  "\") is available for method \"eulerian\" only (not \"" + to_string(params.method) + "\")");
   switch (params.method) {
     case FluidMethod::Eulerian: return std::make_unique<EulerianFluid>(params, profiler);
     case FluidMethod::Lagrangian: return std::make_unique<LagrangianFluid>(params, profiler);

@@ -581,6 +581,9 @@ void read_domain(Reader& r, Scene& s) {
              "domain.inflow_profile");
   read_sides("domain.outflow", SideKind::Outflow,
              "sides where the flow leaves (method eulerian): zero normal gradient of the velocity, phi = 0 there");
+  read_sides("domain.free_slip", SideKind::FreeSlip,
+             "free-slip walls (method eulerian): impermeable and shear-free, normal velocity 0 and zero normal "
+             "gradient of the tangential velocity there");
   const std::string profile = r.choice("domain.inflow_profile", "none", {"none", "uniform", "parabolic"},
                                        "the inflow's velocity along its side: uniform (walls.<side> everywhere) or "
                                        "parabolic (4 s (1 - s) walls.<side>, s in [0, 1] along the side)");
@@ -604,7 +607,9 @@ void read_domain(Reader& r, Scene& s) {
         r.fail("domain.inflow_profile", "an inflow needs its profile: \"uniform\" or \"parabolic\"");
     } else if (given && !f.domain.is_wall(side)) {
       r.fail(key, std::string("a wall velocity is given on ") +
-                      (kind == SideKind::Periodic ? "a periodic side" : std::string("an ") + side_kind_name(kind) + " side"));
+                      (kind == SideKind::Periodic ? "a periodic side"
+                       : kind == SideKind::FreeSlip ? "a free_slip side (domain.free_slip: a wall at rest)"
+                                                    : std::string("an ") + side_kind_name(kind) + " side"));
     }
     if (const std::string why = wall_moves_normally(f.domain, k); !why.empty()) r.fail(key, why);
   }
@@ -651,6 +656,10 @@ void read_fluid(Reader& r, Scene& s) {
       r.fail("fluid.projection", "\"exact\" needs a stream function of the domain's sides (" + refusal +
                                      "); use \"approximate\"");
   }
+  for (int k = 0; k < 4; ++k)  // free-slip walls: per-component images on the fixed lattice (EPSPH)
+    if (f.domain.kind(static_cast<Side>(k)) == SideKind::FreeSlip && s.method != FluidMethod::Eulerian)
+      r.fail("domain.free_slip", std::string("a free-slip side (\"") + side_name(static_cast<Side>(k)) +
+                                     "\") is available for method \"eulerian\" only (not \"" + to_string(s.method) + "\")");
   if (projection == "exact" && s.method == FluidMethod::Lagrangian)
     r.fail("fluid.projection", "\"exact\" is available for method \"eulerian\" only (lagrangian: \"approximate\")");
   f.projection = projection == "approximate" ? Projection::Approximate

@@ -31,6 +31,17 @@ TEST(BoundaryRule, ParitiesOfEachKind) {
     EXPECT_FALSE(is_wall_kind(k));
     EXPECT_EQ(image_parity(k, Field::Stream), velocity_parity(k));
   }
+  // free-slip: the normal velocity odd, the tangential even (no shared parity), phi even, psi odd
+  EXPECT_EQ(image_parity(SideKind::FreeSlip, Field::VelocityNormal), -1);
+  EXPECT_EQ(image_parity(SideKind::FreeSlip, Field::VelocityTangential), +1);
+  EXPECT_EQ(image_parity(SideKind::FreeSlip, Field::Scalar), +1);
+  EXPECT_EQ(image_parity(SideKind::FreeSlip, Field::Stream), -1);
+  EXPECT_EQ(velocity_parity(SideKind::FreeSlip), 0);
+  EXPECT_TRUE(makes_images(SideKind::FreeSlip));
+  // the velocity operators' images take the stream function's parity (make_images): the normal
+  // component's at every kind that makes images
+  for (SideKind k : {SideKind::NoSlip, SideKind::Inflow, SideKind::Outflow, SideKind::FreeSlip})
+    EXPECT_EQ(image_parity(k, Field::Stream), image_parity(k, Field::VelocityNormal)) << side_kind_name(k);
   EXPECT_EQ(profile_integral(InflowProfile::Uniform, 0.25), 0.25);
   EXPECT_DOUBLE_EQ(profile_integral(InflowProfile::Parabolic, 1.0), 2.0 / 3.0);  // int_0^1 4 t (1 - t) dt
   EXPECT_DOUBLE_EQ(profile_integral(InflowProfile::Parabolic, 0.5), 1.0 / 3.0);  // half the flux by symmetry

@@ -80,18 +80,18 @@ SystemSolver lattice_singular_solver(const std::string& system, Field field, con
 
 std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
                                                     const Lattice* fixed, Refactor refactor,
-                                                    const LatticeReference& near) {
+                                                    const LatticeReference& near, Field field) {
   const std::string system = "Crank-Nicolson", key = "solver.crank_nicolson";
   std::string why;
   if (lagged(kind) && refactor == Refactor::Once)
     throw std::invalid_argument(key + ": pcg_fft and pcg_cholmod are for moving particles");
-  if (auto s = lattice_solver(system, Field::VelocityNormal, key, A, false, kind, fixed, why)) return s;
+  if (auto s = lattice_solver(system, field, key, A, false, kind, fixed, why)) return s;
   const double b = 2.0 * a * lap.diagonal().cwiseAbs().maxCoeff();  // Gershgorin bound (see the header)
   std::ostringstream note;
   note << " (auto: " << (refactor == Refactor::EveryStep ? "moving particles; " : "") << "no FFT solver: ";
   const bool moving = kind == SolverKind::Auto && refactor == Refactor::EveryStep && is_symmetric(A);
   if (lagged(kind) || moving) {
-    auto start = lattice_preconditioner(system, Field::VelocityNormal, key, false, kind, near, why);
+    auto start = lattice_preconditioner(system, field, key, false, kind, near, why);
     note << why << "; Gershgorin bound nu dt max|lap_ii| = " << b << (b <= 40 ? " <= 40)" : " > 40)");
     if (lagged(kind) || start) {
       const std::string fft_note = kind == SolverKind::Auto ? " (auto: moving particles near a lattice with an FFT solver)" : "";
@@ -144,10 +144,10 @@ MatrixRows crank_nicolson_rows(RowsOf lap, int n, double a) {
 }
 
 std::unique_ptr<LinearSolver> lattice_crank_nicolson_solver(const MatrixRows& A, long n, SolverKind kind,
-                                                            const Lattice& fixed) {
+                                                            const Lattice& fixed, Field field) {
   if (kind != SolverKind::Auto && kind != SolverKind::Fft) return nullptr;
   std::string why;
-  auto s = make_fft_solver("Crank-Nicolson", A, n, fixed, Field::VelocityNormal, false, &why);  // as crank_nicolson_solver
+  auto s = make_fft_solver("Crank-Nicolson", A, n, fixed, field, false, &why);  // as crank_nicolson_solver
   if (s && kind == SolverKind::Auto) s->annotate(" (auto)", 0.0);
   if (!s && kind == SolverKind::Fft) throw std::invalid_argument("solver.crank_nicolson = \"fft\" does not apply: " + why);
   return s;

@@ -67,11 +67,15 @@ struct SystemSolver {
 };
 
 // The Crank-Nicolson matrix A = I - a lap on the velocity (its images: the boundary rule's velocity
-// parity, both components one; Field::VelocityNormal for the FFT solver). `fixed`: the lattice when the particles never move (the
-// FFT solver needs it), else nullptr. The solver's log line says what was chosen and why.
+// parity; `field` the component's role at the x walls for the FFT solver: VelocityNormal for both
+// components where they share a parity, and for the x component; VelocityTangential for the y
+// component where the parities differ, fluid/common/boundary.hpp component_matrix). `fixed`: the
+// lattice when the particles never move (the FFT solver needs it), else nullptr. The solver's log
+// line says what was chosen and why.
 std::unique_ptr<LinearSolver> crank_nicolson_solver(const SpMat& A, const SpMat& lap, double a, SolverKind kind,
                                                     const Lattice* fixed, Refactor refactor,
-                                                    const LatticeReference& near = {});
+                                                    const LatticeReference& near = {},
+                                                    Field field = Field::VelocityNormal);
 
 // A symmetric positive semi-definite operator A on a field of kind `field` (its images: the FFT
 // solver's transform, make_fft_solver) whose null space is that of gauge g. With
@@ -104,6 +108,6 @@ MatrixRows crank_nicolson_rows(RowsOf lap, int n, double a);
 // fft): that solver, or nullptr when `kind` is another or the matrix lacks the structure (then the
 // caller makes the matrix for crank_nicolson_solver; fft refuses as crank_nicolson_solver does).
 std::unique_ptr<LinearSolver> lattice_crank_nicolson_solver(const MatrixRows& A, long n, SolverKind kind,
-                                                            const Lattice& fixed);
+                                                            const Lattice& fixed, Field field = Field::VelocityNormal);
 
 }  // namespace sphib

@@ -25,24 +25,25 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
   }
   Images im;
   std::vector<double> xs, ys;
-  // The parities of each side (boundary_rule.hpp); a wall's velocity components must share one (the
-  // operators carry one velocity sign per image).
-  double v_par[4] = {0, 0, 0, 0}, s_par[4] = {0, 0, 0, 0};
+  // The parities of each side (boundary_rule.hpp): the operators' velocity sign is the stream
+  // function's (the normal component's: both components' except at a free-slip wall), with the
+  // components' own parities beside it (v_split).
+  double v_par[4] = {0, 0, 0, 0}, s_par[4] = {0, 0, 0, 0}, c_par[4][2] = {{0, 0}, {0, 0}, {0, 0}, {0, 0}};
+  bool split = false;
   for (int w = 0; w < 4; ++w) {
     const Side side = static_cast<Side>(w);
     if (d.is_periodic(side)) continue;
     if (!makes_images(d.kind(side)))
       throw std::invalid_argument(std::string("walls: the ") + side_name(side) + " side is " +
                                   side_kind_name(d.kind(side)) + ": no image particles there (free-surface methods)");
-    v_par[w] = velocity_parity(d.kind(side));
+    v_par[w] = d.parity(side, Field::Stream);
     s_par[w] = d.parity(side, Field::Scalar);
-    if (v_par[w] == 0.0) {
-      std::ostringstream m;
-      m << "walls: the " << side_name(side) << " side's kind (" << side_kind_name(d.kind(side))
-        << ") gives the two velocity components different image parities; image particles carry one";
-      throw std::invalid_argument(m.str());
-    }
+    const bool vertical = w == Left || w == Right;  // x is the normal component there
+    c_par[w][0] = d.parity(side, vertical ? Field::VelocityNormal : Field::VelocityTangential);
+    c_par[w][1] = d.parity(side, vertical ? Field::VelocityTangential : Field::VelocityNormal);
+    split = split || c_par[w][0] != v_par[w] || c_par[w][1] != v_par[w];
   }
+  std::vector<double> sx, sy;  // the components' parities, image by image
   auto add = [&](int p, double x, double y, int wall, double v_sign, double s_sign) {
     im.parent.push_back(p);
     im.wall.push_back(wall);
@@ -50,6 +51,10 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
     im.s_sign.push_back(s_sign);
     xs.push_back(x);
     ys.push_back(y);
+  };
+  auto add_split = [&](double px, double py) {
+    sx.push_back(px);
+    sy.push_back(py);
   };
   for (int p = 0; p < X.rows(); ++p) {
     const double x = X(p, 0), y = X(p, 1);
@@ -67,13 +72,43 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
     if (xw >= 0) add(p, xm, y, xw, v_par[xw], s_par[xw]);
     if (yw >= 0) add(p, x, ym, yw, v_par[yw], s_par[yw]);
     if (xw >= 0 && yw >= 0) add(p, xm, ym, -1, v_par[xw] * v_par[yw], s_par[xw] * s_par[yw]);  // corner: point reflection
+    if (!split) continue;
+    if (xw >= 0) add_split(c_par[xw][0], c_par[xw][1]);
+    if (yw >= 0) add_split(c_par[yw][0], c_par[yw][1]);
+    if (xw >= 0 && yw >= 0) add_split(c_par[xw][0] * c_par[yw][0], c_par[xw][1] * c_par[yw][1]);
   }
   im.x.resize(static_cast<int>(xs.size()), 2);
   for (int k = 0; k < im.size(); ++k) {
     im.x(k, 0) = xs[k];
     im.x(k, 1) = ys[k];
   }
+  if (split) {
+    im.v_split.resize(im.size(), 2);
+    for (int k = 0; k < im.size(); ++k) {
+      im.v_split(k, 0) = sx[k] - im.v_sign[k];
+      im.v_split(k, 1) = sy[k] - im.v_sign[k];
+    }
+  }
   return im;
+}
+
+void add_split_images(const Images& im, const Mat2& u, Mat2& c) {
+  if (!im.split()) return;
+  for (int a = 0; a < 2; ++a)
+    for (int m = 0; m < im.size(); ++m)
+      if (im.v_split(m, a) != 0.0) c(m, a) += im.v_split(m, a) * u(im.parent[m], a);
+}
+
+SpMat component_matrix(const SpMat& A, const SpMat& B, const Images& im, int a) {
+  if (!im.split()) return A;
+  std::vector<Triplet> t;  // diag(v_split(:, a)) P: image m -> its parent's column
+  for (int m = 0; m < im.size(); ++m)
+    if (im.v_split(m, a) != 0.0) t.emplace_back(m, im.parent[m], im.v_split(m, a));
+  SpMat S(im.size(), A.cols());
+  S.setFromTriplets(t.begin(), t.end());
+  SpMat C = A + SpMat(B * S);
+  C.makeCompressed();
+  return C;
 }
 
 void keep_in_tank(const Domain& d, Mat2& x, double t, const char* method, const char* hint) {
@@ -219,17 +254,19 @@ void image_stream_offsets(const Images& im, const Domain& d, Vec& offset) {
 void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_phi, double dt_over_rho,
                             Mat2& offset) {
   // Per side, out of the loop (this runs every step): whether the tangential velocity is prescribed
-  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile.
+  // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile, and
+  // the parity of velocity component a (0: x, 1: y) across it (x the normal one on the left and right)
   bool tangential_odd[4], shaped[4];
+  int component_parity[4][2];
   for (int w = 0; w < 4; ++w) {
     const Side side = static_cast<Side>(w);
     tangential_odd[w] = d.parity(side, Field::VelocityTangential) < 0;
     shaped[w] = d.kind(side) == SideKind::Inflow && d.inflow_profile == InflowProfile::Parabolic;
+    for (int a = 0; a < 2; ++a)
+      component_parity[w][a] =
+          d.parity(side, (a == 0) == (w == Left || w == Right) ? Field::VelocityNormal : Field::VelocityTangential);
   }
-  // the parity of velocity component a (0: x, 1: y) across side w: normal on the left and right
-  const auto parity = [&](Side w, int a) {
-    return d.parity(w, (a == 0) == (w == Left || w == Right) ? Field::VelocityNormal : Field::VelocityTangential);
-  };
+  const auto parity = [&](Side w, int a) { return component_parity[w][a]; };
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
     if (w < 0) {
@@ -259,10 +296,10 @@ void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_
       // tangential velocity is prescribed (odd images), Eq. (42)
       g[t] += dt_over_rho * (*grad_phi)(im.parent[k], t);
     }
-    // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i: the prescribed part (1 - parity) g
-    const int parity = static_cast<int>(im.v_sign[k]);
-    offset(k, 0) = image_prescribed(parity, g[0]);
-    offset(k, 1) = image_prescribed(parity, g[1]);
+    // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i: the prescribed part (1 - parity) g, each
+    // component's parity (the images' own, v_sign, where the components share it)
+    offset(k, 0) = image_prescribed(component_parity[w][0], g[0]);
+    offset(k, 1) = image_prescribed(component_parity[w][1], g[1]);
   }
 }
 

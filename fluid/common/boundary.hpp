@@ -33,11 +33,28 @@ struct Images {
   Mat2 x;                       // positions, M x 2
   std::vector<int> parent;      // parent particle of each image
   std::vector<int> wall;        // the wall of a single reflection (Side), or -1 for a corner image
-  std::vector<double> v_sign;   // velocity parity (both components): -1 for one no-slip reflection, +1 for a corner
+  std::vector<double> v_sign;   // the velocity operators' parity: the stream function's (boundary_rule.hpp),
+                                // both velocity components' where they share one: -1 for one no-slip
+                                // reflection, +1 for a corner
   std::vector<double> s_sign;   // scalar (phi) parity: +1 at no-slip walls and their corners
+  // Per velocity component (columns x, y), its parity minus v_sign: M x 2, nonzero only where the
+  // components' parities differ (free-slip: the tangential component's even images, 2); empty when
+  // they differ nowhere. The component's image value is then v_sign f_p + c + v_split f_p: the
+  // operators with v_sign plus the correction v_split f_p taken with the image offsets.
+  Mat2 v_split;
 
   int size() const { return static_cast<int>(parent.size()); }
+  bool split() const { return v_split.size() != 0; }
 };
+
+// The correction of images of the velocity u (N x 2) where its components' parities differ from the
+// operators' (Images::v_split): c(m, a) += v_split(m, a) u(parent m, a); nothing when !im.split().
+void add_split_images(const Images& im, const Mat2& u, Mat2& c);
+
+// The velocity operator on component a (0: x, 1: y) with that component's image parities:
+// A + B diag(v_split(:, a)) P, P the images' parents (an image's value v_split f_p folded into its
+// parent's column); A itself when !im.split().
+SpMat component_matrix(const SpMat& A, const SpMat& B, const Images& im, int a);
 
 // Images of every particle closer than `reach` (= 2h) to a wall.
 Images make_images(const Lattice& lattice, double reach);

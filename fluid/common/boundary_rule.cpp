@@ -28,6 +28,14 @@ int image_parity(SideKind k, Field f) {
         case Field::Stream: return +1;              // dpsi/dn = 0: d(u_n)/dn = d^2 psi/dn ds = 0, u_t = 0
       }
       break;
+    case SideKind::FreeSlip:
+      switch (f) {
+        case Field::VelocityNormal: return -1;      // u_n = 0 on the wall (impermeable)
+        case Field::VelocityTangential: return +1;  // du_t/dn = 0 (no shear)
+        case Field::Scalar: return +1;              // dphi/dn = 0 (Eq. 9)
+        case Field::Stream: return -1;              // psi constant along the wall
+      }
+      break;
     case SideKind::Periodic:
     case SideKind::Open: return 0;
   }
@@ -46,6 +54,7 @@ const char* side_kind_name(SideKind k) {
     case SideKind::Open: return "open";
     case SideKind::Inflow: return "inflow";
     case SideKind::Outflow: return "outflow";
+    case SideKind::FreeSlip: return "free_slip";
   }
   return "?";
 }

@@ -13,6 +13,11 @@
 // images), across an outflow dpsi/dn = 0 (even images: the curl's normal velocity has zero normal
 // gradient, as the velocity's even images there); the stream function's images take the velocity's
 // parity at every side (the exact projection makes them with the velocity's operators).
+// A free-slip wall is impermeable and shear-free: the normal velocity vanishes (odd images), the
+// tangential one has zero normal gradient (even images), the stream function is constant (odd).
+// The velocity operators' images carry the stream function's parity (make_images: the normal
+// component's at every kind); a velocity component whose parity differs there (the tangential one at
+// a free-slip wall) takes the difference as a per-component correction (Images::v_split).
 //
 // Everything that makes or folds images takes its parities from here: the image construction
 // (boundary.cpp), the operators' assembly (fluid/algebra/operators.cpp), the exact projection's
@@ -30,6 +35,7 @@ enum class SideKind {
   Open,      // free space beyond it (no images; free-surface methods only)
   Inflow,    // a prescribed velocity profile enters (velocity Dirichlet, phi Neumann)
   Outflow,   // the flow leaves (velocity zero-gradient, phi = 0)
+  FreeSlip,  // an impermeable wall without shear (normal velocity 0, tangential du_t/dn = 0; EPSPH only)
 };
 
 // The shape of an inflow's velocity along its side: the side's velocity (Domain::wall_velocity)
@@ -55,12 +61,14 @@ int image_parity(SideKind k, Field f);
 // wall loads).
 inline bool is_wall_kind(SideKind k) { return k == SideKind::NoSlip; }
 // Whether the kind makes image particles (walls, inflow, outflow).
-inline bool makes_images(SideKind k) { return k == SideKind::NoSlip || k == SideKind::Inflow || k == SideKind::Outflow; }
+inline bool makes_images(SideKind k) {
+  return k == SideKind::NoSlip || k == SideKind::Inflow || k == SideKind::Outflow || k == SideKind::FreeSlip;
+}
 // Whether the flow crosses a side of this kind (inflow, outflow).
 inline bool is_through_kind(SideKind k) { return k == SideKind::Inflow || k == SideKind::Outflow; }
 
-// The velocity's parity across a side of this kind when both components share one (every kind so
-// far: no-slip -1); 0 when they differ or the kind makes no images.
+// The velocity's parity across a side of this kind when both components share one (no-slip and
+// inflow -1, outflow +1); 0 when they differ (free-slip) or the kind makes no images.
 inline int velocity_parity(SideKind k) {
   const int n = image_parity(k, Field::VelocityNormal), t = image_parity(k, Field::VelocityTangential);
   return n == t ? n : 0;
@@ -79,7 +87,7 @@ inline double corner_prescribed(int pA, double gA, int pB, double gB) {
   return pB * image_prescribed(pA, gA) + image_prescribed(pB, gB);
 }
 
-// "periodic", "no_slip", "open", "inflow", "outflow".
+// "periodic", "no_slip", "open", "inflow", "outflow", "free_slip".
 const char* side_kind_name(SideKind k);
 
 }  // namespace sphib

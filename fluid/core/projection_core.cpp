@@ -75,8 +75,10 @@ void ProjectionFluid::eliminate_dirichlet(SpMat& A) {
       if (dirichlet_mask_[i] || dirichlet_mask_[c[k]]) a[k] = c[k] == i ? 1.0 : 0.0;  // phi_i = 0, symmetric
 }
 
-SpMat ProjectionFluid::crank_nicolson_matrix() const {
-  SpMat A = op_.lap_u.A;  // (I - nu dt/2 lap) u* = ... (Eq. 28), same pattern as lap (diagonal in it)
+SpMat ProjectionFluid::crank_nicolson_matrix() const { return crank_nicolson_matrix(op_.lap_u.A); }
+
+SpMat ProjectionFluid::crank_nicolson_matrix(const SpMat& lap) const {
+  SpMat A = lap;  // (I - nu dt/2 lap) u* = ... (Eq. 28), same pattern as lap (diagonal in it)
   A *= -a_cn();           // (in place: an assigned -a lap would grow its own storage to twice)
   for (int i = 0; i < A.outerSize(); ++i) A.coeffRef(i, i) += 1.0;
   return A;
@@ -140,13 +142,25 @@ void ProjectionFluid::viscous_predictor(const Mat2& F) {
     u_star_old_ = 2.0 * u_star_ - u_star_old_;
     u_star_old_.swap(u_star_);  // u_star_ = guess, u_star_old_ = u*_{n-1}
   }
-  cn.solve(rhs_.data(), u_star_.data(), 2);
+  if (cn_v_) {  // the components' own matrices (their image parities differ: Images::split)
+    const int N = size();
+    cn.solve(rhs_.data(), u_star_.data(), 1);
+    cn_v_->solve(rhs_.data() + N, u_star_.data() + N, 1);
+  } else {
+    cn.solve(rhs_.data(), u_star_.data(), 2);
+  }
 }
 
 void ProjectionFluid::divergence_with_images(const Mat2& u, const Mat2& c, Vec& d) const {
   divergence(op_.grad_ux.A, op_.grad_uy.A, u, d, vel_st_);  // Eq. (30)
-  add_image_terms(op_.grad_ux.B, gx_b_rows_, c.col(0).data(), d.data());
-  add_image_terms(op_.grad_uy.B, gy_b_rows_, c.col(1).data(), d.data());
+  Mat2 split;  // the components' own parities where they differ from the operators' (boundary.hpp)
+  if (im_.split()) {
+    split = c;
+    add_split_images(im_, u, split);
+  }
+  const Mat2& cc = im_.split() ? split : c;
+  add_image_terms(op_.grad_ux.B, gx_b_rows_, cc.col(0).data(), d.data());
+  add_image_terms(op_.grad_uy.B, gy_b_rows_, cc.col(1).data(), d.data());
 }
 
 void ProjectionFluid::project_approximate() {

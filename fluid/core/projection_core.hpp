@@ -128,6 +128,7 @@ class ProjectionFluid : public FluidSolver {
   void add_setup(const std::string& what, double seconds) { profiler().add_setup(what, seconds); }
   double a_cn() const { return 0.5 * nu() * prm_.dt; }  // Crank-Nicolson factor nu dt / 2 (Eq. 28)
   SpMat crank_nicolson_matrix() const;  // I - a lap (Eq. 28), the pattern of lap_u.A
+  SpMat crank_nicolson_matrix(const SpMat& lap) const;  // I - a lap for the given lap
   // A with the rows and columns of dirichlet_rows_ zeroed and 1 on their diagonal (in place, the
   // pattern kept): symmetric when A is, and with b = 0 on those rows phi = 0 there.
   void eliminate_dirichlet(SpMat& A);
@@ -153,6 +154,9 @@ class ProjectionFluid : public FluidSolver {
   // the solvers of the step: Crank-Nicolson, and the approximate projection's Poisson with its gauge
   // (EPSPH's exact projection makes the Poisson solver only when phi is first asked for: mutable)
   std::unique_ptr<LinearSolver> cn_;
+  // the y component's Crank-Nicolson solver where the components' image parities differ
+  // (Images::split: a free-slip side), cn_ then the x component's; else null (one solver for both)
+  std::unique_ptr<LinearSolver> cn_v_;
   mutable std::unique_ptr<LinearSolver> poisson_;
   Gauge gauge_;
   mutable bool poisson_unpinned_ = false;  // the Poisson solver takes the singular operator (FFT): no pin

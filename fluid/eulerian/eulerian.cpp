@@ -132,7 +132,9 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   // stream function's normal equations (exact_projection.hpp) and the Morris Laplacian only when phi
   // is asked for (phi()); the compact storage made that one above, while the Morris Laplacian existed.
   t0 = Profile::Clock::now();
-  if (compact_) {  // the matrix I - a lap never made, lap made whole again only should that solver not apply
+  if (im_.split()) {
+    make_split_crank_nicolson();
+  } else if (compact_) {  // the matrix I - a lap never made, lap made whole again only should that solver not apply
     const StencilRows sr(vel_st_lattice_, N);
     cn_ = lattice_crank_nicolson_solver(crank_nicolson_rows([&](int r0, int k) { return sr.rows(op_.lap_u.A, r0, k); },
                                                             N, a_cn()),
@@ -164,6 +166,24 @@ EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : Pr
   prof_.set_reporter([this](FluidReport& r) { report(r); });
   prof_.set_floor([this](FloorTimer& t) { floor_kernels(t); });
   prof_.set_stream_function_floor([this](FloorTimer& t) { stream_function_floor_kernels(t); });
+}
+
+void EulerianFluid::make_split_crank_nicolson() {
+  // Each component's Laplacian with its own image parities (component_matrix, boundary.hpp), its
+  // Crank-Nicolson matrix I - a lap (Eq. 28) and solver; the FFT solver's x transform from the
+  // component's parity at the x walls (the x component is their normal one).
+  const int N = size();
+  const SpMat lap = compact_ ? StencilRows(vel_st_lattice_, N).rows(op_.lap_u.A, 0, N) : op_.lap_u.A;
+  std::unique_ptr<LinearSolver> s[2];
+  for (int a = 0; a < 2; ++a) {
+    const SpMat la = component_matrix(lap, op_.lap_u.B, im_, a);
+    s[a] = crank_nicolson_solver(crank_nicolson_matrix(la), la, a_cn(), prm_.cn_solver, &lat_, Refactor::Once, {},
+                                 a == 0 ? Field::VelocityNormal : Field::VelocityTangential);
+    s[a]->annotate(a == 0 ? "; the x component's (its own image parities)" : "; the y component's (its own image parities)",
+                   0.0);
+  }
+  cn_ = std::move(s[0]);
+  cn_v_ = std::move(s[1]);
 }
 
 void EulerianFluid::pairs_current() const {
@@ -211,6 +231,19 @@ void EulerianFluid::viscous_rhs(const Mat2& F) {
   p.rows.lw = lap_wall_.data();
   p.rows.cwx = conv_wall_x_.data();
   p.rows.cwy = conv_wall_y_.data();
+  if (im_.split()) {  // the images of u^n with each component's parity (boundary.hpp, add_split_images)
+    split_c_.setZero(im_.size(), 2);
+    add_split_images(im_, u_, split_c_);
+    split_lw_ = lap_wall_;
+    split_cwx_ = conv_wall_x_;
+    split_cwy_ = conv_wall_y_;
+    add_image_terms(op_.lap_u.B, lap_b_rows_, split_c_, split_lw_);
+    add_image_terms(op_.grad_ux.B, gx_b_rows_, split_c_, split_cwx_);
+    add_image_terms(op_.grad_uy.B, gy_b_rows_, split_c_, split_cwy_);
+    p.rows.lw = split_lw_.data();
+    p.rows.cwx = split_cwx_.data();
+    p.rows.cwy = split_cwy_.data();
+  }
   p.rows.a = a_cn();
   p.rows.k = prm_.dt / prm_.rho;
   p.rows.kc = convective_ ? prm_.dt : 0.0;
@@ -230,6 +263,9 @@ void EulerianFluid::set_viscosity(const int* at, const double* m, int n) {
     bool uniform = true;
     for (int q = 0; q < n && uniform; ++q) uniform = m[q] == 1.0;
     if (uniform) return;  // nothing differs from the constant-viscosity step
+    if (im_.split())
+      throw std::invalid_argument("domain.free_slip: a variable viscosity (membrane.viscosity_ratio) is not available "
+                                  "with a free-slip side (its operator rows carry one velocity parity)");
     VariableViscosityParams vp = visc_prm_;
     vp.a = a_cn();
     operators();  // the whole matrices and the pair list (compact storage: assembled again)
@@ -308,6 +344,7 @@ double EulerianFluid::poisson_residual() const {
 
 std::vector<SolverInfo> EulerianFluid::solver_info() const {
   std::vector<SolverInfo> v{cn_->info()};
+  if (cn_v_) v.push_back(cn_v_->info());
   if (visc_) v.push_back(visc_->solver().info());
   if (streams_ && exact()) v.push_back(streams_->psi_solver().info());
   if (poisson_) v.push_back(poisson_->info());

@@ -80,6 +80,11 @@ class EulerianFluid final : public ProjectionFluid {
   Mat2 conv_wall_x_, conv_wall_y_;  // B c^n of grad_ux, grad_uy: the wall values' convection terms
   Mat2 lap_star_;                   // B c* of the Laplacian (this step's images; zero off the wall rows)
   Mat2 conv_old_;                   // N^n kept for AB2 (Eq. 39)
+  // Where the velocity components' image parities differ (Images::split, a free-slip side): the wall
+  // terms of lap u^n and of the convection gradients with the images' per-component correction, this
+  // step's (the constant ones above plus B v_split u^n)
+  Mat2 split_c_, split_lw_, split_cwx_, split_cwy_;
+  void make_split_crank_nicolson();  // cn_ (x) and cn_v_ (y) from the components' Laplacians
   mutable std::unique_ptr<ExactProjection> streams_;  // made when first needed (approximate projection)
   std::unique_ptr<VariableViscosity> visc_;           // made when a viscosity first differs from mu
   VariableViscosityParams visc_prm_;

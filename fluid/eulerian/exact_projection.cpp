@@ -48,17 +48,13 @@ ExactProjection::ExactProjection(const Lattice& lat, const Images& im, const Ope
   // it does exactly (without, the markers moved 0.8% off the fluid's velocity at h = 1.2 dx, at
   // every resolution).
   mpsi_scale_ = 1.0 / m;
-  // The stream functions take the velocity's operators (their images): the boundary rule's stream
-  // function parity must be the velocity's at every side with images (no-slip and inflow: both odd;
-  // outflow: both even). Flow through the sides: psi's prescribed values (side_stream_value,
+  // The stream functions take the velocity's operators (their images): make_images gives them the
+  // boundary rule's stream function parity at every side (the velocity's own where both components
+  // share one: no-slip and inflow odd, outflow even; at a free-slip wall odd, the normal
+  // component's). Flow through the sides: psi's prescribed values (side_stream_value,
   // fluid/common/boundary.hpp) where the domain gives them.
   const std::string refusal = stream_function_refusal(lat_.domain);
   if (!refusal.empty()) throw std::invalid_argument(refusal);
-  for (int k = 0; k < 4; ++k) {
-    const Side w = static_cast<Side>(k);
-    if (makes_images(lat_.domain.kind(w)) && velocity_parity(lat_.domain.kind(w)) != lat_.domain.parity(w, Field::Stream))
-      throw std::invalid_argument("walls." + wall_name(w) + ": the exact projection's stream function needs the velocity's image parity at the wall");
-  }
   if (projection_) {
     for (int k = 0; k < 4; ++k) {
       const Side w = static_cast<Side>(k);
