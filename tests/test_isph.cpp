@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -159,4 +161,52 @@ TEST(Isph, ParticleLeavingTheTankStops) {
   const std::string m = test::message_when_it_leaves(sim, 1000);
   EXPECT_NE(m.find("ISPH: particle"), std::string::npos) << m;
   EXPECT_NE(m.find("left the tank through its open right side"), std::string::npos) << m;
+}
+
+// The pressure gradient along a floor (isph.hpp): p = p0 + G x + rho g (H - y), a tangential gradient
+// G over the hydrostatic pressure, on the still tank's lattice (20 x 10 particles, h = 1.3 dx, as the
+// dam break's), read by the step's gradient at the columns more than 4h from the side walls (whose
+// floor wall particles have a full fluid support), row by row from the floor. The consistent scheme's
+// wall particles carry the fluid's pressure extrapolated to them (Adami et al. 2012), so every row
+// gets G and -rho g (measured: to 1e-15 relative). With the pair rule p_w = p_i + rho g . (x_w - x_i)
+// (the paper's scheme) the wall pairs add nothing along the floor and the rows within 2h of it get
+// only their fluid neighbours' part: G_x / G measured 0.7735 (row 1) and 0.9997 (row 2) against the
+// full support's 1.0105 (row 3, M0, the sum form's lattice moment, which the paper's scheme does not
+// divide by).
+TEST(Isph, PressureGradientAlongTheFloorIsTheFluids) {
+  const double rho = 1000.0, g = 9.81, G = 2000.0, H = 0.5, p0 = 100.0;
+  auto rows = [&](const std::vector<std::string>& sets) {
+    Scene s = tank(sets);
+    IsphFluid f(s.sim.fluid);
+    const Mat2& x = f.x();
+    Vec p(f.size());
+    for (int i = 0; i < f.size(); ++i) p[i] = p0 + G * x(i, 0) + rho * g * (H - x(i, 1));
+    const Mat2 grad = f.pressure_gradient(p);
+    const double dx = 0.05, reach = 4.0 * 1.3 * dx;
+    std::array<double, 3> gx{}, gy{};  // each row's G_x / G (its columns' mean) and |G_y / (-rho g) - 1|
+    std::array<double, 3> lo{9, 9, 9}, hi{-9, -9, -9}, ylo{0, 0, 0};
+    for (int i = 0; i < f.size(); ++i) {
+      const int row = static_cast<int>(std::floor(x(i, 1) / dx));
+      if (row > 2 || x(i, 0) < reach || x(i, 0) > 1.0 - reach) continue;
+      lo[row] = std::min(lo[row], grad(i, 0) / G);
+      hi[row] = std::max(hi[row], grad(i, 0) / G);
+      ylo[row] = std::max(ylo[row], std::fabs(grad(i, 1) / (-rho * g) - 1.0));
+    }
+    for (int r = 0; r < 3; ++r) {
+      gx[r] = 0.5 * (lo[r] + hi[r]);
+      gy[r] = ylo[r];
+      std::printf("row %d: G_x / G in [%.6f, %.6f], |G_y / (-rho g) - 1| <= %.2e\n", r + 1, lo[r], hi[r], ylo[r]);
+      EXPECT_LT(hi[r] - lo[r], 1e-9) << r;  // the same at every interior column of a row
+    }
+    return std::make_pair(gx, gy);
+  };
+  const auto [cx, cy] = rows({});
+  for (int r = 0; r < 3; ++r) {
+    EXPECT_NEAR(cx[r], 1.0, 1e-12) << r;
+    EXPECT_LT(cy[r], 1e-12) << r;
+  }
+  const auto [px, py] = rows({"isph.scheme=paper"});
+  EXPECT_NEAR(px[0], 0.7735, 1e-4);
+  EXPECT_NEAR(px[1], 0.9997, 1e-4);
+  EXPECT_NEAR(px[2], 1.0105, 1e-4);
 }

@@ -188,13 +188,28 @@ void IsphFluid::project() {
   wall_repulsion();
   project_approximate();  // A Eqs. (23)-(24)
   clip_tension();
-  // The wall particles' part of A Eq. (13) beyond 2 p_i (in the operator): p_w = p_i + rho g . (x_w - x_i)
-  // (see the header), sum_w V rho g . (x_w - x_i) grad_i W_iw, and its part of Eq. (23).
+  wall_pressure();
+  wall_gradient();
+  surface_gradient();
+  wall_contact();
+}
+
+// The wall particles' part of A Eq. (13) beyond 2 p_i (the operator's, p_w = p_i pair by pair: see
+// the header), sum_w V (p_w - p_i) grad_i W_iw, and its part of Eq. (23). The paper's scheme:
+// p_w - p_i = rho g . (x_w - x_i), dp/dn = 0 with the hydrostatic term (A Section 3.6). The consistent
+// scheme: p_w the wall particle's pressure extrapolated from the fluid (wall_pressure, Adami et al.
+// 2012 Eq. 27), which carries the fluid's pressure gradient along the wall; with the pair rule a
+// particle of the first row feels only its fluid neighbours' part of it (0.77 on the lattice at
+// h = 1.3 dx; the second row 0.99: test Isph.PressureGradientAlongTheFloorIsTheFluids). Both rules give
+// the hydrostatic value for a fluid at rest, so the rest state is unchanged.
+void IsphFluid::wall_gradient() {
+  const int N = size();
   const double V = lat_.volume, k = prm_.dt / prm_.rho;
   const ParticlePairs& P = wall_pairs_;
   for (int q = 0; q < P.size(); ++q) {
     const int i = P.i[q];
-    const double o = -prm_.rho * (prm_.gravity.x() * P.rx[q] + prm_.gravity.y() * P.ry[q]);  // x_w - x_i = -(rx, ry)
+    const double o = consistent_ ? p_w_[P.j[q] - N] - phi_[i]
+                                 : -prm_.rho * (prm_.gravity.x() * P.rx[q] + prm_.gravity.y() * P.ry[q]);  // x_w - x_i = -(rx, ry)
     const double g = V * o * P.F[q];
     grad_phi_(i, 0) += g * P.rx[q];
     grad_phi_(i, 1) += g * P.ry[q];
@@ -205,9 +220,17 @@ void IsphFluid::project() {
     grad_phi_ /= M0_;
     u_.noalias() = u_star_ - k * grad_phi_;
   }
-  surface_gradient();
-  wall_contact();
+}
+
+const Mat2& IsphFluid::pressure_gradient(const Vec& p) {
+  if (p.size() != size()) throw std::invalid_argument("ISPH: pressure_gradient: p has the wrong size");
+  phi_ = p;
+  gradient(op_.grad_phix, op_.grad_phiy, phi_, grad_phi_, phi_st_);
+  u_.noalias() = u_star_ - (prm_.dt / prm_.rho) * grad_phi_;
   wall_pressure();
+  wall_gradient();
+  surface_gradient();
+  return grad_phi_;
 }
 
 // Negative pressures set to zero, and u^{n+1} from the clipped p (as MPS, Koshizuka et al. 1998, A's
@@ -569,8 +592,8 @@ void IsphFluid::end_step() {
     ScopedTimer tm(prof_, k_shift_);
     const double reach = verlet_.reach();
     shifter_.shifts(pairs_, size(), W_, reach, csum_, u_, prm_.dt, detect_ ? &surface_ : nullptr, dr_);
+    shift_off_walls();  // before u is carried: by the shift the particle makes, not the one the wall refuses
     shifter_.carry_velocity(op_.grad_ux.A, op_.grad_uy.A, csum_, dr_, u_);
-    shift_off_walls();
     x_ += dr_;
   }
   keep_in_tank(prm_.domain, x_, t_, "ISPH", "the walls no longer hold the fluid (time.dt too large?)");

@@ -35,6 +35,7 @@
 //   viscous term (A Eq. 18):  u_w = u_i - beta_iw (u_i - c_w), beta_iw = 1 + d_w / d_i   Morris et al.
 //   divergence (A Eq. 14):    u_w = 2 c_w - u_i           the mirror rule of Eq. (42), pair by pair
 //   pressure (A Eqs. 13, 17): p_w = p_i                   dp/dn = 0 (A Section 3.6), pair by pair
+//                             (the consistent scheme's gradient: the extrapolated p_w, below)
 // (particle_operators.hpp, PairRules). So the images are the wall particles (Images::parent -1), the
 // offsets c are their velocities (velocity_offsets), and no wall pair enters the Poisson matrix: it is
 // the symmetric graph Laplacian of the particle pairs, and stays symmetric after the symmetric
@@ -47,7 +48,8 @@
 //
 // The consistent scheme (isph.scheme = "consistent", the default; "paper" keeps A's operators as they
 // were): a fluid at rest on the lattice is an exact fixed point of the step, so a still tank stays
-// still (to round-off) instead of growing a circulation. Three changes, each what the rest state needs:
+// still (to round-off) instead of growing a circulation. Three changes, each what the rest state needs,
+// and a fourth that the rest state allows:
 //   - the pressure gradient is A Eq. (13)'s sum form over M0 = -sum_j V x_ij^2 F_ij, the second moment
 //     of a full support in the initial arrangement (1.0105 on the lattice at h = 1.3 dx): the sum form
 //     of a linear p is M0 grad p, so the hydrostatic gradient is rho g exactly (with the wall
@@ -59,7 +61,12 @@
 //     without it its Laplacian of a linear p is not zero and p below the surface rose 30 Pa over its
 //     hydrostatic value (measured, still tank 40 x 20), which pushed the top row up;
 //   - the Lennard-Jones push of the walls starts at 0.98 dx, inside the rest spacing (at dx its
-//     one-sided spring grew round-off into a circulation).
+//     one-sided spring grew round-off into a circulation);
+//   - in the pressure gradient (only there: the Poisson matrix keeps the pair rule p_w = p_i) the wall
+//     particles carry their pressure extrapolated from the fluid (Adami et al. 2012 Eq. 27, the
+//     loads' and probes' rule): the gradient along a wall then reaches the first row in full, where
+//     the pair rule gives it 0.77 of it (isph.cpp, wall_gradient). For a fluid at rest both are the
+//     hydrostatic pressure.
 //
 // Particle shifting (shifting.hpp, isph.shifting; auto: fickian with the consistent scheme, none with
 // the paper's): after x^{n+1} = x^n + dt u^{n+1}, x^{n+1} += dr and u^{n+1} += (dr . grad) u^{n+1} away
@@ -127,6 +134,10 @@ class IsphFluid final : public ProjectionFluid {
   const SpMat& poisson_matrix() const { return A_phi_; }     // the last step's, surface rows eliminated
   const Vec& poisson_rhs() const { return b_phi_; }          // its right-hand side, -(rho/dt) div u*
   const Mat2& u_star() const { return u_star_; }
+  // The step's pressure gradient (A Eq. 13 with the wall particles' part, over M0 in the consistent
+  // scheme, the renormalised gradient at surface particles) of the particle pressures p at the
+  // present positions; it takes p as the step's pressure and sets u^{n+1} from it (tests).
+  const Mat2& pressure_gradient(const Vec& p);
   double viscous_bound() const;  // nu dt max_i |lap_ii| (the explicit predictor is stable below ~1)
 
  private:
@@ -155,6 +166,7 @@ class IsphFluid final : public ProjectionFluid {
   void reference_sums();         // consistent: M0_, S_F_ of a full support at t = 0
   void find_wall_pairs();        // wall_pairs_ from pairs_
   void wall_pressure();          // p_w_ from phi_ (A Eq. 30 normalised, with the hydrostatic term)
+  void wall_gradient();          // the wall particles' part of the pressure gradient and of u^{n+1}
   void make_solvers();
   void refactorise();            // the solvers take the step's matrices
   bool place_gate(double t);     // the gate's particles at time t (or none once it has left); whether they changed

@@ -5,7 +5,8 @@
 // (Xu et al. 2009, Eq. 37; Lind et al. 2012, Eq. 28): u_i <- u_i + (dr_i . grad) u_i, except at and
 // beside the free surface: there the support is cut and the gradient one-sided, and carrying u with it
 // fed the stretching of thin films along a wall (docs/method/choices.md, "ISPH: shifting beside the
-// surface").
+// surface"). The caller cuts the shifts that a wall refuses before u is carried (isph.cpp, end_step),
+// so that u is carried by the shift the particle makes.
 //
 //  - Fickian (Lind, Xu, Stansby & Rogers 2012, J. Comput. Phys. 231:1499-1523, Eqs. 21-24): the
 //    particles diffuse down the gradient of their concentration C_i = sum_j V_j W_ij,
