@@ -69,6 +69,7 @@
 #   isph_still       the still tank of fs_still by ISPH (cases/still_tank_isph.toml): loads, spurious
 #                    speeds, isph.scheme = consistent and paper
 #   isph_lobovsky    Lobovsky et al. (2014)'s dam break by ISPH: the pressure probes at 5000 and 20000 particles
+#                    (a 1 ms window; scripts/probe_windows.py: the single-step, 1 ms and 5 ms peaks)
 #   isph_gate        the dam break by ISPH behind a gate lifted at sqrt(g H / 2) (gate.*; docs/free_surfaces.md):
 #                    the front at 1250 and 5000 particles, and the delay that fits the experiments best
 #   isph_lobovsky_gate  Lobovsky et al.'s dam break by ISPH behind the same gate law: the probes at 5000 and
@@ -234,9 +235,13 @@ for s in "${sections[@]}"; do
       $SWEEP --scene cases/still_tank_isph.toml --out $OUT/isph_still --vary grid.nx=40 --vary isph.scheme=consistent,paper \
         --report force_left,force_bottom,load_left_min,load_left_max,max_speed ;;
     isph_lobovsky)
+      # a 1 ms window: probe_windows.py gives the single-step, 1 ms and 5 ms peaks from it
       $SWEEP --scene cases/dam_break_lobovsky.toml --out $OUT/isph_lobovsky --vary grid.nx=268,536 \
         --derive grid.ny={grid.nx}*75//134 --derive time.dt=0.067/{grid.nx} --set output.interval=0 --set output.diagnostics_every=1 \
+        --set observe.probe_window=1.0e-3 \
         --report particles,probe_P1_max,probe_P1_max_t,probe_P2_max,probe_P2_max_t,probe_P3_max,probe_P3_max_t,probe_P4_max,probe_P4_max_t,load_right_max,load_right_max_t,poisson_cg_iterations,seconds_per_step
+      /usr/bin/python3 scripts/probe_windows.py $OUT/isph_lobovsky/run_000 | tee $OUT/isph_lobovsky/windows.txt
+      /usr/bin/python3 scripts/probe_windows.py $OUT/isph_lobovsky/run_001 | tee -a $OUT/isph_lobovsky/windows.txt
       /usr/bin/python3 scripts/plot_probes.py $OUT/isph_lobovsky/probes.png $OUT/isph_lobovsky/run_000 $OUT/isph_lobovsky/run_001 ;;
     isph_gate)  # the gate lifted at sqrt(g H / 2) = 1.197 m/s for H = 2a = 0.292 m, from t = 0
       $SWEEP --scene cases/dam_break.toml --out $OUT/isph_gate --vary grid.nx=200,100 \
