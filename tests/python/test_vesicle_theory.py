@@ -113,6 +113,7 @@ class VesicleTheory(unittest.TestCase):
         self.assertAlmostEqual(vt.ks_coefficients(a, b, 3.6560)[0], 1.0, places=4)
         # converged in the number of sources (200 against 800: 1e-13)
         self.assertAlmostEqual(vt.ks_coefficients(a, b, 1.0, 200)[0], vt.ks_coefficients(a, b, 1.0, 800)[0], places=10)
+
     def test_the_model_against_the_published_curve(self):
         # Quaife & Biros's tank-treading angle at reduced area 0.66, unbounded (boundary integral;
         # cases/reference/quaife_biros_vesicle_inclination_ra066.csv, docs/vesicle_shear.md) against the
