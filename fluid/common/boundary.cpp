@@ -15,6 +15,15 @@ double mirror(double c, double w) { return 2.0 * w - c; }
 
 Images make_images(const Lattice& L, double reach) { return make_images(L.domain, L.x, reach); }
 
+namespace {
+// The image parity of velocity component a (0: x, 1: y) across a side: x is the normal component on
+// the left and right, y on the bottom and top (boundary_rule.hpp).
+int component_parity(const Domain& d, Side side, int a) {
+  const bool normal = (a == 0) == (side == Left || side == Right);
+  return d.parity(side, normal ? Field::VelocityNormal : Field::VelocityTangential);
+}
+}  // namespace
+
 Images make_images(const Domain& d, const Mat2& X, double reach) {
   // One image layer per wall is complete only if no particle is within reach of two opposite walls.
   if ((!d.periodic_x && d.Lx() < 2.0 * reach) || (!d.periodic_y && d.Ly() < 2.0 * reach)) {
@@ -38,9 +47,8 @@ Images make_images(const Domain& d, const Mat2& X, double reach) {
                                   side_kind_name(d.kind(side)) + ": no image particles there (free-surface methods)");
     v_par[w] = d.parity(side, Field::Stream);
     s_par[w] = d.parity(side, Field::Scalar);
-    const bool vertical = w == Left || w == Right;  // x is the normal component there
-    c_par[w][0] = d.parity(side, vertical ? Field::VelocityNormal : Field::VelocityTangential);
-    c_par[w][1] = d.parity(side, vertical ? Field::VelocityTangential : Field::VelocityNormal);
+    c_par[w][0] = component_parity(d, side, 0);
+    c_par[w][1] = component_parity(d, side, 1);
     split = split || c_par[w][0] != v_par[w] || c_par[w][1] != v_par[w];
   }
   std::vector<double> sx, sy;  // the components' parities, image by image
@@ -257,16 +265,14 @@ void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_
   // (odd images: the correction of Eq. 42 applies), whether the side's velocity has a profile, and
   // the parity of velocity component a (0: x, 1: y) across it (x the normal one on the left and right)
   bool tangential_odd[4], shaped[4];
-  int component_parity[4][2];
+  int comp_par[4][2];
   for (int w = 0; w < 4; ++w) {
     const Side side = static_cast<Side>(w);
     tangential_odd[w] = d.parity(side, Field::VelocityTangential) < 0;
     shaped[w] = d.kind(side) == SideKind::Inflow && d.inflow_profile == InflowProfile::Parabolic;
-    for (int a = 0; a < 2; ++a)
-      component_parity[w][a] =
-          d.parity(side, (a == 0) == (w == Left || w == Right) ? Field::VelocityNormal : Field::VelocityTangential);
+    for (int a = 0; a < 2; ++a) comp_par[w][a] = component_parity(d, side, a);
   }
-  const auto parity = [&](Side w, int a) { return component_parity[w][a]; };
+  const auto parity = [&](Side w, int a) { return comp_par[w][a]; };
   for (int k = 0; k < im.size(); ++k) {
     const int w = im.wall[k];
     if (w < 0) {
@@ -298,8 +304,8 @@ void image_velocity_offsets(const Images& im, const Domain& d, const Mat2* grad_
     }
     // Eq. (42): u*_i' = 2 (u_b + dt/rho grad phi~) - u*_i: the prescribed part (1 - parity) g, each
     // component's parity (the images' own, v_sign, where the components share it)
-    offset(k, 0) = image_prescribed(component_parity[w][0], g[0]);
-    offset(k, 1) = image_prescribed(component_parity[w][1], g[1]);
+    offset(k, 0) = image_prescribed(comp_par[w][0], g[0]);
+    offset(k, 1) = image_prescribed(comp_par[w][1], g[1]);
   }
 }
 
