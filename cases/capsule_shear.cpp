@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.01, 100.0));
   app.add_flag("--paper-pair", p.paper_pair, "the paper's approximate projection and SPH interpolation (Eq. 63)");
   app.add_flag("--explicit", p.explicit_force, "explicit membrane force (no stiff-force filter)");
+  app.add_flag("--keep-area", p.keep_area, "the marker update's area constraint (solver.marker_keep_area)");
   app.add_flag("--stiff-residual", p.stiff_residual, "the stiff-force filter with its model's residual (membrane.stiff_residual)");
   app.add_option("--interpolation", interp, "marker velocity (coupling.interpolation): auto (bspline with bending), "
                  "bspline, divergence_free, sph, spreading_kernel (the curl with the kernel of radius h*)")

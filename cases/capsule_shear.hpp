@@ -20,6 +20,7 @@ struct CapsuleParams {
   double t_end = 16.0;     // in units of 1/G
   double lambda = 1.0;      // viscosity ratio mu_in / mu_out (membrane.viscosity_ratio; mu = mu_out)
   bool paper_pair = false, explicit_force = false, sheared = false, stiff_residual = false;
+  bool keep_area = false;  // solver.marker_keep_area: the marker update's area constraint
   MarkerInterpolation interpolation = MarkerInterpolation::Auto;  // (paper_pair: Sph)
   double Es() const { return mu * G * r0 / Ca; }
   double Eb() const { return eb_hat * Es() * r0 * r0; }
@@ -54,6 +55,7 @@ inline Scene capsule_scene(const CapsuleParams& p) {
   m.stiff_residual = m.semi_implicit && p.stiff_residual;
   m.viscosity_ratio = p.lambda;
   s.sim.membranes.push_back(m);
+  s.sim.markers.keep_area = p.keep_area;
   if (p.sheared) {
     const double G = p.G;
     s.sim.initial_velocity = [G](double, double y) { return Eigen::Vector2d(G * y, 0.0); };

@@ -33,6 +33,7 @@ struct SuspensionParams {
   // step with linear_step 1e-6 takes a second one every step here: docs/suspensions.md)
   double marker_eps = 1e-12, linear_step = 1e-4;
   bool newton = true;
+  bool keep_area = false;  // solver.marker_keep_area: the marker update's area constraint
   bool empty = false;             // the same box without capsules
   double radius() const { return std::sqrt(phi / (count * M_PI)); }  // the capsules fill phi of the unit box
   double T0() const { return 1.0 * 1.0 * radius() / Ca; }          // mu G a / Ca
@@ -56,6 +57,7 @@ inline Scene suspension_scene(const SuspensionParams& p) {
   s.sim.markers.eps = p.marker_eps;
   s.sim.markers.linear_step = p.linear_step;
   s.sim.markers.newton = p.newton;
+  s.sim.markers.keep_area = p.keep_area;
   s.loads = true;  // shear_<wall> and mu_eff (observe/loads.cpp)
   s.fields = {"u", "v"};
   if (p.empty) return s;
@@ -84,6 +86,7 @@ inline void add_suspension_options(CLI::App& app, SuspensionParams& p) {
   app.add_option("--linear-step", p.linear_step, "solver.marker_linear_step");
   app.add_option("--h-star", p.h_star, "the spreading's h* in units of the fluid's h");
   app.add_option("--newton", p.newton, "solver.marker_newton (true/false)");
+  app.add_flag("--keep-area", p.keep_area, "the marker update's area constraint (solver.marker_keep_area)");
   app.add_option("--interpolation", p.interpolation,
                  "marker velocity: bspline, divergence_free (SPH kernel of h) or spreading_kernel (SPH kernel of h*)")
       ->check(CLI::IsMember({"bspline", "divergence_free", "spreading_kernel"}));

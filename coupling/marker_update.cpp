@@ -9,17 +9,21 @@ namespace sphib {
 
 MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n, const Mat2* U_prev, double dt,
                                    const MarkerUpdateParams& prm, long step, Mat2& X, Mat2& X_n, Mat2& U,
-                                   MarkerWork& w, const std::vector<int>* groups) {
+                                   MarkerWork& w, const std::vector<int>* groups, const MarkerConstraint* constrain) {
   const int n = static_cast<int>(X.rows());
   const std::vector<int> all{0, n};
   const std::vector<int>& G = groups ? *groups : all;
   const int ng = static_cast<int>(G.size()) - 1;
+  auto constrain_group = [&](int g, const Mat2& Xg) {  // the area constraint on group g's U at Xg
+    if (constrain) (*constrain)(g, Xg.middleRows(G[g], G[g + 1] - G[g]), U.middleRows(G[g], G[g + 1] - G[g]));
+  };
   X_n = X;
   int predictor = 0;  // interpolations of the predictor
   if (prm.extrapolate && U_prev) {
     X = X_n + dt * (1.5 * U_n - 0.5 * *U_prev);  // Adams-Bashforth: O(dt^3) from the root of Eq. (59)
   } else {
     U_new(X_n, U, nullptr);  // U^{n+1}(X^n), Eq. (62)
+    for (int g = 0; g < ng; ++g) constrain_group(g, X_n);
     X = X_n + dt * U;        // Eq. (58)
     predictor = 1;
   }
@@ -72,6 +76,7 @@ MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n,
           if (gradient) w.dU.row(k) = w.dUa.row(m);
         }
     }
+    for (int g : w.active) constrain_group(g, X);
     size_t kept = 0;
     for (int g : w.active) {
       MarkerUpdateResult& res = w.results[g];
@@ -122,6 +127,7 @@ MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n,
             U(k, 0) += w.dU(k, 0) * dx + w.dU(k, 1) * dy;
             U(k, 1) += w.dU(k, 2) * dx + w.dU(k, 3) * dy;
           }
+          constrain_group(g, X);
           res.iterations = I + 1;
           res.residual = 0.0;  // its first-order value (the quadratic term is below dt/4 |grad grad U| lim^2)
           res.linearised = true;
@@ -150,6 +156,7 @@ MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n,
             U(k, 0) -= w.dU(k, 0) * gx + w.dU(k, 1) * gy;
             U(k, 1) -= w.dU(k, 2) * gx + w.dU(k, 3) * gy;
           }
+          constrain_group(g, X);
           res.iterations = I + 1;
           res.residual = r_max;
           res.linearised = true;

@@ -47,6 +47,11 @@ struct MarkerUpdateParams {
   // linear residual is zero, so the acceptance needs only the step below linear_step (the neglected
   // term dt/4 |grad grad U| |step|^2); coupling/marker_update.hpp.
   bool newton = false;
+  // true: every free membrane's marker velocities lose the uniform normal velocity that changes the area
+  // its spline curve encloses (membrane/geometry.hpp, AreaKeeper): the enclosed area then changes only
+  // by the trapezoidal rule's O(dt^3) per step (coupling/marker_update.hpp). false: the velocities
+  // as interpolated.
+  bool keep_area = false;
 };
 
 // What one marker update did (per membrane: MembraneState::last).

@@ -16,6 +16,7 @@
 #include "fluid/common/neighbours.hpp"
 #include "fluid/common/threads.hpp"
 #include "fluid/algebra/row_stencil.hpp"  // kParallelRows
+#include "membrane/geometry.hpp"  // AreaKeeper
 
 namespace sphib {
 
@@ -84,6 +85,9 @@ Simulation::Simulation(const SimulationParams& params)
     check_membrane(prm_.fluid.domain, prm_.membranes[k], fluid_->h(), static_cast<int>(k));
     mem_.emplace_back(prm_.membranes[k]);
   }
+  if (prm_.markers.keep_area)
+    for (auto& s : mem_)
+      if (!s.fixed) s.keeper = std::make_unique<AreaKeeper>(s.m.nb());
   if (prm_.markers.max_move <= 0)  // a marker moving more than a lattice spacing in a step is a blow-up
     prm_.markers.max_move = std::min(fluid_->lattice().dx, fluid_->lattice().dy);
   interp_ = prm_.interpolation;
@@ -442,6 +446,7 @@ void Simulation::marker_velocities_now() {
     }
     try {
       marker_velocity(s.m.X, s.U_n);
+      if (s.keeper) s.keeper->keep(s.m.X, s.U_n);
     } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
       throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
     }
@@ -488,9 +493,13 @@ void Simulation::advance_set(FreeSet& set, bool extrapolate) {
     s.U_revision = -1;
   }
   const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U, Jacobians* dU) { return marker_velocity(X, U, dU); };
+  const MarkerConstraint keep = [&](int g, Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U) {
+    mem_[set.members[g]].keeper->keep(X, U);
+  };
   try {
     advance_markers(U_new, set.U_n, extrapolate ? &set.U_prev : nullptr, fluid_->params().dt, prm_.markers,
-                    fluid_->steps(), set.X, set.X_n, set.U, set.work, &set.start);
+                    fluid_->steps(), set.X, set.X_n, set.U, set.work, &set.start,
+                    prm_.markers.keep_area ? &keep : nullptr);
   } catch (const MarkerError& e) {  // name the membrane and its marker
     const int i = static_cast<int>(std::upper_bound(set.start.begin(), set.start.end(), e.marker) - set.start.begin()) - 1;
     throw std::runtime_error("membrane " + std::to_string(set.members[i]) + ": " + e.head +

@@ -13,6 +13,7 @@
 
 namespace sphib {
 
+class AreaKeeper;         // membrane/geometry.hpp
 class CellGrid;           // fluid/common/neighbours.hpp
 class ContactForce;       // coupling/contact.hpp
 class StiffForceFilter;   // coupling/stiff_force.hpp
@@ -35,6 +36,7 @@ struct MembraneState {
   bool U_n_known = false, U_prev_known = false;
   long U_revision = -1;  // U = u(X) of the fluid at this revision, at the current markers (-1: not known)
   Vec T;                // tension at the markers
+  std::unique_ptr<AreaKeeper> keeper;  // the area constraint (MarkerUpdateParams::keep_area), or null
   MarkerUpdateResult last;
   long iterations = 0, updates = 0;  // fixed-point iterations (Eq. 59) and marker updates so far
   long interpolations = 0;           // marker velocity interpolations in those updates

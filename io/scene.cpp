@@ -811,6 +811,12 @@ void read_time_and_solvers(Reader& r, Scene& s) {
       "the quadratic term dt/4 |grad grad U| |step|^2 must stay below solver.marker_eps, one interpolation per step "
       "at a solver.marker_linear_step of 1e-4) instead of the fixed-point step g; needs an interpolation with a "
       "gradient (divergence_free, bspline, spreading_kernel)");
+  s.sim.markers.keep_area = r.boolean(
+      "solver.marker_keep_area", false,
+      "the marker update's area constraint: each free membrane's marker velocities lose the uniform normal velocity "
+      "that changes the area their spline curve encloses (the markers' own error in carrying a divergence-free "
+      "flux), so that area changes only by the trapezoidal rule's O(dt^3) per step; false: the velocities as "
+      "interpolated");
   s.sim.markers.extrapolate =
       r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
                "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "

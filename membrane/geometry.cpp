@@ -208,3 +208,70 @@ MembraneShape MembraneDiagnostics::measure(const Mat2& X) {
 }
 
 }  // namespace sphib
+
+namespace sphib {
+
+AreaKeeper::AreaKeeper(int nb) : nb_(nb), a_(nb), b_(nb), gx_(nb), gy_(nb) {
+  if (nb < 4) throw std::invalid_argument("AreaKeeper: nb = " + std::to_string(nb) + " (at least 4 markers)");
+}
+
+// z = A^-1 b, A = circ(1, 4, 1) / 6 = (1 / (6 rho)) (I + rho S)(I + rho S^T), rho = 2 - sqrt(3), (S z)_i = z_(i-1):
+// two cyclic first-order recurrences, each started from its closed form
+//   z_0 = sum_j (-rho)^j b_(-j) / (1 - (-rho)^n)   (terms to (-rho)^j ~ 1e-18, at most n),
+// then swept (the other one backward from z_(n-1)). In place in z; b is overwritten.
+static void solve_circ141(Vec& z, Vec& b) {
+  const int n = static_cast<int>(z.size());
+  const double rho = 2.0 - std::sqrt(3.0), r = -rho, den = 1.0 - std::pow(r, n);
+  const int J = std::min(n - 1, 32);  // rho^33 < 1e-18
+  double s = 0.0, p = 1.0;
+  for (int j = 0; j <= J; ++j, p *= r) s += p * b[(n - j) % n];  // (I + rho S) w = b
+  z[0] = s / den;
+  for (int i = 1; i < n; ++i) z[i] = b[i] - rho * z[i - 1];
+  s = 0.0, p = 1.0;
+  for (int j = 0; j <= J; ++j, p *= r) s += p * z[(n - 1 + j) % n];  // (I + rho S^T) v = w
+  b[n - 1] = s / den;
+  for (int i = n - 2; i >= 0; --i) b[i] = z[i] - rho * b[i + 1];
+  z = (6.0 * rho) * b;
+}
+
+void AreaKeeper::gradient(Eigen::Ref<const Mat2> X) {
+  if (X.rows() != nb_)
+    throw std::invalid_argument("AreaKeeper: " + std::to_string(X.rows()) + " markers, expected nb = " +
+                                std::to_string(nb_));
+  const double d1 = 49.0 / 144.0, d2 = 7.0 / 90.0, d3 = 1.0 / 720.0;  // int B(t) B'(t - m) dt, m = 1, 2, 3
+  const int n = nb_;
+  for (int c = 0; c < 2; ++c) {  // grad A = (K y, -K x), K = A^-1 D A^-1
+    Vec& g = c == 0 ? gx_ : gy_;
+    b_ = X.col(1 - c);
+    solve_circ141(a_, b_);  // the B-spline coefficients
+    auto D = [&](int i, auto at) {  // (D a)_i = sum_m d_m (a_(i+m) - a_(i-m))
+      b_[i] = d1 * (at(i + 1) - at(i - 1)) + d2 * (at(i + 2) - at(i - 2)) + d3 * (at(i + 3) - at(i - 3));
+    };
+    const auto wrapped = [&](int k) { return a_[(k + n) % n]; };
+    const auto inside = [&](int k) { return a_[k]; };
+    for (int i = 0; i < std::min(3, n); ++i) D(i, wrapped);
+    for (int i = 3; i < n - 3; ++i) D(i, inside);
+    for (int i = std::max(3, n - 3); i < n; ++i) D(i, wrapped);
+    solve_circ141(g, b_);
+    if (c == 1) g = -g;
+  }
+}
+
+double AreaKeeper::rate(Eigen::Ref<const Mat2> X, Eigen::Ref<const Mat2> U) {
+  gradient(X);
+  if (U.rows() != nb_)
+    throw std::invalid_argument("AreaKeeper: " + std::to_string(U.rows()) + " velocities, expected nb = " +
+                                std::to_string(nb_));
+  return gx_.dot(U.col(0)) + gy_.dot(U.col(1));
+}
+
+double AreaKeeper::keep(Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U) {
+  const double dA = rate(X, U), g2 = gx_.squaredNorm() + gy_.squaredNorm();
+  if (!(g2 > 0.0)) return 0.0;  // (all markers at one point: left to the guards)
+  const double c = dA / g2;
+  U.col(0) -= c * gx_;
+  U.col(1) -= c * gy_;
+  return std::fabs(c) * std::sqrt((gx_.array().square() + gy_.array().square()).maxCoeff());
+}
+
+}  // namespace sphib
