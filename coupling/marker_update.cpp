@@ -15,7 +15,9 @@ MarkerUpdateResult advance_markers(const MarkerVelocity& U_new, const Mat2& U_n,
   const std::vector<int>& G = groups ? *groups : all;
   const int ng = static_cast<int>(G.size()) - 1;
   auto constrain_group = [&](int g, const Mat2& Xg) {  // the area constraint on group g's U at Xg
-    if (constrain) (*constrain)(g, Xg.middleRows(G[g], G[g + 1] - G[g]), U.middleRows(G[g], G[g + 1] - G[g]));
+    if (!constrain) return;
+    const int a = G[g], m = G[g + 1] - G[g];
+    (*constrain)(g, X_n.middleRows(a, m), U_n.middleRows(a, m), Xg.middleRows(a, m), U.middleRows(a, m));
   };
   X_n = X;
   int predictor = 0;  // interpolations of the predictor

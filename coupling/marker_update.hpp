@@ -28,14 +28,14 @@
 // linearised U^{n+1}(X^[I]) + dU/dX d; otherwise the iteration interpolates at X^[I+1] and takes
 // Newton steps on (quadratic convergence). linear_step then bounds only the quadratic term.
 //
-// Area constraint (prm.keep_area; the caller's `constrain`): every evaluation of U^{n+1}, and the
-// linearised one that is accepted, loses the uniform normal velocity that changes the group's enclosed
-// area A (quadratic in X: membrane/geometry.hpp), so grad A(X) . U = 0 at X^n (U^n) and X^{n+1}
-// (U^{n+1}). A quadratic A changes along the trapezoidal step by exactly
-//   A(X^{n+1}) - A(X^n) = 1/2 (grad A^n + grad A^{n+1}) . (X^{n+1} - X^n)
-//                      = dt/4 (grad A^{n+1} - grad A^n) . (U^n - U^{n+1})  = O(dt^3)
-// (grad A linear in X; plus the residual eps). The Jacobian dU/dX of the Newton step leaves the
-// correction out: the iteration still converges to the root of g with the corrected U.
+// Area constraint (prm.keep_area; the caller's `constrain`): every evaluation of U^{n+1} at an
+// iterate X, and the linearised one that is accepted, is changed so that grad A(X_mid) . (U^n +
+// U^{n+1}) = 0, X_mid = (X^n + X) / 2, A the group's enclosed area (quadratic in X:
+// membrane/geometry.hpp). At the root X^{n+1} - X^n = dt/2 (U^n + U^{n+1}), and for a quadratic A
+//   A(X^{n+1}) - A(X^n) = grad A(X_mid) . (X^{n+1} - X^n) = 0
+// exactly: the step keeps the area to the residual (|grad A| eps). The Jacobian dU/dX of the Newton
+// step leaves the constraint out: the iteration still converges to the root of g with the
+// constrained U.
 //
 // Every marker's equation g(X_k) = 0 is its own (U^{n+1}(X_k) depends on X_k alone), so several
 // membranes advance as one set of markers, each membrane a group with its own decisions: a group
@@ -55,8 +55,10 @@ namespace sphib {
 // The marker velocity U^{n+1} at points X (Nb x 2) into U (Nb x 2); with dU non-null also its
 // gradient at X if the interpolation has one. Returns whether dU was filled.
 using MarkerVelocity = std::function<bool(const Mat2& X, Mat2& U, Jacobians* dU)>;
-// The area constraint on group g's marker velocities U at its markers X (rows of one group).
-using MarkerConstraint = std::function<void(int g, Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U)>;
+// The area constraint on group g's U^{n+1} at its iterate X, given the step's start X^n and U^n
+// (rows of one group).
+using MarkerConstraint = std::function<void(int g, Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n,
+                                            Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U)>;
 
 struct MarkerWork {  // advance_markers' workspace (sized on first use) and its results by group
   Mat2 g;            // g(X^[I]) per marker

@@ -47,10 +47,10 @@ struct MarkerUpdateParams {
   // linear residual is zero, so the acceptance needs only the step below linear_step (the neglected
   // term dt/4 |grad grad U| |step|^2); coupling/marker_update.hpp.
   bool newton = false;
-  // true: every free membrane's marker velocities lose the uniform normal velocity that changes the area
-  // its spline curve encloses (membrane/geometry.hpp, AreaKeeper): the enclosed area then changes only
-  // by the trapezoidal rule's O(dt^3) per step (coupling/marker_update.hpp). false: the velocities
-  // as interpolated.
+  // true: every free membrane's U^{n+1} loses the least normal velocity that would change the area its
+  // spline curve encloses over the trapezoidal step (membrane/geometry.hpp, AreaKeeper): each step then
+  // keeps that area to the update's residual (coupling/marker_update.hpp). false: the velocities as
+  // interpolated.
   bool keep_area = false;
 };
 

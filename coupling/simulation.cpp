@@ -446,7 +446,6 @@ void Simulation::marker_velocities_now() {
     }
     try {
       marker_velocity(s.m.X, s.U_n);
-      if (s.keeper) s.keeper->keep(s.m.X, s.U_n);
     } catch (const std::runtime_error& e) {  // name the membrane: a scene may hold several
       throw std::runtime_error("membrane " + std::to_string(&s - mem_.data()) + ": " + e.what());
     }
@@ -493,8 +492,9 @@ void Simulation::advance_set(FreeSet& set, bool extrapolate) {
     s.U_revision = -1;
   }
   const MarkerVelocity U_new = [this](const Mat2& X, Mat2& U, Jacobians* dU) { return marker_velocity(X, U, dU); };
-  const MarkerConstraint keep = [&](int g, Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U) {
-    mem_[set.members[g]].keeper->keep(X, U);
+  const MarkerConstraint keep = [&](int g, Eigen::Ref<const Mat2> Xn, Eigen::Ref<const Mat2> Un,
+                                    Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U) {
+    mem_[set.members[g]].keeper->keep(Xn, Un, X, U);
   };
   try {
     advance_markers(U_new, set.U_n, extrapolate ? &set.U_prev : nullptr, fluid_->params().dt, prm_.markers,

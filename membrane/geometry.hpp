@@ -52,25 +52,28 @@ class MembraneDiagnostics {
   PeriodicSpline sx_, sy_;
 };
 
-/// Holds the area enclosed by the spline curve through a membrane's markers (as MembraneDiagnostics
-/// measures it) constant to first order while the markers move: the marker update's area
-/// constraint (solver.marker_keep_area, coupling/marker_update.hpp). The curve through X (uniform
-/// knots) encloses A = (1/2) closed int (x y' - y x') ds = x^T K y, K_ij = closed int phi_i phi_j' ds
-/// with phi_i the periodic cubic spline's cardinal functions: K is circulant and antisymmetric, the
-/// same for every curve of nb markers, and K = A^-1 D A^-1 with A the B-splines' interpolation matrix
+/// Keeps the area enclosed by the spline curve through a membrane's markers (as MembraneDiagnostics
+/// measures it) through each trapezoidal marker step: the marker update's area constraint
+/// (solver.marker_keep_area, coupling/marker_update.hpp). The curve through X (uniform knots)
+/// encloses A = (1/2) closed int (x y' - y x') ds = x^T K y, K_ij = closed int phi_i phi_j' ds with
+/// phi_i the periodic cubic spline's cardinal functions: K is circulant and antisymmetric, the same
+/// for every curve of nb markers, and K = A^-1 D A^-1 with A the B-splines' interpolation matrix
 /// circ(1/6, 4/6, 1/6) and D_ij = int B_i B_j' (taps 49/144, 7/90, 1/720 at distances 1, 2, 3). So
 ///   grad A = (K y, -K x),    dA/dt = grad A . U = closed int (u y' - v x') ds    (u, v: splines through U)
-/// exactly. keep() subtracts from U the smallest change (in sum_k |dU_k|^2) that makes dA/dt zero:
-/// c grad A with c = dA/dt / |grad A|^2, a normal velocity along the curve (grad A_k ~ h (y', -x') at
-/// marker k). A divergence-free velocity carries no net flux through the closed curve, so c grad A is
-/// the markers' own error in carrying that flux (the spline through U against the velocity between
-/// the markers), not a force.
+/// exactly, and, A being quadratic, over a step from X^n to X
+///   A(X) - A(X^n) = grad A(X_mid) . (X - X^n),   X_mid = (X^n + X) / 2,
+/// exactly. The trapezoidal step moves X - X^n = dt/2 (U^n + U), so keep() makes grad A(X_mid) .
+/// (U^n + U) zero: it subtracts from U the least change (in sum_k |dU_k|^2) that does, c grad A(X_mid),
+/// a normal velocity along the curve. A divergence-free velocity carries no net flux through the closed
+/// curve, so c grad A is the markers' own error in carrying that flux (the spline through U against the
+/// velocity between the markers, and the trapezoidal rule's in time), not a force.
 class AreaKeeper {
  public:
   explicit AreaKeeper(int nb);  // throws std::invalid_argument if nb < 4
-  /// U (nb x 2: one membrane's marker velocities at X) minus c grad A; returns |c| max_k |grad A_k|
-  /// (the largest speed it removed).
-  double keep(Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U);
+  /// U (nb x 2: one membrane's U^{n+1} at X, a marker update's iterate) minus c grad A(X_mid), with
+  /// X_n and U_n the step's start and its velocities there; returns |c| max_k |grad A_k| (the
+  /// largest speed it removed).
+  double keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U);
   /// dA/dt of the curve through X when the markers move with U.
   double rate(Eigen::Ref<const Mat2> X, Eigen::Ref<const Mat2> U);
 
@@ -79,6 +82,7 @@ class AreaKeeper {
   int nb_;
   Vec a_, b_;  // workspace
   Vec gx_, gy_;
+  Mat2 mid_;   // X_mid
 };
 
 }  // namespace sphib
