@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.01, 100.0));
   app.add_flag("--paper-pair", p.paper_pair, "the paper's approximate projection and SPH interpolation (Eq. 63)");
   app.add_flag("--explicit", p.explicit_force, "explicit membrane force (no stiff-force filter)");
+  app.add_option("--viscosity-rtol", p.viscosity_rtol, "the viscosity contrast's CG tolerance (solver.viscosity_rtol)")
+      ->check(CLI::Range(1e-16, 1e-4));
   app.add_flag("--keep-area", p.keep_area, "the marker update's area constraint (solver.marker_keep_area)");
   app.add_flag("--stiff-residual", p.stiff_residual, "the stiff-force filter with its model's residual (membrane.stiff_residual)");
   app.add_option("--interpolation", interp, "marker velocity (coupling.interpolation): auto (bspline with bending), "

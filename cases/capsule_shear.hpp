@@ -19,6 +19,7 @@ struct CapsuleParams {
   double cfl = 0.0125;     // dt = cfl dx / U, U = G H / 2 the wall speed
   double t_end = 16.0;     // in units of 1/G
   double lambda = 1.0;      // viscosity ratio mu_in / mu_out (membrane.viscosity_ratio; mu = mu_out)
+  double viscosity_rtol = 1e-8;   // solver.viscosity_rtol: the contrast's Crank-Nicolson CG
   bool paper_pair = false, explicit_force = false, sheared = false, stiff_residual = false;
   bool keep_area = false;  // solver.marker_keep_area: the marker update's area constraint
   MarkerInterpolation interpolation = MarkerInterpolation::Auto;  // (paper_pair: Sph)
@@ -38,6 +39,7 @@ inline Scene capsule_scene(const CapsuleParams& p) {
   f.domain.wall_velocity[Top] = {U, 0.0};
   f.domain.wall_velocity[Bottom] = {-U, 0.0};
   f.nx = p.nx, f.ny = p.nx / 2, f.rho = p.rho, f.mu = p.mu;
+  f.viscosity_rtol = p.viscosity_rtol;
   s.sim.interpolation = p.interpolation;
   if (p.paper_pair) {
     f.projection = Projection::Approximate;

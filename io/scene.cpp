@@ -798,6 +798,9 @@ void read_time_and_solvers(Reader& r, Scene& s) {
   for (const char* k : {"pcg_fft", "pcg_cholmod"}) poisson_kinds.push_back(k);
   f.poisson_solver = solver_kind(r.choice("solver.poisson", "auto", poisson_kinds,
                                           "Poisson solver (auto: fast transforms when the matrix has the lattice structure (eulerian, every domain: FFT along periodic axes, DCT-II or DST-II in x between walls, banded Cholesky in y between walls), else CHOLMOD, simplicial or supernodal by the size of the factor; auto, moving particles (lagrangian): pcg_fft where the lattice has an FFT solver, else pcg_cholmod; auto, isph: pcg_cholmod with a free surface, CHOLMOD supernodal for a full tank; pcg_fft, pcg_cholmod as for solver.crank_nicolson, moving particles only)"));
+  f.viscosity_rtol = r.number("solver.viscosity_rtol", 1e-8, "(0, 1e-4]",
+                              "a viscosity contrast's Crank-Nicolson conjugate gradients stop at |r| <= rtol |b| (or a "
+                              "backward error of 1e-14)", false, 0.0, true, 1e-4);
   s.sim.markers.eps = r.positive("solver.marker_eps", 1e-12, "fixed-point tolerance on max |g| (Eq. 59)");
   s.sim.markers.max_iter = r.int32("solver.marker_max_iter", 50, 1, "fixed-point iteration limit");
   s.sim.markers.linear_step = r.number(
@@ -813,10 +816,10 @@ void read_time_and_solvers(Reader& r, Scene& s) {
       "gradient (divergence_free, bspline, spreading_kernel)");
   s.sim.markers.keep_area = r.boolean(
       "solver.marker_keep_area", false,
-      "the marker update's area constraint: each free membrane's marker velocities lose the uniform normal velocity "
-      "that changes the area their spline curve encloses (the markers' own error in carrying a divergence-free "
-      "flux), so that area changes only by the trapezoidal rule's O(dt^3) per step; false: the velocities as "
-      "interpolated");
+      "the marker update's area constraint: each free membrane's U^{n+1} loses the least normal velocity that "
+      "would change the area its spline curve encloses over the trapezoidal step (the markers' own error in "
+      "carrying a divergence-free flux), so that each step keeps that area to the update's residual; false: the "
+      "velocities as interpolated");
   s.sim.markers.extrapolate =
       r.choice("solver.marker_predictor", "extrapolated", {"extrapolated", "euler"},
                "first iterate of the marker update: extrapolated (X^n + dt (3/2 U^n - 1/2 U^{n-1}), no interpolation, "

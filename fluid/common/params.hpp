@@ -192,6 +192,8 @@ struct FluidParams {
   bool convection = true;  // false: Stokes flow, the convection operator is not even assembled
   Projection projection = Projection::Auto;
   SolverKind cn_solver = SolverKind::Auto, poisson_solver = SolverKind::Auto;
+  // A viscosity contrast's Crank-Nicolson CG (fluid/eulerian/variable_viscosity.hpp): |r| <= viscosity_rtol |b|
+  double viscosity_rtol = 1e-8;  // (docs/viscosity_contrast.md: its effect on results, against 1e-10)
   LagrangianParams lagrangian;
   WcsphParams wcsph;
   IsphParams isph;

@@ -9,6 +9,7 @@
 namespace sphib {
 
 EulerianFluid::EulerianFluid(const FluidParams& params, Profiler* profiler) : ProjectionFluid(params, false, profiler) {
+  visc_prm_.rtol = prm_.viscosity_rtol;
   if (prm_.projection == Projection::Auto)  // exact where the domain has a stream function (boundary.hpp)
     prm_.projection = stream_function_refusal(prm_.domain).empty() ? Projection::Exact : Projection::Approximate;
   const int N = lat_.size();

@@ -62,7 +62,7 @@ namespace sphib {
 
 struct VariableViscosityParams {
   double a = 0.0;       // nu dt / 2 of Eq. (28)
-  double rtol = 1e-10;  // CG: |r| <= rtol |b| (or a backward error of 1e-14)
+  double rtol = 1e-8;   // CG: |r| <= rtol |b| (or a backward error of 1e-14)
   int max_iter = 500;
   // false: the Morris form and the explicit cross term for m > 1 too (for comparison only: it blows
   // up beyond nu (lambda - 1) dt / dx^2 ~ 2)
