@@ -267,9 +267,9 @@ double AreaKeeper::rate(Eigen::Ref<const Mat2> X, Eigen::Ref<const Mat2> U) {
 
 double AreaKeeper::keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, Eigen::Ref<const Mat2> X,
                         Eigen::Ref<Mat2> U) {
-  if (X_n.rows() != nb_ || U_n.rows() != nb_ || U.rows() != nb_)
-    throw std::invalid_argument("AreaKeeper: " + std::to_string(U.rows()) + " velocities, expected nb = " +
-                                std::to_string(nb_));
+  if (X_n.rows() != nb_ || U_n.rows() != nb_ || X.rows() != nb_ || U.rows() != nb_)
+    throw std::invalid_argument("AreaKeeper: a step of " + std::to_string(X.rows()) + " markers and " +
+                                std::to_string(U.rows()) + " velocities, expected nb = " + std::to_string(nb_));
   mid_ = 0.5 * (X_n + X);
   gradient(mid_);
   const double r = gx_.dot(U_n.col(0) + U.col(0)) + gy_.dot(U_n.col(1) + U.col(1));
