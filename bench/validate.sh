@@ -43,8 +43,8 @@
 #   vesicle_published  the same vesicle at reduced area 0.66 against Quaife & Biros's published-group 2-D
 #                  curve (tank-treading angle against lambda, unbounded, boundary integral:
 #                  cases/reference/quaife_biros_vesicle_inclination_ra066.csv): lambda = 1-5 at H = 2,
-#                  1, 3, 4 at H = 4, 3 and 4 at H = 8, and Ca = 10 at lambda = 1 (docs/vesicle_shear.md). About an
-#                  hour and a half on one core.
+#                  1, 3, 4 at H = 4, 3 to 5 at H = 8 (the transition), 3 and 4 at H = 16, and Ca = 10 at lambda = 1
+#                  (docs/vesicle_shear.md). About four hours on one core.
 # Free surfaces and loads (Afanasiev, Makarchuk & Popov 2011; classic SPH = method wcsph with
 # wcsph.integrator = predictor_corrector), at the paper's particle numbers:
 #   fs_poiseuille  Table 1: start-up Poiseuille, N = 15^2 ... 60^2, error at t = 0.6
@@ -427,8 +427,14 @@ for s in "${sections[@]}"; do
           --set 'walls.bottom=[-4.0, 0.0]' --set 'walls.top=[4.0, 0.0]')  # H = 8 (confinement 0.1)
       "${V[@]}" "${H8[@]}" --set membrane.viscosity_ratio=3 --out $D/H8_n128_l3_t20  # 19 min
       "${V[@]}" "${H8[@]}" --set membrane.viscosity_ratio=4 --set time.end=14 --out $D/H8_n128_l4  # 17 min
+      for l in 4.5 5; do "${V[@]}" "${H8[@]}" --set membrane.viscosity_ratio=$l --out $D/H8_n128_l$l; done  # 15, 18 min
+      env OMP_NUM_THREADS=1 build/sphib run --restart $D/H8_n128_l4.5/checkpoint.h5 --set time.end=24 --quiet \
+        --out $D/H8_n128_l4.5_t24  # its flip (-90 degrees at t = 20.4)
+      H16=(--set grid.nx=1024 --set grid.ny=512 --set 'domain.x=[-16.0, 16.0]' --set 'domain.y=[-8.0, 8.0]'
+           --set 'walls.bottom=[-8.0, 0.0]' --set 'walls.top=[8.0, 0.0]')  # H = 16 (confinement 0.05)
+      for l in 3 4; do "${V[@]}" "${H16[@]}" --set membrane.viscosity_ratio=$l --out $D/H16_n128_l$l; done  # 44, 42 min
       "${V[@]}" --set membrane.Eb=0.0064 --out $D/ca10_n128_l1
-      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/H8_* $D/ca10_* --reference $REF --nu 0.66 \
+      /usr/bin/python3 scripts/vesicle_shear.py $D/n128_l* $D/H4_* $D/H8_* $D/H16_* $D/ca10_* --reference $REF --nu 0.66 \
         --csv $D/sweep.csv --plot $D/vesicle_published.png | tee $D/sweep.txt ;;
     *) echo "validate: unknown section $s" >&2; exit 2 ;;
   esac
