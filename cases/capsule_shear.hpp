@@ -19,7 +19,7 @@ struct CapsuleParams {
   double cfl = 0.0125;     // dt = cfl dx / U, U = G H / 2 the wall speed
   double t_end = 16.0;     // in units of 1/G
   double lambda = 1.0;      // viscosity ratio mu_in / mu_out (membrane.viscosity_ratio; mu = mu_out)
-  double viscosity_rtol = 1e-8;   // solver.viscosity_rtol: the contrast's Crank-Nicolson CG
+  double viscosity_rtol = FluidParams{}.viscosity_rtol;  // solver.viscosity_rtol: the contrast's Crank-Nicolson CG
   bool paper_pair = false, explicit_force = false, sheared = false, stiff_residual = false;
   bool keep_area = false;  // solver.marker_keep_area: the marker update's area constraint
   MarkerInterpolation interpolation = MarkerInterpolation::Auto;  // (paper_pair: Sph)

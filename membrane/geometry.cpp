@@ -211,28 +211,7 @@ MembraneShape MembraneDiagnostics::measure(const Mat2& X) {
 
 namespace sphib {
 
-AreaKeeper::AreaKeeper(int nb) : nb_(nb), a_(nb), b_(nb), gx_(nb), gy_(nb) {
-  if (nb < 4) throw std::invalid_argument("AreaKeeper: nb = " + std::to_string(nb) + " (at least 4 markers)");
-}
-
-// z = A^-1 b, A = circ(1, 4, 1) / 6 = (1 / (6 rho)) (I + rho S)(I + rho S^T), rho = 2 - sqrt(3), (S z)_i = z_(i-1):
-// two cyclic first-order recurrences, each started from its closed form
-//   z_0 = sum_j (-rho)^j b_(-j) / (1 - (-rho)^n)   (terms to (-rho)^j ~ 1e-18, at most n),
-// then swept (the other one backward from z_(n-1)). In place in z; b is overwritten.
-static void solve_circ141(Vec& z, Vec& b) {
-  const int n = static_cast<int>(z.size());
-  const double rho = 2.0 - std::sqrt(3.0), r = -rho, den = 1.0 - std::pow(r, n);
-  const int J = std::min(n - 1, 32);  // rho^33 < 1e-18
-  double s = 0.0, p = 1.0;
-  for (int j = 0; j <= J; ++j, p *= r) s += p * b[(n - j) % n];  // (I + rho S) w = b
-  z[0] = s / den;
-  for (int i = 1; i < n; ++i) z[i] = b[i] - rho * z[i - 1];
-  s = 0.0, p = 1.0;
-  for (int j = 0; j <= J; ++j, p *= r) s += p * z[(n - 1 + j) % n];  // (I + rho S^T) v = w
-  b[n - 1] = s / den;
-  for (int i = n - 2; i >= 0; --i) b[i] = z[i] - rho * b[i + 1];
-  z = (6.0 * rho) * b;
-}
+AreaKeeper::AreaKeeper(int nb) : nb_(nb), knots_(nb, 1.0), a_(nb), b_(nb), gx_(nb), gy_(nb) {}
 
 void AreaKeeper::gradient(Eigen::Ref<const Mat2> X) {
   if (X.rows() != nb_)
@@ -242,8 +221,8 @@ void AreaKeeper::gradient(Eigen::Ref<const Mat2> X) {
   const int n = nb_;
   for (int c = 0; c < 2; ++c) {  // grad A = (K y, -K x), K = A^-1 D A^-1
     Vec& g = c == 0 ? gx_ : gy_;
-    b_ = X.col(1 - c);
-    solve_circ141(a_, b_);  // the B-spline coefficients
+    a_ = 6.0 * X.col(1 - c);
+    knots_.solve_141(a_.data(), b_.data());  // the B-spline coefficients A^-1 y, A = circ(1, 4, 1) / 6
     auto D = [&](int i, auto at) {  // (D a)_i = sum_m d_m (a_(i+m) - a_(i-m))
       b_[i] = d1 * (at(i + 1) - at(i - 1)) + d2 * (at(i + 2) - at(i - 2)) + d3 * (at(i + 3) - at(i - 3));
     };
@@ -252,8 +231,8 @@ void AreaKeeper::gradient(Eigen::Ref<const Mat2> X) {
     for (int i = 0; i < std::min(3, n); ++i) D(i, wrapped);
     for (int i = 3; i < n - 3; ++i) D(i, inside);
     for (int i = std::max(3, n - 3); i < n; ++i) D(i, wrapped);
-    solve_circ141(g, b_);
-    if (c == 1) g = -g;
+    g = (c == 0 ? 6.0 : -6.0) * b_;
+    knots_.solve_141(g.data(), b_.data());
   }
 }
 

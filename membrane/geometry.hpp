@@ -69,7 +69,7 @@ class MembraneDiagnostics {
 /// velocity between the markers, and the trapezoidal rule's in time), not a force.
 class AreaKeeper {
  public:
-  explicit AreaKeeper(int nb);  // throws std::invalid_argument if nb < 4
+  explicit AreaKeeper(int nb);  // throws std::invalid_argument if nb < 4 (PeriodicSpline's)
   /// U (nb x 2: one membrane's U^{n+1} at X, a marker update's iterate) minus c grad A(X_mid), with
   /// X_n and U_n the step's start and its velocities there; returns |c| max_k |grad A_k| (the
   /// largest speed it removed).
@@ -80,6 +80,7 @@ class AreaKeeper {
  private:
   void gradient(Eigen::Ref<const Mat2> X);  // grad A into gx_, gy_
   int nb_;
+  PeriodicSpline knots_;  // (its cyclic solve)
   Vec a_, b_;  // workspace
   Vec gx_, gy_;
   Mat2 mid_;   // X_mid

@@ -35,9 +35,6 @@ template <int C>
 void PeriodicSpline::fit_splines(PeriodicSpline* const* sp, const double* const* y, int stride) {
   const PeriodicSpline& P = *sp[0];
   const int n = P.n_;
-  const int m = static_cast<int>(P.pw_.size());
-  const double rho = P.rho_;
-  const double* pw = P.pw_.data();
   double *Y[C], *M[C], *w[C];
   for (int c = 0; c < C; ++c) {
     Y[c] = sp[c]->y_.data();
@@ -56,6 +53,17 @@ void PeriodicSpline::fit_splines(PeriodicSpline* const* sp, const double* const*
     M_[n - 1] = r * (y_[0] - 2.0 * y_[n - 1] + y_[n - 2]);
   }
 
+  solve_cyclic<C>(P, M, w);
+}
+
+// circ(1, 4, 1) M = r for C right-hand sides (in M, replaced by the solutions; w workspace), as
+// (1/rho) (I + rho S)(I + rho S^T): two sweeps, each started from its periodic closed form.
+template <int C>
+void PeriodicSpline::solve_cyclic(const PeriodicSpline& P, double* const* M, double* const* w) {
+  const int n = P.n_;
+  const int m = static_cast<int>(P.pw_.size());
+  const double rho = P.rho_;
+  const double* pw = P.pw_.data();
   // (I + rho S) w = rho r:  w_k = rho (r_k - w_{k+1}), closed periodically.
   double acc[C] = {};
   for (int j = 0; j < m; ++j)
@@ -71,6 +79,12 @@ void PeriodicSpline::fit_splines(PeriodicSpline* const* sp, const double* const*
   for (int c = 0; c < C; ++c) M[c][0] = acc[c];
   for (int k = 1; k < n; ++k)
     for (int c = 0; c < C; ++c) M[c][k] = w[c][k] - rho * M[c][k - 1];
+}
+
+void PeriodicSpline::solve_141(double* r, double* work) const {
+  double* M[1] = {r};
+  double* w[1] = {work};
+  solve_cyclic<1>(*this, M, w);
 }
 
 void PeriodicSpline::fit(const double* y, int stride) {

@@ -52,6 +52,11 @@ class PeriodicSpline {
   /// 0 <= t <= h. k is wrapped periodically.
   void segment(int k, double c[4]) const;
 
+  /// The knots' cyclic system alone: circ(1, 4, 1) z = r for any r (n values), z in place of r, with
+  /// the fit's factorisation and sweeps; work holds n values. (A cubic B-spline's interpolation
+  /// matrix is circ(1, 4, 1) / 6.)
+  void solve_141(double* r, double* work) const;
+
   int n() const { return n_; }
   double period() const { return L_; }
   double h() const { return h_; }
@@ -61,6 +66,8 @@ class PeriodicSpline {
   void locate(double s, int& k, double& t) const;  // s = s_k + t, 0 <= t < h
   template <int C>
   static void fit_splines(PeriodicSpline* const* sp, const double* const* y, int stride);
+  template <int C>
+  static void solve_cyclic(const PeriodicSpline& P, double* const* M, double* const* w);
 
   int n_;
   double L_, h_;

@@ -153,12 +153,11 @@ void ProjectionFluid::viscous_predictor(const Mat2& F) {
 
 void ProjectionFluid::divergence_with_images(const Mat2& u, const Mat2& c, Vec& d) const {
   divergence(op_.grad_ux.A, op_.grad_uy.A, u, d, vel_st_);  // Eq. (30)
-  Mat2 split;  // the components' own parities where they differ from the operators' (boundary.hpp)
-  if (im_.split()) {
-    split = c;
-    add_split_images(im_, u, split);
+  if (im_.split()) {  // the components' own parities where they differ from the operators' (boundary.hpp)
+    split_div_ = c;
+    add_split_images(im_, u, split_div_);
   }
-  const Mat2& cc = im_.split() ? split : c;
+  const Mat2& cc = im_.split() ? split_div_ : c;
   add_image_terms(op_.grad_ux.B, gx_b_rows_, cc.col(0).data(), d.data());
   add_image_terms(op_.grad_uy.B, gy_b_rows_, cc.col(1).data(), d.data());
 }

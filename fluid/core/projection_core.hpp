@@ -125,6 +125,7 @@ class ProjectionFluid : public FluidSolver {
   void project_approximate();  // Eqs. (30)-(34)
   // Eq. (30) with images whose offsets are c: d = D u + B c
   void divergence_with_images(const Mat2& u, const Mat2& c, Vec& d) const;
+  mutable Mat2 split_div_;  // its image values with the components' own parities (Images::split)
   void add_setup(const std::string& what, double seconds) { profiler().add_setup(what, seconds); }
   double a_cn() const { return 0.5 * nu() * prm_.dt; }  // Crank-Nicolson factor nu dt / 2 (Eq. 28)
   SpMat crank_nicolson_matrix() const;  // I - a lap (Eq. 28), the pattern of lap_u.A
