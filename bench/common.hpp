@@ -30,28 +30,31 @@ namespace sphib::bench {
 
 using Clock = Profile::Clock;
 
-// Re-executes the program once with OMP_NUM_THREADS=1 and the BLAS equivalents, so that every
-// figure it prints is one core's (libgomp reads OMP_NUM_THREADS at load time, so setting it from
-// main is too late); in the re-executed process it returns at once.
-inline void ensure_single_thread(const std::string& program, char** argv) {
-  if (std::getenv("SPHIB_BENCH_SINGLE_THREAD")) return;
-  setenv("SPHIB_BENCH_SINGLE_THREAD", "1", 1);
-  for (const char* v : {"OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "GOTO_NUM_THREADS"}) setenv(v, "1", 1);
+// Re-executes the program once with OMP_NUM_THREADS=threads and the BLAS libraries on one thread,
+// so that every figure it prints is that many cores' (libgomp reads OMP_NUM_THREADS at load time, so
+// setting it from main is too late); in the re-executed process it returns at once.
+inline void ensure_threads(const std::string& program, char** argv, int threads) {
+  if (std::getenv("SPHIB_BENCH_THREADS")) return;
+  const std::string n = std::to_string(threads);
+  setenv("SPHIB_BENCH_THREADS", n.c_str(), 1);
+  setenv("OMP_NUM_THREADS", n.c_str(), 1);
+  for (const char* v : {"OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "GOTO_NUM_THREADS"}) setenv(v, "1", 1);
   execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "%s: warning: could not re-execute single-threaded (%s)\n", program.c_str(), std::strerror(errno));
+  std::fprintf(stderr, "%s: warning: could not re-execute with %s thread(s) (%s)\n", program.c_str(), n.c_str(),
+               std::strerror(errno));
 }
 
 // A benchmark's main: parses the command line (--help; a bad option is named, status 2), re-executes
-// once single-threaded, then runs `body`, which returns the exit status; an exception ends the
-// program with its message, status 1.
+// once on `*threads` threads (one when null: every benchmark's default), then runs `body`, which
+// returns the exit status; an exception ends the program with its message, status 1.
 template <class Body>
-int run_main(CLI::App& app, int argc, char** argv, Body body) {
+int run_main(CLI::App& app, int argc, char** argv, Body body, const int* threads = nullptr) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  ensure_single_thread(app.get_name(), argv);
+  ensure_threads(app.get_name(), argv, threads ? *threads : 1);
   try {
     return body();
   } catch (const std::exception& e) {

@@ -1,11 +1,12 @@
 // The step of a capsule suspension against the same box without capsules (the scene of
 // cases/suspension.hpp: 100 capsules x 64 markers, area fraction 0.3, sheared 256^2 box), paired in
-// one process on one core: both simulations are set up, then stepped alternately, `--block` steps of
-// the empty box and `--block` of the suspension per round, each block timed by the process's CPU
-// time. Prints the CPU ms per step of each (median over the rounds), the median (min-max) of the
+// one process on one core (or `--threads`): both simulations are set up, then stepped alternately,
+// `--block` steps of the empty box and `--block` of the suspension per round, each block timed by the
+// process's CPU time on one thread, by the wall clock on more (CPU time would add the threads'
+// times). Prints the ms per step of each (median over the rounds), the median (min-max) of the
 // rounds' ratios, the load average before and after, and the suspension's coupling phases (their
 // share of its step, from its profile's wall times).
-//   build/suspension [--rounds R] [--block K] [--count C] [--nb NB] [--nx N] [--contact-strength S]
+//   build/suspension [--rounds R] [--block K] [--threads T] [--count C] [--nb NB] [--nx N] [--contact-strength S]
 //                    [--interpolation bspline|divergence_free|spreading_kernel] [--newton true|false]
 //                    [--linear-step S] [--marker-eps E] [--h-star R]
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "coupling/contact.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/spread.hpp"
+#include "fluid/common/threads.hpp"
 
 using namespace sphib;
 using namespace sphib::bench;
@@ -30,9 +32,11 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   SuspensionParams p;
   p.contact_strength = 0.1;
-  int rounds = 7, block = 20, warm = 10;
+  int rounds = 7, block = 20, warm = 10, threads = 1;
   CLI::App app{"suspension step against the same box without capsules (one core, paired in one process)"};
   app.add_option("--rounds", rounds, "rounds of (empty, suspension) blocks");
+  app.add_option("--threads", threads, "threads of both simulations (default 1; more: wall-clock timing)")
+      ->check(CLI::Range(1, 256));
   app.add_option("--block", block, "steps per block");
   app.add_option("--warm-up", warm, "steps of each before the first round");
   add_suspension_options(app, p);
@@ -41,21 +45,24 @@ int main(int argc, char** argv) {
     e.empty = true;
     Simulation empty(suspension_scene(e).sim), susp(suspension_scene(p).sim);
     for (int s = 0; s < warm; ++s) empty.step(), susp.step();
+    // one thread: CPU time (insensitive to the time the process waits for the core); more: wall time
+    const Clock::time_point origin = Clock::now();
+    auto now = [&] { return threads == 1 ? cpu_seconds() : seconds_since(origin); };
     const double load0 = load_average();
     std::vector<double> te, ts, ratio;
     for (int r = 0; r < rounds; ++r) {
-      double t0 = cpu_seconds();
+      double t0 = now();
       for (int s = 0; s < block; ++s) empty.step();
-      const double a = (cpu_seconds() - t0) / block;
-      t0 = cpu_seconds();
+      const double a = (now() - t0) / block;
+      t0 = now();
       for (int s = 0; s < block; ++s) susp.step();
-      const double b = (cpu_seconds() - t0) / block;
+      const double b = (now() - t0) / block;
       te.push_back(a), ts.push_back(b), ratio.push_back(b / a);
       std::printf("round %d: empty %.3f ms/step, suspension %.3f ms/step, ratio %.3f\n", r + 1, 1e3 * a, 1e3 * b, b / a);
     }
-    std::printf("%d capsules x %d markers, %d^2, %s, contact %s: one core, %d rounds of %d steps\n",
+    std::printf("%d capsules x %d markers, %d^2, %s, contact %s: %d thread(s) (%s time), %d rounds of %d steps\n",
                 static_cast<int>(susp.membranes().size()), p.nb, p.nx, p.interpolation.c_str(),
-                susp.contact() ? "on" : "off", rounds, block);
+                susp.contact() ? "on" : "off", thread_count(), threads == 1 ? "CPU" : "wall", rounds, block);
     std::printf("empty box %.3f ms/step, suspension %.3f ms/step (medians); suspension/empty %.3f (min %.3f, max %.3f); "
                 "load average %.2f -> %.2f\n",
                 1e3 * median(te), 1e3 * median(ts), median(ratio), *std::min_element(ratio.begin(), ratio.end()),
@@ -92,7 +99,7 @@ int main(int argc, char** argv) {
     std::printf("marker update: %.3f interpolations per step, true residual of the last max |g(X^{n+1})| = %.2e "
                 "(eps %.0e)\n", interpolations / std::max<size_t>(1, susp.membranes().size()), g_true, p.marker_eps);
     // The coupling's per-marker passes as one set of markers against one call per membrane, on the
-    // suspension's last state: best of 20 CPU timings each, alternately.
+    // suspension's last state: best of 20 timings each (CPU or wall, as the blocks), alternately.
     const auto& mem = susp.membranes();
     if (mem.empty()) return 0;
     const int n = static_cast<int>(mem.size()) * p.nb;
@@ -108,9 +115,9 @@ int main(int argc, char** argv) {
     auto best = [&](auto&& kernel) {
       double t = 1e300;
       for (int r = 0; r < 20; ++r) {
-        const double t0 = cpu_seconds();
+        const double t0 = now();
         kernel();
-        t = std::min(t, cpu_seconds() - t0);
+        t = std::min(t, now() - t0);
       }
       return t;
     };
@@ -121,7 +128,7 @@ int main(int argc, char** argv) {
       ink = std::min(ink, best([&] { for (const auto& m : mem) susp.marker_velocity(m.m.X, Uk, &dUk); }));
       in1 = std::min(in1, best([&] { susp.marker_velocity(X, U, &dU); }));
     }
-    std::printf("one set against one call per membrane (best CPU ms): spreading %.3f / %.3f, interpolation with "
+    std::printf("one set against one call per membrane (best ms): spreading %.3f / %.3f, interpolation with "
                 "gradient %.3f / %.3f\n", 1e3 * sp1, 1e3 * spk, 1e3 * in1, 1e3 * ink);
     // the markers' stream function the divergence-free interpolations need, once per step (its
     // right-hand side and solve: the fluid's floor of it, best wall time)
@@ -137,5 +144,5 @@ int main(int argc, char** argv) {
       std::printf("contact force %.3f ms (%ld pairs within range)\n", 1e3 * tc, c.pairs());
     }
     return 0;
-  });
+  }, &threads);
 }

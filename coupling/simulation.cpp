@@ -231,8 +231,27 @@ void Simulation::update_membrane_forces() {
   if (contact_) contact_forces();
 }
 
+// Each membrane's force is its own (its splines and workspace in its MembraneForce): from
+// kParallelMembraneMarkers markers in two or more membranes the threads share the membranes out, the
+// same bits for any thread count.
+constexpr int kParallelMembraneMarkers = 512;
+
 void Simulation::elastic_forces() {
-  for (auto& s : mem_) s.force.compute(s.m.X, s.f, s.T);
+  const int M = static_cast<int>(mem_.size());
+  const bool par = M >= 2 && all_.start.back() >= kParallelMembraneMarkers;
+  (void)par;
+  std::exception_ptr fault;  // the first membrane's refusal in membrane order, as the serial loop
+  int faulted = M;
+#pragma omp parallel for schedule(static) if (par)
+  for (int k = 0; k < M; ++k) {
+    try {
+      mem_[k].force.compute(mem_[k].m.X, mem_[k].f, mem_[k].T);  // Eqs. (47)-(50)
+    } catch (...) {
+#pragma omp critical(sphib_elastic_fault)
+      if (k < faulted) faulted = k, fault = std::current_exception();
+    }
+  }
+  if (fault) std::rethrow_exception(fault);
 }
 
 void Simulation::contact_forces() {
