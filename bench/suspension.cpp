@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   SuspensionParams p;
   p.contact_strength = 0.1;
   int rounds = 7, block = 20, warm = 10, threads = 1;
-  CLI::App app{"suspension step against the same box without capsules (one core, paired in one process)"};
+  CLI::App app{"suspension step against the same box without capsules (one core or --threads, paired in one process)"};
   app.add_option("--rounds", rounds, "rounds of (empty, suspension) blocks");
   app.add_option("--threads", threads, "threads of both simulations (default 1; more: wall-clock timing)")
       ->check(CLI::Range(1, 256));
