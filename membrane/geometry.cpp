@@ -244,8 +244,8 @@ double AreaKeeper::rate(Eigen::Ref<const Mat2> X, Eigen::Ref<const Mat2> U) {
   return gx_.dot(U.col(0)) + gy_.dot(U.col(1));
 }
 
-double AreaKeeper::keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, Eigen::Ref<const Mat2> X,
-                        Eigen::Ref<Mat2> U) {
+void AreaKeeper::keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, Eigen::Ref<const Mat2> X,
+                      Eigen::Ref<Mat2> U) {
   if (X_n.rows() != nb_ || U_n.rows() != nb_ || X.rows() != nb_ || U.rows() != nb_)
     throw std::invalid_argument("AreaKeeper: a step of " + std::to_string(X.rows()) + " markers and " +
                                 std::to_string(U.rows()) + " velocities, expected nb = " + std::to_string(nb_));
@@ -253,11 +253,10 @@ double AreaKeeper::keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, 
   gradient(mid_);
   const double r = gx_.dot(U_n.col(0) + U.col(0)) + gy_.dot(U_n.col(1) + U.col(1));
   const double g2 = gx_.squaredNorm() + gy_.squaredNorm();
-  if (!(g2 > 0.0)) return 0.0;  // (all markers at one point: left to the guards)
+  if (!(g2 > 0.0)) return;  // (all markers at one point: left to the guards)
   const double c = r / g2;  // grad A(X_mid) . (U_n + U - c grad A(X_mid)) = 0
   U.col(0) -= c * gx_;
   U.col(1) -= c * gy_;
-  return std::fabs(c) * std::sqrt((gx_.array().square() + gy_.array().square()).maxCoeff());
 }
 
 }  // namespace sphib

@@ -71,9 +71,8 @@ class AreaKeeper {
  public:
   explicit AreaKeeper(int nb);  // throws std::invalid_argument if nb < 4 (PeriodicSpline's)
   /// U (nb x 2: one membrane's U^{n+1} at X, a marker update's iterate) minus c grad A(X_mid), with
-  /// X_n and U_n the step's start and its velocities there; returns |c| max_k |grad A_k| (the
-  /// largest speed it removed).
-  double keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U);
+  /// X_n and U_n the step's start and its velocities there.
+  void keep(Eigen::Ref<const Mat2> X_n, Eigen::Ref<const Mat2> U_n, Eigen::Ref<const Mat2> X, Eigen::Ref<Mat2> U);
   /// dA/dt of the curve through X when the markers move with U.
   double rate(Eigen::Ref<const Mat2> X, Eigen::Ref<const Mat2> U);
 
